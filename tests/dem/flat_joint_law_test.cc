@@ -483,3 +483,41 @@ TEST_CASE("flatjoint: parameter validation", "[flatjoint]")
   CHECK_NOTHROW(p2.validate("2d"));
   CHECK_THROWS_AS(FlatJointLaw<3>::deformability(-1, 1, geometry<3>()), InputError);
 }
+
+TEST_CASE("flatjoint: 2D bending breaks only the outer element", "[flatjoint]")
+{
+  // Nr = 4, R = 5 mm: centroids rho = 3.75, 1.25, -1.25, -3.75 mm. Under
+  // theta_bs the element stress is sigma = kn rho theta_bs (Eq. 46, bonded).
+  auto         p  = memo_params<2>(4, 1);
+  const double th = 1e-3;
+  p.ten           = p.kn * 2.5e-3 * th; // between the two tensile elements
+  Driver<2> a(p);
+  a.move(0, 0, 0, 0, th, 0, 1);
+  REQUIRE(a.count(LawEvent::bond_break) == 1);
+  const LawEvent ev = a.sink.events[0].second;
+  CHECK(ev.element == 0);
+  CHECK(ev.mode == 0);
+  CHECK(ev.r_s == 0);
+  CHECK(ev.r_t == Approx(3.75e-3));
+  CHECK(ev.gap == Approx(3.75e-3 * th));
+  CHECK(ev.size == Approx(2.5e-3));
+  CHECK(FlatJointLaw<2>::bond_state(p, a.st.data(), 0) == 1);
+  CHECK(FlatJointLaw<2>::bonded_count(p, a.st.data()) == 3);
+  // broken element open over its whole length: no force, no moment
+  auto f0 = FlatJointLaw<2>::element_force(p, a.st.data(), 0);
+  CHECK(f0[0] == 0);
+  CHECK(f0[3] == 0);
+  // resultant of the three bonded elements: linear stress on [-R, 2.5 mm]
+  const double R = 5e-3, r1 = 2.5e-3;
+  const double Fn = p.kn * th * (r1 * r1 - R * R) / 2;
+  const double Mz = p.kn * th * (r1 * r1 * r1 + R * R * R) / 3;
+  CHECK(a.f.Fn == Approx(Fn).epsilon(1e-12));
+  CHECK(a.f.Mbs == Approx(-Mz).epsilon(1e-12));
+  // 2D shear (d_st): bonded elements carry ks A d, the broken open one none
+  a.move(0, 0, 1e-6, 0, 0, 0, 1);
+  CHECK(a.f.Fst == Approx(-p.ks * 3 * 2.5e-3 * 1e-6).epsilon(1e-12));
+  CHECK(a.f.Fss == 0);
+  CHECK(a.f.Mt == 0);
+  CHECK(a.f.Mbt == 0);
+  CHECK(FlatJointLaw<2>::active(p, a.st.data(), 0));
+}
