@@ -1,0 +1,270 @@
+// `demfem fem FILE.prm`: continuum-only run (e.g. the Kirsch hole). Every
+// input is validated before the output directory is created, so a bad input
+// writes nothing.
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
+
+#include <boost/property_tree/json_parser.hpp>
+#include <boost/property_tree/ptree.hpp>
+
+#include "apps/commands.h"
+#include "fem/elastic_problem.h"
+
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace demfem::apps
+{
+  namespace
+  {
+    using namespace dealii;
+
+    const char *usage =
+      "usage: demfem fem FILE.prm [--set \"Section/key=value\"]... "
+      "[--print-parameters] [--help]\n"
+      "\n"
+      "Linear elastic continuum around a circular tunnel (dim 2: plane strain,\n"
+      "dim 3: slab or 3D mesh). In-situ stress (tension positive, Pa) is released\n"
+      "on the tunnel wall (boundary id 3); the far field (id 1) keeps its traction.\n"
+      "Writes summary.json, wall_displacement.csv (excavation-induced),\n"
+      "wall_stress.csv (total stress) and solution.pvd (+ .pvtu/.vtu) into\n"
+      "Problem/output directory. Run with mpirun -np N for a distributed solve.\n";
+
+    void
+    declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Problem");
+      prm.declare_entry("dimension", "2", Patterns::Integer(2, 3),
+                        "2 = plane strain, 3 = full 3D");
+      prm.declare_entry("output directory", "out/fem", Patterns::Anything(),
+                        "Directory for summary.json, CSV and VTK files");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Tunnel");
+      prm.declare_entry("radius", "1.0", Patterns::Double(), "Tunnel radius a [m] (> 0)");
+      for (const std::string c : {"xx", "yy", "zz", "xy", "xz", "yz"})
+        prm.declare_entry("in situ stress " + c,
+                          c == "xx" ? "-30e6" :
+                          c == "yy" ? "-60e6" :
+                          c == "zz" ? "-45e6" : "0",
+                          Patterns::Double(),
+                          "In-situ stress component " + c +
+                            " [Pa], tension positive; z is the tunnel axis");
+      prm.declare_entry("excavation stages", "1", Patterns::Integer(1, 1000),
+                        "The wall traction is released in this many equal "
+                        "steps; one VTK output per stage");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Continuum");
+      prm.declare_entry("mesh", "generate", Patterns::Anything(),
+                        "'generate' (graded annulus, extruded slab in 3D) or a "
+                        "Gmsh .msh path with boundary ids 1 (far field) and 3 "
+                        "(tunnel wall); 3D: id 4 = roller faces (u_z = 0)");
+      prm.declare_entry("outer radius", "30.0", Patterns::Double(),
+                        "Far-field radius R [m] of the generated mesh (> radius)");
+      prm.declare_entry("young modulus", "69e9", Patterns::Double(),
+                        "Young's modulus E [Pa] (> 0)");
+      prm.declare_entry("poisson ratio", "0.26", Patterns::Double(),
+                        "Poisson's ratio nu, in (-1, 0.5)");
+      prm.declare_entry("material file", "", Patterns::Anything(),
+                        "Optional JSON file with keys \"E\" [Pa] and \"nu\" (e.g. "
+                        "written by demfem calibrate); when set it overrides "
+                        "young modulus and poisson ratio");
+      prm.declare_entry("element degree", "2", Patterns::Integer(1, 2),
+                        "Polynomial degree of FE_Q");
+      prm.declare_entry("refinements", "0", Patterns::Integer(0, 8),
+                        "Global refinements of the mesh");
+      prm.declare_entry("solver", "amg-cg", Patterns::Selection("amg-cg|direct"),
+                        "AMG-preconditioned CG, or a direct solver (small problems)");
+      prm.leave_subsection();
+    }
+
+    // "Section/sub/key=value" -> prm.set inside the sections.
+    void
+    apply_override(ParameterHandler &prm, const std::string &arg)
+    {
+      const auto eq = arg.find('=');
+      AssertThrow(eq != std::string::npos && eq > 0,
+                  ExcMessage("--set expects \"Section/key=value\", got \"" + arg + "\""));
+      const std::string path = arg.substr(0, eq), value = arg.substr(eq + 1);
+      std::vector<std::string> parts;
+      std::stringstream        ss(path);
+      for (std::string p; std::getline(ss, p, '/');)
+        parts.push_back(p);
+      AssertThrow(parts.size() >= 2,
+                  ExcMessage("--set \"" + arg + "\": the key needs its section, "
+                             "e.g. \"Tunnel/radius=1.5\""));
+      for (std::size_t i = 0; i + 1 < parts.size(); ++i)
+        prm.enter_subsection(parts[i]);
+      try
+        {
+          prm.set(parts.back(), value);
+        }
+      catch (...)
+        {
+          for (std::size_t i = 0; i + 1 < parts.size(); ++i)
+            prm.leave_subsection();
+          throw;
+        }
+      for (std::size_t i = 0; i + 1 < parts.size(); ++i)
+        prm.leave_subsection();
+    }
+
+    fem::ElasticSettings
+    read_settings(ParameterHandler &prm)
+    {
+      fem::ElasticSettings s;
+      prm.enter_subsection("Problem");
+      s.dimension        = prm.get_integer("dimension");
+      s.output_directory = prm.get("output directory");
+      prm.leave_subsection();
+      prm.enter_subsection("Tunnel");
+      s.radius            = prm.get_double("radius");
+      s.sxx               = prm.get_double("in situ stress xx");
+      s.syy               = prm.get_double("in situ stress yy");
+      s.szz               = prm.get_double("in situ stress zz");
+      s.sxy               = prm.get_double("in situ stress xy");
+      s.sxz               = prm.get_double("in situ stress xz");
+      s.syz               = prm.get_double("in situ stress yz");
+      s.excavation_stages = prm.get_integer("excavation stages");
+      prm.leave_subsection();
+      prm.enter_subsection("Continuum");
+      s.mesh                            = prm.get("mesh");
+      s.outer_radius                    = prm.get_double("outer radius");
+      s.young_modulus                   = prm.get_double("young modulus");
+      s.poisson_ratio                   = prm.get_double("poisson ratio");
+      const std::string material        = prm.get("material file");
+      s.degree                          = prm.get_integer("element degree");
+      s.refinements                     = prm.get_integer("refinements");
+      s.solver                          = prm.get("solver");
+      prm.leave_subsection();
+
+      if (!material.empty())
+        {
+          AssertThrow(std::filesystem::is_regular_file(material),
+                      ExcMessage("Continuum/material file: '" + material +
+                                 "' does not exist"));
+          boost::property_tree::ptree tree;
+          try
+            {
+              boost::property_tree::read_json(material, tree);
+              s.young_modulus = tree.get<double>("E");
+              s.poisson_ratio = tree.get<double>("nu");
+            }
+          catch (const std::exception &e)
+            {
+              AssertThrow(false,
+                          ExcMessage("Continuum/material file '" + material +
+                                     "': need numeric top-level keys \"E\" (Pa) "
+                                     "and \"nu\": " + e.what()));
+            }
+        }
+      if (s.mesh != "generate")
+        AssertThrow(std::filesystem::is_regular_file(s.mesh),
+                    ExcMessage("Continuum/mesh: file '" + s.mesh + "' does not exist"));
+      return s;
+    }
+
+    std::string
+    exception_text(const std::exception &e)
+    {
+      if (const auto *d = dynamic_cast<const ExceptionBase *>(&e))
+        {
+          std::ostringstream s;
+          d->print_info(s);
+          std::string t = s.str();
+          const auto  b = t.find_first_not_of(" \n\t");
+          const auto  l = t.find_last_not_of(" \n\t");
+          return b == std::string::npos ? d->get_exc_name() : t.substr(b, l - b + 1);
+        }
+      return e.what();
+    }
+  } // namespace
+
+  int
+  run_fem(int argc, char **argv)
+  {
+    Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+    const MPI_Comm                   comm = MPI_COMM_WORLD;
+    try
+      {
+        std::string              file;
+        std::vector<std::string> overrides;
+        bool                     print = false;
+        for (int i = 1; i < argc; ++i)
+          {
+            const std::string a = argv[i];
+            if (a == "--help" || a == "-h")
+              {
+                if (Utilities::MPI::this_mpi_process(comm) == 0)
+                  std::cout << usage;
+                return 0;
+              }
+            else if (a == "--print-parameters")
+              print = true;
+            else if (a == "--set")
+              {
+                AssertThrow(i + 1 < argc, ExcMessage("--set needs an argument"));
+                overrides.emplace_back(argv[++i]);
+              }
+            else if (a.rfind("--set=", 0) == 0)
+              overrides.push_back(a.substr(6));
+            else if (a.rfind("-", 0) == 0)
+              {
+                AssertThrow(false,
+                            ExcMessage("unknown option '" + a + "' (see --help)"));
+              }
+            else
+              {
+                AssertThrow(file.empty(),
+                            ExcMessage("more than one parameter file given"));
+                file = a;
+              }
+          }
+
+        ParameterHandler prm;
+        declare_parameters(prm);
+        if (!file.empty())
+          {
+            AssertThrow(std::filesystem::is_regular_file(file),
+                        ExcMessage("parameter file '" + file + "' does not exist"));
+            prm.parse_input(file);
+          }
+        else
+          {
+            AssertThrow(print,
+                        ExcMessage(std::string("no parameter file given\n") + usage));
+          }
+        for (const auto &o : overrides)
+          apply_override(prm, o);
+        if (print)
+          {
+            if (Utilities::MPI::this_mpi_process(comm) == 0)
+              prm.print_parameters(std::cout, ParameterHandler::Text);
+            return 0;
+          }
+
+        const fem::ElasticSettings settings = read_settings(prm);
+        if (settings.dimension == 2)
+          {
+            fem::ElasticProblem<2> problem(settings, comm);
+            problem.run();
+          }
+        else
+          {
+            fem::ElasticProblem<3> problem(settings, comm);
+            problem.run();
+          }
+        return 0;
+      }
+    catch (const std::exception &e)
+      {
+        std::cerr << "demfem fem: error: " << exception_text(e) << std::endl;
+        return 1;
+      }
+  }
+} // namespace demfem::apps

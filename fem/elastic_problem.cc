@@ -1,0 +1,756 @@
+#include "fem/elastic_problem.h"
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/utilities.h>
+#include <deal.II/distributed/grid_refinement.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_solver.h>
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+
+namespace demfem::fem
+{
+  using namespace dealii;
+
+  SymmetricTensor<2, 3>
+  ElasticSettings::in_situ_stress() const
+  {
+    SymmetricTensor<2, 3> s;
+    s[0][0] = sxx;
+    s[1][1] = syy;
+    s[2][2] = szz;
+    s[0][1] = sxy;
+    s[0][2] = sxz;
+    s[1][2] = syz;
+    return s;
+  }
+
+  std::array<double, 3>
+  principal_stresses(const SymmetricTensor<2, 3> &s)
+  {
+    // deal.II returns the eigenvalues in descending order.
+    return eigenvalues(s);
+  }
+
+  namespace
+  {
+    // Components of a 3x3 symmetric tensor in output order.
+    constexpr unsigned int voigt[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+
+    void
+    check_settings(const ElasticSettings &s)
+    {
+      AssertThrow(s.young_modulus > 0,
+                  ExcMessage("Continuum/young modulus = " +
+                             std::to_string(s.young_modulus) +
+                             " is invalid: it must be > 0 (Pa)"));
+      AssertThrow(s.poisson_ratio > -1.0 && s.poisson_ratio < 0.5,
+                  ExcMessage("Continuum/poisson ratio = " +
+                             std::to_string(s.poisson_ratio) +
+                             " is invalid: it must lie in the open interval "
+                             "(-1, 0.5)"));
+      AssertThrow(s.radius > 0,
+                  ExcMessage("Tunnel/radius must be > 0 (m)"));
+      AssertThrow(s.degree >= 1 && s.degree <= 2,
+                  ExcMessage("Continuum/element degree must be 1 or 2"));
+      AssertThrow(s.solver == "amg-cg" || s.solver == "direct",
+                  ExcMessage("Continuum/solver must be 'amg-cg' or 'direct'"));
+      AssertThrow(s.excavation_stages >= 1,
+                  ExcMessage("Tunnel/excavation stages must be >= 1"));
+    }
+  } // namespace
+
+  template <int dim>
+  ElasticProblem<dim>::ElasticProblem(const ElasticSettings &s, MPI_Comm comm)
+    : settings(s)
+    , comm(comm)
+    , triangulation(comm)
+    , fe(FE_Q<dim>(std::max(1u, s.degree)), dim)
+    , dof_handler(triangulation)
+    , stress_fe(FE_Q<dim>(1), 9)
+    , stress_dof_handler(triangulation)
+    , pcout(std::cout,
+            s.verbose && Utilities::MPI::this_mpi_process(comm) == 0)
+    , timer(comm,
+            pcout,
+            s.verbose ? TimerOutput::summary : TimerOutput::never,
+            TimerOutput::wall_times)
+  {
+    check_settings(settings);
+    const double E  = settings.young_modulus;
+    const double nu = settings.poisson_ratio;
+    lambda          = E * nu / ((1 + nu) * (1 - 2 * nu));
+    mu              = E / (2 * (1 + nu));
+    sigma0_3d       = settings.in_situ_stress();
+    for (unsigned int i = 0; i < dim; ++i)
+      for (unsigned int j = i; j < dim; ++j)
+        sigma0[i][j] = sigma0_3d[i][j];
+    mapping = std::make_unique<MappingQ<dim>>(settings.degree);
+  }
+
+  template <int dim>
+  ElasticProblem<dim>::~ElasticProblem()
+  {
+    dof_handler.clear();
+    stress_dof_handler.clear();
+  }
+
+  template <int dim>
+  void
+  ElasticProblem<dim>::set_far_field_traction(
+    std::function<Tensor<1, dim>(const Point<dim> &, const Tensor<1, dim> &)> f)
+  {
+    far_field_traction = std::move(f);
+  }
+
+  template <int dim>
+  void
+  ElasticProblem<dim>::make_grid()
+  {
+    TimerOutput::Scope t(timer, "make grid");
+    if (settings.mesh == "generate")
+      {
+        GeneratedMeshSettings g;
+        g.radius            = settings.radius;
+        g.outer_radius      = settings.outer_radius;
+        g.cells_around      = settings.cells_around;
+        g.thickness         = settings.slab_thickness;
+        g.layers            = settings.slab_layers;
+        g.plane_strain_slab = settings.plane_strain_slab;
+        generate_tunnel_mesh(triangulation, g);
+      }
+    else
+      {
+        AssertThrow(std::filesystem::is_regular_file(settings.mesh),
+                    ExcMessage("Continuum/mesh: file '" + settings.mesh +
+                               "' does not exist"));
+        read_gmsh_mesh(triangulation, settings.mesh);
+      }
+    const auto ids = coarse_boundary_ids(triangulation);
+    for (const types::boundary_id id :
+         {boundary_id::far_field, boundary_id::tunnel_wall})
+      AssertThrow(ids.count(id) == 1,
+                  ExcMessage("Continuum/mesh '" + settings.mesh +
+                             "' has no boundary with id " + std::to_string(id) +
+                             " (needed: 1 = far field, 3 = tunnel wall)"));
+    has_roller = (dim == 3 && ids.count(boundary_id::roller_z) == 1);
+    triangulation.refine_global(settings.refinements);
+    pcout << "   mesh: " << triangulation.n_global_active_cells()
+          << " cells, boundary ids:";
+    for (const auto id : ids)
+      pcout << ' ' << id;
+    pcout << std::endl;
+  }
+
+  template <int dim>
+  void
+  ElasticProblem<dim>::pin_rigid_body_modes()
+  {
+    // Candidate vertices: on far-field faces; in 3D without rollers only on
+    // the lowest z level so that single points (not lines) are pinned.
+    const bool   point_pins = (dim == 3 && !has_roller);
+    const double inf        = std::numeric_limits<double>::infinity();
+    double       zmin       = inf;
+    double       ext[3]     = {-inf, -inf, -inf}; // max x, max -x, max y
+    for (int pass = 0; pass < 2; ++pass)
+      {
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (!cell->is_artificial())
+            for (const auto &face : cell->face_iterators())
+              if (face->at_boundary() &&
+                  face->boundary_id() == boundary_id::far_field)
+                for (const unsigned int v : face->vertex_indices())
+                  {
+                    const Point<dim> &p = face->vertex(v);
+                    if (pass == 0)
+                      {
+                        if (point_pins)
+                          zmin = std::min(zmin, p[dim - 1]);
+                        continue;
+                      }
+                    if (point_pins &&
+                        std::abs(p[dim - 1] - zmin) > 1e-10 * settings.outer_radius)
+                      continue;
+                    ext[0] = std::max(ext[0], p[0]);
+                    ext[1] = std::max(ext[1], -p[0]);
+                    ext[2] = std::max(ext[2], p[1]);
+                  }
+        if (pass == 0 && point_pins)
+          zmin = Utilities::MPI::min(zmin, comm);
+      }
+    for (double &e : ext)
+      e = Utilities::MPI::max(e, comm);
+
+    // Three tangential pins remove the in-plane rigid modes without
+    // over-constraining a uniform strain field: u_y at max x and min x,
+    // u_x at max y. In 3D without rollers also u_z there.
+    const double tol = 1e-10 * std::max(1.0, std::abs(ext[0]));
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary() &&
+              face->boundary_id() == boundary_id::far_field)
+            for (const unsigned int v : face->vertex_indices())
+              {
+                const Point<dim> &p = face->vertex(v);
+                if (point_pins &&
+                    std::abs(p[dim - 1] - zmin) > 1e-10 * settings.outer_radius)
+                  continue;
+                const double value[3] = {p[0], -p[0], p[1]};
+                for (unsigned int k = 0; k < 3; ++k)
+                  if (std::abs(value[k] - ext[k]) < tol)
+                    {
+                      std::vector<unsigned int> comps = {k < 2 ? 1u : 0u};
+                      if (point_pins)
+                        comps.push_back(2);
+                      for (const unsigned int c : comps)
+                        {
+                          const auto dof = face->vertex_dof_index(v, c);
+                          if (!constraints.is_constrained(dof))
+                            constraints.add_line(dof);
+                        }
+                    }
+              }
+  }
+
+  template <int dim>
+  void
+  ElasticProblem<dim>::setup_system()
+  {
+    TimerOutput::Scope t(timer, "setup");
+    dof_handler.distribute_dofs(fe);
+    locally_owned_dofs = dof_handler.locally_owned_dofs();
+    DoFTools::extract_locally_relevant_dofs(dof_handler, locally_relevant_dofs);
+
+    constraints.clear();
+    constraints.reinit(locally_relevant_dofs);
+    DoFTools::make_hanging_node_constraints(dof_handler, constraints);
+    if constexpr (dim == 3)
+      if (has_roller)
+        VectorTools::interpolate_boundary_values(
+          *mapping,
+          dof_handler,
+          boundary_id::roller_z,
+          Functions::ZeroFunction<dim>(dim),
+          constraints,
+          fe.component_mask(FEValuesExtractors::Scalar(2)));
+    pin_rigid_body_modes();
+    constraints.close();
+
+    DynamicSparsityPattern dsp(locally_relevant_dofs);
+    DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, false);
+    SparsityTools::distribute_sparsity_pattern(dsp,
+                                               locally_owned_dofs,
+                                               comm,
+                                               locally_relevant_dofs);
+    system_matrix.reinit(locally_owned_dofs, locally_owned_dofs, dsp, comm);
+    system_rhs.reinit(locally_owned_dofs, comm);
+    solution.reinit(locally_owned_dofs, locally_relevant_dofs, comm);
+    pcout << "   degrees of freedom: " << dof_handler.n_dofs() << std::endl;
+  }
+
+  template <int dim>
+  void
+  ElasticProblem<dim>::assemble_system()
+  {
+    TimerOutput::Scope t(timer, "assemble matrix");
+    system_matrix = 0;
+    const QGauss<dim> quadrature(fe.degree + 1);
+    FEValues<dim>     fe_values(*mapping,
+                            fe,
+                            quadrature,
+                            update_gradients | update_JxW_values);
+    const FEValuesExtractors::Vector u(0);
+    const unsigned int               n = fe.n_dofs_per_cell();
+    FullMatrix<double>               cell_matrix(n, n);
+    Vector<double>                   cell_rhs(n);
+    std::vector<types::global_dof_index> dofs(n);
+    std::vector<SymmetricTensor<2, dim>> eps(n);
+
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell_matrix = 0;
+          cell_rhs    = 0;
+          fe_values.reinit(cell);
+          for (const unsigned int q : fe_values.quadrature_point_indices())
+            {
+              for (unsigned int i = 0; i < n; ++i)
+                eps[i] = fe_values[u].symmetric_gradient(i, q);
+              const double w = fe_values.JxW(q);
+              for (unsigned int i = 0; i < n; ++i)
+                for (unsigned int j = 0; j <= i; ++j)
+                  cell_matrix(i, j) += (lambda * trace(eps[i]) * trace(eps[j]) +
+                                        2 * mu * (eps[i] * eps[j])) *
+                                       w;
+            }
+          for (unsigned int i = 0; i < n; ++i)
+            for (unsigned int j = i + 1; j < n; ++j)
+              cell_matrix(i, j) = cell_matrix(j, i);
+          cell->get_dof_indices(dofs);
+          constraints.distribute_local_to_global(cell_matrix, dofs, system_matrix);
+        }
+    system_matrix.compress(VectorOperation::add);
+  }
+
+  template <int dim>
+  void
+  ElasticProblem<dim>::assemble_rhs(const bool in_situ_state)
+  {
+    TimerOutput::Scope t(timer, "assemble rhs");
+    system_rhs = 0;
+    const QGauss<dim - 1> face_quadrature(fe.degree + 1);
+    FEFaceValues<dim>     fe_face_values(*mapping,
+                                     fe,
+                                     face_quadrature,
+                                     update_values | update_normal_vectors |
+                                       update_quadrature_points |
+                                       update_JxW_values);
+    const FEValuesExtractors::Vector     u(0);
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    Vector<double>                       cell_rhs(n);
+    std::vector<types::global_dof_index> dofs(n);
+
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->at_boundary())
+        {
+          cell_rhs = 0;
+          bool any = false;
+          for (const auto &face : cell->face_iterators())
+            {
+              if (!face->at_boundary())
+                continue;
+              const auto id = face->boundary_id();
+              // Pre-excavation state: sigma0.n on every boundary. Excavation:
+              // release -sigma0.n on the wall, optional far-field change.
+              const bool loaded =
+                in_situ_state ? true :
+                                (id == boundary_id::tunnel_wall ||
+                                 (id == boundary_id::far_field &&
+                                  far_field_traction));
+              if (!loaded)
+                continue;
+              any = true;
+              fe_face_values.reinit(cell, face);
+              for (const unsigned int q : fe_face_values.quadrature_point_indices())
+                {
+                  const Tensor<1, dim> &normal = fe_face_values.normal_vector(q);
+                  Tensor<1, dim>        t;
+                  if (in_situ_state)
+                    t = sigma0 * normal;
+                  else if (id == boundary_id::tunnel_wall)
+                    t = -(sigma0 * normal);
+                  else
+                    t = far_field_traction(fe_face_values.quadrature_point(q),
+                                           normal);
+                  for (unsigned int i = 0; i < n; ++i)
+                    cell_rhs(i) += fe_face_values[u].value(i, q) * t *
+                                   fe_face_values.JxW(q);
+                }
+            }
+          if (!any)
+            continue;
+          cell->get_dof_indices(dofs);
+          constraints.distribute_local_to_global(cell_rhs, dofs, system_rhs);
+        }
+    system_rhs.compress(VectorOperation::add);
+  }
+
+  template <int dim>
+  unsigned int
+  ElasticProblem<dim>::solve()
+  {
+    TimerOutput::Scope            t(timer, "solve");
+    TrilinosWrappers::MPI::Vector x(locally_owned_dofs, comm);
+    const double                  rhs_norm = system_rhs.l2_norm();
+    if (rhs_norm == 0)
+      last_iterations = 0;
+    else if (settings.solver == "direct")
+      {
+        SolverControl                  control(1, 0);
+        TrilinosWrappers::SolverDirect direct(control);
+        direct.solve(system_matrix, x, system_rhs);
+        last_iterations = 1;
+      }
+    else
+      {
+        TrilinosWrappers::PreconditionAMG                 amg;
+        TrilinosWrappers::PreconditionAMG::AdditionalData data;
+        std::vector<std::vector<bool>>                    constant_modes;
+        DoFTools::extract_constant_modes(dof_handler,
+                                         ComponentMask(dim, true),
+                                         constant_modes);
+        data.constant_modes        = constant_modes;
+        data.elliptic              = true;
+        data.higher_order_elements = (fe.degree > 1);
+        data.smoother_sweeps       = 2;
+        data.aggregation_threshold = 0.02;
+        amg.initialize(system_matrix, data);
+
+        SolverControl control(std::max<unsigned int>(2000, dof_handler.n_dofs()),
+                              settings.solver_tolerance * rhs_norm);
+        TrilinosWrappers::SolverCG cg(control);
+        cg.solve(system_matrix, x, system_rhs, amg);
+        last_iterations = control.last_step();
+      }
+    constraints.distribute(x);
+    solution = x;
+    pcout << "   solver (" << settings.solver << "): " << last_iterations
+          << " iterations" << std::endl;
+    return last_iterations;
+  }
+
+  template <int dim>
+  double
+  ElasticProblem<dim>::in_situ_patch_error()
+  {
+    assemble_rhs(true);
+    solve();
+    const QGauss<dim>                    quadrature(fe.degree + 1);
+    FEValues<dim>                        fe_values(*mapping, fe, quadrature, update_gradients);
+    const FEValuesExtractors::Vector     u(0);
+    std::vector<SymmetricTensor<2, dim>> eps(quadrature.size());
+    double                               err = 0, scale = 0;
+    for (const auto &c : voigt)
+      scale = std::max(scale, std::abs(sigma0_3d[c[0]][c[1]]));
+    // zz is free only in 3D without rollers; in plane strain (2D or slab)
+    // sigma_zz is nu (sxx + syy), not an input.
+    const bool check_zz = (dim == 3 && !has_roller);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          fe_values[u].get_function_symmetric_gradients(solution, eps);
+          for (const auto &e : eps)
+            {
+              SymmetricTensor<2, 3> e3;
+              for (unsigned int i = 0; i < dim; ++i)
+                for (unsigned int j = i; j < dim; ++j)
+                  e3[i][j] = e[i][j];
+              const SymmetricTensor<2, 3> s =
+                lambda * trace(e3) * unit_symmetric_tensor<3>() + 2 * mu * e3;
+              for (unsigned int k = 0; k < 6; ++k)
+                {
+                  const unsigned int i = voigt[k][0], j = voigt[k][1];
+                  if ((i == 2 || j == 2) && (dim == 2 || (i == 2 && j == 2 && !check_zz)))
+                    continue;
+                  err = std::max(err, std::abs(s[i][j] - sigma0_3d[i][j]));
+                }
+            }
+        }
+    err = Utilities::MPI::max(err, comm);
+    return err / scale;
+  }
+
+  template <int dim>
+  void
+  ElasticProblem<dim>::recover_stress()
+  {
+    TimerOutput::Scope t(timer, "stress recovery");
+    stress_dof_handler.distribute_dofs(stress_fe);
+    IndexSet relevant;
+    DoFTools::extract_locally_relevant_dofs(stress_dof_handler, relevant);
+    vertex_stress.reinit(stress_dof_handler.locally_owned_dofs(), relevant, comm);
+    LinearAlgebra::distributed::Vector<double> count(vertex_stress);
+
+    // Evaluate the (discontinuous) cell stress at the cell's vertices and
+    // average over the cells sharing a vertex.
+    std::vector<Point<dim>> points;
+    for (const unsigned int v : GeometryInfo<dim>::vertex_indices())
+      points.push_back(GeometryInfo<dim>::unit_cell_vertex(v));
+    const Quadrature<dim>                vertex_quadrature(points);
+    FEValues<dim>                        fe_values(*mapping, fe, vertex_quadrature, update_gradients);
+    const FEValuesExtractors::Vector     u(0);
+    std::vector<SymmetricTensor<2, dim>> eps(points.size());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          fe_values[u].get_function_symmetric_gradients(solution, eps);
+          const typename DoFHandler<dim>::active_cell_iterator scell(
+            &triangulation, cell->level(), cell->index(), &stress_dof_handler);
+          for (const unsigned int v : cell->vertex_indices())
+            {
+              SymmetricTensor<2, 3> e3;
+              for (unsigned int i = 0; i < dim; ++i)
+                for (unsigned int j = i; j < dim; ++j)
+                  e3[i][j] = eps[v][i][j];
+              const SymmetricTensor<2, 3> s =
+                lambda * trace(e3) * unit_symmetric_tensor<3>() + 2 * mu * e3;
+              for (unsigned int k = 0; k < 6; ++k)
+                {
+                  const auto idx = scell->vertex_dof_index(v, k);
+                  vertex_stress(idx) += s[voigt[k][0]][voigt[k][1]];
+                  count(idx) += 1;
+                }
+            }
+        }
+    vertex_stress.compress(VectorOperation::add);
+    count.compress(VectorOperation::add);
+    for (const auto i : vertex_stress.locally_owned_elements())
+      if (count(i) > 0)
+        vertex_stress(i) /= count(i);
+    vertex_stress.update_ghost_values();
+  }
+
+  template <int dim>
+  void
+  ElasticProblem<dim>::output_results(const unsigned int stage, const double fraction)
+  {
+    TimerOutput::Scope t(timer, "output");
+    // Scaled induced displacement and total vertex stress of this stage.
+    TrilinosWrappers::MPI::Vector owned(locally_owned_dofs, comm);
+    owned = solution;
+    owned *= fraction;
+    TrilinosWrappers::MPI::Vector displacement(locally_owned_dofs,
+                                               locally_relevant_dofs,
+                                               comm);
+    displacement = owned;
+
+    LinearAlgebra::distributed::Vector<double> stress;
+    stress.reinit(vertex_stress, true);
+    for (const auto &cell : stress_dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const unsigned int v : cell->vertex_indices())
+          {
+            if (!stress.locally_owned_elements().is_element(cell->vertex_dof_index(v, 0)))
+              continue;
+            SymmetricTensor<2, 3> s = sigma0_3d;
+            for (unsigned int k = 0; k < 6; ++k)
+              s[voigt[k][0]][voigt[k][1]] += fraction * vertex_stress(cell->vertex_dof_index(v, k));
+            const auto p = principal_stresses(s);
+            for (unsigned int k = 0; k < 6; ++k)
+              stress(cell->vertex_dof_index(v, k)) = s[voigt[k][0]][voigt[k][1]];
+            for (unsigned int k = 0; k < 3; ++k)
+              stress(cell->vertex_dof_index(v, 6 + k)) = p[k];
+          }
+    stress.update_ghost_values();
+
+    DataOut<dim> data_out;
+    data_out.attach_dof_handler(dof_handler);
+    data_out.add_data_vector(
+      displacement,
+      std::vector<std::string>(dim, "displacement"),
+      DataOut<dim>::type_automatic,
+      std::vector<DataComponentInterpretation::DataComponentInterpretation>(
+        dim, DataComponentInterpretation::component_is_part_of_vector));
+    data_out.add_data_vector(stress_dof_handler,
+                             stress,
+                             std::vector<std::string>{"stress_xx",
+                                                      "stress_yy",
+                                                      "stress_zz",
+                                                      "stress_xy",
+                                                      "stress_xz",
+                                                      "stress_yz",
+                                                      "principal_stress_1",
+                                                      "principal_stress_2",
+                                                      "principal_stress_3"});
+    Vector<float> subdomain(triangulation.n_active_cells());
+    subdomain = triangulation.locally_owned_subdomain();
+    data_out.add_data_vector(subdomain, "subdomain");
+    data_out.build_patches(*mapping, settings.degree);
+    const std::string name = data_out.write_vtu_with_pvtu_record(
+      settings.output_directory + "/", "solution", stage, comm, 4);
+    pvd_records.emplace_back(fraction, name);
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
+      {
+        std::ofstream pvd(settings.output_directory + "/solution.pvd");
+        pvd << std::setprecision(17);
+        DataOutBase::write_pvd_record(pvd, pvd_records);
+      }
+  }
+
+  template <int dim>
+  std::vector<WallVertex>
+  ElasticProblem<dim>::wall_results() const
+  {
+    std::vector<double> flat;
+    std::set<unsigned int> seen;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary() &&
+              cell->face(f)->boundary_id() == boundary_id::tunnel_wall)
+            {
+              const auto face = cell->face(f);
+              const typename DoFHandler<dim>::active_cell_iterator scell(
+                &triangulation, cell->level(), cell->index(), &stress_dof_handler);
+              const auto sface = scell->face(f);
+              for (const unsigned int v : face->vertex_indices())
+                {
+                  const auto dof0 = face->vertex_dof_index(v, 0);
+                  if (!locally_owned_dofs.is_element(dof0) ||
+                      !seen.insert(face->vertex_index(v)).second)
+                    continue;
+                  const Point<dim> &p = face->vertex(v);
+                  for (unsigned int d = 0; d < 3; ++d)
+                    flat.push_back(d < dim ? p[d] : 0.0);
+                  for (unsigned int d = 0; d < 3; ++d)
+                    flat.push_back(d < dim ? solution(face->vertex_dof_index(v, d)) : 0.0);
+                  for (unsigned int k = 0; k < 6; ++k)
+                    flat.push_back(sigma0_3d[voigt[k][0]][voigt[k][1]] +
+                                   vertex_stress(sface->vertex_dof_index(v, k)));
+                }
+            }
+    std::vector<WallVertex> result;
+    for (const auto &part : Utilities::MPI::all_gather(comm, flat))
+      for (std::size_t i = 0; i + 12 <= part.size(); i += 12)
+        {
+          WallVertex w;
+          for (unsigned int d = 0; d < 3; ++d)
+            {
+              w.x[d] = part[i + d];
+              w.u[d] = part[i + 3 + d];
+            }
+          for (unsigned int k = 0; k < 6; ++k)
+            w.stress[voigt[k][0]][voigt[k][1]] = part[i + 6 + k];
+          result.push_back(w);
+        }
+    const auto angle = [](const WallVertex &w) {
+      const double a = std::atan2(w.x[1], w.x[0]);
+      return a < 0 ? a + 2 * numbers::PI : a;
+    };
+    std::sort(result.begin(), result.end(), [&](const WallVertex &a, const WallVertex &b) {
+      const double da = angle(a), db = angle(b);
+      if (std::abs(da - db) > 1e-12)
+        return da < db;
+      return a.x[2] < b.x[2];
+    });
+    return result;
+  }
+
+  template <int dim>
+  double
+  ElasticProblem<dim>::l2_error(const Function<dim> &exact) const
+  {
+    Vector<float> cellwise(triangulation.n_active_cells());
+    VectorTools::integrate_difference(*mapping,
+                                      dof_handler,
+                                      solution,
+                                      exact,
+                                      cellwise,
+                                      QGauss<dim>(fe.degree + 2),
+                                      VectorTools::L2_norm);
+    return VectorTools::compute_global_error(triangulation, cellwise, VectorTools::L2_norm);
+  }
+
+  template <int dim>
+  double
+  ElasticProblem<dim>::l2_norm(const Function<dim> &exact) const
+  {
+    TrilinosWrappers::MPI::Vector zero(locally_owned_dofs, locally_relevant_dofs, comm);
+    Vector<float> cellwise(triangulation.n_active_cells());
+    VectorTools::integrate_difference(*mapping,
+                                      dof_handler,
+                                      zero,
+                                      exact,
+                                      cellwise,
+                                      QGauss<dim>(fe.degree + 2),
+                                      VectorTools::L2_norm);
+    return VectorTools::compute_global_error(triangulation, cellwise, VectorTools::L2_norm);
+  }
+
+  template <int dim>
+  void
+  ElasticProblem<dim>::run()
+  {
+    const auto start = std::chrono::steady_clock::now();
+    pcout << "demfem fem: " << dim << "D "
+          << (dim == 2 ? "plane strain" : "") << ", E = " << settings.young_modulus
+          << " Pa, nu = " << settings.poisson_ratio << std::endl;
+    make_grid(); // validates the mesh before anything is written
+    setup_system();
+    assemble_system();
+    assemble_rhs(false);
+    solve();
+    recover_stress();
+
+    // Without output (tests) nothing is written at all.
+    const bool root =
+      settings.write_output && Utilities::MPI::this_mpi_process(comm) == 0;
+    if (root)
+      std::filesystem::create_directories(settings.output_directory);
+    MPI_Barrier(comm);
+    if (settings.write_output)
+      for (unsigned int k = 0; k <= settings.excavation_stages; ++k)
+        output_results(k, double(k) / settings.excavation_stages);
+
+    const auto wall = wall_results();
+    double     max_u = 0, hoop_min = 1e300, hoop_max = -1e300;
+    for (const auto &w : wall)
+      {
+        max_u = std::max(max_u, w.u.norm());
+        const double r = std::hypot(w.x[0], w.x[1]);
+        Tensor<1, 3> t;
+        t[0] = -w.x[1] / r;
+        t[1] = w.x[0] / r;
+        const double hoop = t * (w.stress * t);
+        hoop_min          = std::min(hoop_min, hoop);
+        hoop_max          = std::max(hoop_max, hoop);
+      }
+    const double wall_time =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (root)
+      {
+        std::ofstream du(settings.output_directory + "/wall_displacement.csv");
+        std::ofstream ds(settings.output_directory + "/wall_stress.csv");
+        du << std::setprecision(12) << "x,y,z,ux,uy,uz\n";
+        ds << std::setprecision(12) << "x,y,z,sxx,syy,szz,sxy,sxz,syz\n";
+        for (const auto &w : wall)
+          {
+            du << w.x[0] << ',' << w.x[1] << ',' << w.x[2] << ',' << w.u[0] << ','
+               << w.u[1] << ',' << w.u[2] << '\n';
+            ds << w.x[0] << ',' << w.x[1] << ',' << w.x[2];
+            for (const auto &c : voigt)
+              ds << ',' << w.stress[c[0]][c[1]];
+            ds << '\n';
+          }
+        std::ofstream js(settings.output_directory + "/summary.json");
+        js << std::setprecision(12) << "{\n"
+           << "  \"command\": \"fem\",\n"
+           << "  \"dim\": " << dim << ",\n"
+           << "  \"plane_strain\": " << (dim == 2 ? "true" : "false") << ",\n"
+           << "  \"mesh\": \"" << settings.mesh << "\",\n"
+           << "  \"n_cells\": " << triangulation.n_global_active_cells() << ",\n"
+           << "  \"n_dofs\": " << dof_handler.n_dofs() << ",\n"
+           << "  \"element_degree\": " << settings.degree << ",\n"
+           << "  \"refinements\": " << settings.refinements << ",\n"
+           << "  \"E\": " << settings.young_modulus << ",\n"
+           << "  \"nu\": " << settings.poisson_ratio << ",\n"
+           << "  \"radius\": " << settings.radius << ",\n"
+           << "  \"in_situ_stress\": {\"xx\": " << settings.sxx << ", \"yy\": " << settings.syy
+           << ", \"zz\": " << settings.szz << ", \"xy\": " << settings.sxy
+           << ", \"xz\": " << settings.sxz << ", \"yz\": " << settings.syz << "},\n"
+           << "  \"excavation_stages\": " << settings.excavation_stages << ",\n"
+           << "  \"solver\": \"" << settings.solver << "\",\n"
+           << "  \"solver_iterations\": " << last_iterations << ",\n"
+           << "  \"n_ranks\": " << Utilities::MPI::n_mpi_processes(comm) << ",\n"
+           << "  \"n_wall_vertices\": " << wall.size() << ",\n"
+           << "  \"max_wall_displacement\": " << max_u << ",\n"
+           << "  \"min_wall_hoop_stress\": " << hoop_min << ",\n"
+           << "  \"max_wall_hoop_stress\": " << hoop_max << ",\n"
+           << "  \"wall_time_s\": " << wall_time << "\n"
+           << "}\n";
+      }
+    pcout << "   max wall displacement: " << max_u << " m; wall hoop stress in ["
+          << hoop_min << ", " << hoop_max << "] Pa" << std::endl
+          << "   output: " << settings.output_directory << std::endl;
+  }
+
+  template class ElasticProblem<2>;
+  template class ElasticProblem<3>;
+} // namespace demfem::fem

@@ -1,0 +1,237 @@
+#include "fem/explicit_dynamics.h"
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/utilities.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
+
+#include <cmath>
+#include <set>
+
+namespace demfem::fem
+{
+  using namespace dealii;
+
+  template <int dim>
+  ExplicitDynamics<dim>::ExplicitDynamics(
+    const parallel::distributed::Triangulation<dim> &tria,
+    const ExplicitSettings &                         s)
+    : triangulation(tria)
+    , settings(s)
+    , comm(tria.get_communicator())
+    , fe(FE_Q<dim>(s.degree), dim)
+    , mapping(s.degree)
+    , dof_handler(tria)
+  {
+    AssertThrow(s.young_modulus > 0, ExcMessage("young modulus must be > 0"));
+    AssertThrow(s.poisson_ratio > -1 && s.poisson_ratio < 0.5,
+                ExcMessage("poisson ratio must lie in (-1, 0.5)"));
+    AssertThrow(s.density > 0 && s.mass_scaling > 0,
+                ExcMessage("density and mass scaling must be > 0"));
+    AssertThrow(s.damping >= 0, ExcMessage("damping must be >= 0"));
+  }
+
+  template <int dim>
+  ExplicitDynamics<dim>::~ExplicitDynamics()
+  {
+    dof_handler.clear();
+  }
+
+  template <int dim>
+  void
+  ExplicitDynamics<dim>::setup()
+  {
+    dof_handler.distribute_dofs(fe);
+    owned = dof_handler.locally_owned_dofs();
+    IndexSet relevant;
+    DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+
+    DynamicSparsityPattern dsp(relevant);
+    DoFTools::make_sparsity_pattern(dof_handler, dsp);
+    SparsityTools::distribute_sparsity_pattern(dsp, owned, comm, relevant);
+    stiffness.reinit(owned, owned, dsp, comm);
+    for (auto *vec : {&mass, &u, &v, &f_ext, &work})
+      vec->reinit(owned, comm);
+
+    const double E = settings.young_modulus, nu = settings.poisson_ratio;
+    const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+    const double mu     = E / (2 * (1 + nu));
+    const double rho    = settings.density * settings.mass_scaling;
+
+    const QGauss<dim> quadrature(fe.degree + 1);
+    FEValues<dim>     fe_values(mapping,
+                            fe,
+                            quadrature,
+                            update_values | update_gradients | update_JxW_values);
+    const FEValuesExtractors::Vector     ex(0);
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    FullMatrix<double>                   cell_k(n, n);
+    Vector<double>                       cell_m(n);
+    std::vector<types::global_dof_index> dofs(n);
+    std::vector<SymmetricTensor<2, dim>> eps(n);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell_k = 0;
+          cell_m = 0;
+          fe_values.reinit(cell);
+          for (const unsigned int q : fe_values.quadrature_point_indices())
+            {
+              const double w = fe_values.JxW(q);
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  eps[i] = fe_values[ex].symmetric_gradient(i, q);
+                  // Row-sum lumping: sum_j int rho phi_i.phi_j = int rho phi_i
+                  // over the component of i (the scalar shapes sum to one).
+                  cell_m(i) += rho * fe_values.shape_value_component(
+                                       i, q, fe.system_to_component_index(i).first) *
+                               w;
+                }
+              for (unsigned int i = 0; i < n; ++i)
+                for (unsigned int j = 0; j < n; ++j)
+                  cell_k(i, j) += (lambda * trace(eps[i]) * trace(eps[j]) +
+                                   2 * mu * (eps[i] * eps[j])) *
+                                  w;
+            }
+          cell->get_dof_indices(dofs);
+          stiffness.add(dofs, cell_k);
+          for (unsigned int i = 0; i < n; ++i)
+            mass(dofs[i]) += cell_m(i);
+        }
+    stiffness.compress(VectorOperation::add);
+    mass.compress(VectorOperation::add);
+
+    // Zero-displacement dofs (owned ones; each rank updates only its own).
+    std::set<types::global_dof_index> fixed;
+    std::vector<types::global_dof_index> face_dofs(fe.n_dofs_per_face());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary())
+            for (const auto &[id, comps] : settings.fixed)
+              if (face->boundary_id() == id)
+                {
+                  face->get_dof_indices(face_dofs);
+                  for (unsigned int i = 0; i < face_dofs.size(); ++i)
+                    {
+                      const unsigned int c =
+                        fe.face_system_to_component_index(i).first;
+                      if (c < comps.size() && comps[c] && owned.is_element(face_dofs[i]))
+                        fixed.insert(face_dofs[i]);
+                    }
+                }
+    fixed_dofs.assign(fixed.begin(), fixed.end());
+
+    // Interface vertices owned by this rank.
+    iface_points.clear();
+    iface_dofs.clear();
+    std::set<unsigned int> seen;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary() && face->boundary_id() == boundary_id::interface)
+            for (const unsigned int vtx : face->vertex_indices())
+              if (owned.is_element(face->vertex_dof_index(vtx, 0)) &&
+                  seen.insert(face->vertex_index(vtx)).second)
+                {
+                  iface_points.push_back(face->vertex(vtx));
+                  std::array<types::global_dof_index, dim> d;
+                  for (unsigned int c = 0; c < dim; ++c)
+                    d[c] = face->vertex_dof_index(vtx, c);
+                  iface_dofs.push_back(d);
+                }
+    current_time = 0;
+  }
+
+  template <int dim>
+  double
+  ExplicitDynamics<dim>::critical_time_step() const
+  {
+    std::set<types::global_dof_index> fixed(fixed_dofs.begin(), fixed_dofs.end());
+    double omega2 = 0;
+    for (const auto row : owned)
+      {
+        if (fixed.count(row))
+          continue;
+        double sum = 0;
+        for (auto it = stiffness.begin(row); it != stiffness.end(row); ++it)
+          sum += std::abs(it->value());
+        omega2 = std::max(omega2, sum / mass(row));
+      }
+    omega2 = Utilities::MPI::max(omega2, comm);
+    return 2.0 / std::sqrt(omega2);
+  }
+
+  template <int dim>
+  void
+  ExplicitDynamics<dim>::set_interface_forces(const std::vector<Tensor<1, dim>> &forces)
+  {
+    AssertThrow(forces.size() == iface_dofs.size(),
+                ExcMessage("set_interface_forces: got " + std::to_string(forces.size()) +
+                           " forces for " + std::to_string(iface_dofs.size()) +
+                           " interface vertices"));
+    f_ext = 0;
+    for (std::size_t k = 0; k < forces.size(); ++k)
+      for (unsigned int c = 0; c < dim; ++c)
+        f_ext(iface_dofs[k][c]) = forces[k][c];
+    f_ext.compress(VectorOperation::insert);
+  }
+
+  template <int dim>
+  void
+  ExplicitDynamics<dim>::step(const double dt)
+  {
+    AssertThrow(dt > 0, ExcMessage("time step must be > 0"));
+    stiffness.vmult(work, u); // internal force K u
+    const double a = settings.damping;
+    const double c1 = 1 - 0.5 * a * dt, c2 = 1.0 / (1 + 0.5 * a * dt);
+    for (const auto i : owned)
+      {
+        const double acc = (f_ext(i) - work(i)) / mass(i);
+        v(i)             = (c1 * v(i) + dt * acc) * c2;
+      }
+    for (const auto i : fixed_dofs)
+      v(i) = 0;
+    v.compress(VectorOperation::insert);
+    u.add(dt, v);
+    current_time += dt;
+  }
+
+  template <int dim>
+  std::vector<Tensor<1, dim>>
+  ExplicitDynamics<dim>::interface_displacements() const
+  {
+    std::vector<Tensor<1, dim>> r(iface_dofs.size());
+    for (std::size_t k = 0; k < r.size(); ++k)
+      for (unsigned int c = 0; c < dim; ++c)
+        r[k][c] = u(iface_dofs[k][c]);
+    return r;
+  }
+
+  template <int dim>
+  std::vector<Tensor<1, dim>>
+  ExplicitDynamics<dim>::interface_velocities() const
+  {
+    std::vector<Tensor<1, dim>> r(iface_dofs.size());
+    for (std::size_t k = 0; k < r.size(); ++k)
+      for (unsigned int c = 0; c < dim; ++c)
+        r[k][c] = v(iface_dofs[k][c]);
+    return r;
+  }
+
+  template <int dim>
+  double
+  ExplicitDynamics<dim>::kinetic_energy() const
+  {
+    double e = 0;
+    for (const auto i : owned)
+      e += 0.5 * mass(i) * v(i) * v(i);
+    return Utilities::MPI::sum(e, comm);
+  }
+
+  template class ExplicitDynamics<2>;
+  template class ExplicitDynamics<3>;
+} // namespace demfem::fem

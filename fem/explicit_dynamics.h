@@ -1,0 +1,119 @@
+// Explicit-dynamic elastic continuum for the DEM coupling (DESIGN.md sections
+// 4 and 5): lumped (row-sum) mass with optional density scaling,
+// mass-proportional damping, central-difference (leapfrog) stepping, external
+// nodal forces on the interface boundary (id 2), and queries of the
+// interface vertices' displacement and velocity.
+//
+// Scheme (velocities at half steps, damping centred in time):
+//   v_{n+1/2} = [(1 - a dt/2) v_{n-1/2} + dt M^-1 (f_n - K u_n)] / (1 + a dt/2)
+//   u_{n+1}   = u_n + dt v_{n+1/2}
+// It is stable for dt <= 2 / omega_max; critical_time_step() returns
+// 2 / sqrt(max_i sum_j |K_ij| / M_i), a Gershgorin upper bound of omega_max,
+// hence a safe (slightly conservative) limit.
+#ifndef DEMFEM_FEM_EXPLICIT_DYNAMICS_H
+#define DEMFEM_FEM_EXPLICIT_DYNAMICS_H
+
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include "fem/mesh.h"
+
+#include <memory>
+#include <vector>
+
+namespace demfem::fem
+{
+  struct ExplicitSettings
+  {
+    double       young_modulus = 69e9;
+    double       poisson_ratio = 0.26;
+    double       density       = 2700; // kg/m^3
+    double       mass_scaling  = 1.0;  // density scaling factor (>= 1 speeds up)
+    double       damping       = 0.0;  // mass-proportional coefficient a [1/s]
+    unsigned int degree        = 1;
+    // Zero-displacement conditions: boundary id and the constrained
+    // components (size dim). Default: far field (id 1) fully fixed.
+    std::vector<std::pair<dealii::types::boundary_id, std::vector<bool>>> fixed = {
+      {boundary_id::far_field, {true, true, true}}};
+  };
+
+  template <int dim>
+  class ExplicitDynamics
+  {
+  public:
+    ExplicitDynamics(const dealii::parallel::distributed::Triangulation<dim> &tria,
+                     const ExplicitSettings &settings);
+    ~ExplicitDynamics();
+
+    /** Distribute dofs, assemble K and the lumped mass; state = rest. */
+    void
+    setup();
+
+    /** Safe time step limit of the undamped central-difference scheme. */
+    double
+    critical_time_step() const;
+
+    /** Vertices on boundary id 2 whose dofs this rank owns (fixed order). */
+    const std::vector<dealii::Point<dim>> &
+    interface_vertices() const
+    {
+      return iface_points;
+    }
+
+    /** Nodal forces [N] on the interface vertices, same order; held until
+     *  replaced. */
+    void
+    set_interface_forces(const std::vector<dealii::Tensor<1, dim>> &forces);
+
+    /** Advance by dt (must not exceed critical_time_step()). */
+    void
+    step(double dt);
+
+    std::vector<dealii::Tensor<1, dim>>
+    interface_displacements() const;
+    /** Velocities at the latest half step t - dt/2. */
+    std::vector<dealii::Tensor<1, dim>>
+    interface_velocities() const;
+
+    double
+    kinetic_energy() const;
+    double
+    time() const
+    {
+      return current_time;
+    }
+    const dealii::TrilinosWrappers::MPI::Vector &
+    displacement() const
+    {
+      return u;
+    }
+    const dealii::DoFHandler<dim> &
+    get_dof_handler() const
+    {
+      return dof_handler;
+    }
+
+  private:
+    const dealii::parallel::distributed::Triangulation<dim> &triangulation;
+    ExplicitSettings                                         settings;
+    MPI_Comm                                                 comm;
+    dealii::FESystem<dim>                                    fe;
+    dealii::MappingQ<dim>                                    mapping;
+    dealii::DoFHandler<dim>                                  dof_handler;
+    dealii::IndexSet                                         owned;
+
+    dealii::TrilinosWrappers::SparseMatrix stiffness;
+    dealii::TrilinosWrappers::MPI::Vector  mass, u, v, f_ext, work;
+    std::vector<dealii::types::global_dof_index> fixed_dofs; // owned only
+
+    std::vector<dealii::Point<dim>>                           iface_points;
+    std::vector<std::array<dealii::types::global_dof_index, dim>> iface_dofs;
+    double current_time = 0;
+  };
+} // namespace demfem::fem
+
+#endif

@@ -1,0 +1,197 @@
+#include "fem/mesh.h"
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/manifold_lib.h>
+#include <deal.II/grid/tria_accessor.h>
+#include <deal.II/grid/tria_iterator.h>
+
+#include <cmath>
+#include <fstream>
+
+namespace demfem::fem
+{
+  using namespace dealii;
+
+  namespace
+  {
+    // Distance from the tunnel axis (the origin in 2D, the z axis in 3D).
+    template <int dim>
+    double
+    axial_distance(const Point<dim> &p)
+    {
+      return std::hypot(p[0], p[1]);
+    }
+  } // namespace
+
+  template <int dim>
+  void
+  generate_tunnel_mesh(Triangulation<dim> &tria, const GeneratedMeshSettings &s)
+  {
+    AssertThrow(s.radius > 0, ExcMessage("Tunnel/radius must be > 0"));
+    AssertThrow(s.outer_radius > s.radius,
+                ExcMessage("Continuum/outer radius (" +
+                           std::to_string(s.outer_radius) +
+                           ") must be larger than Tunnel/radius (" +
+                           std::to_string(s.radius) + ")"));
+    AssertThrow(s.cells_around >= 8, ExcMessage("need >= 8 cells around"));
+
+    const unsigned int n_t = s.cells_around;
+    // Geometric grading r_i = a (R/a)^(i/n_r): radial size ~ r ln(R/a)/n_r,
+    // tangential size ~ 2 pi r/n_t; equal when n_r = n_t ln(R/a)/(2 pi).
+    const unsigned int n_r = std::max<unsigned int>(
+      2,
+      static_cast<unsigned int>(std::lround(
+        n_t * std::log(s.outer_radius / s.radius) / (2 * numbers::PI))));
+    const unsigned int n_z = (dim == 3 ? std::max(1u, s.layers) : 0);
+
+    const auto radius_at = [&](unsigned int i) {
+      return s.radius * std::pow(s.outer_radius / s.radius, double(i) / n_r);
+    };
+    // Vertex numbering: (i radial, j angular, k axial).
+    const auto vertex_index = [&](unsigned int i, unsigned int j, unsigned int k) {
+      return (k * n_t + (j % n_t)) * (n_r + 1) + i;
+    };
+
+    std::vector<Point<dim>> vertices;
+    for (unsigned int k = 0; k <= n_z; ++k)
+      for (unsigned int j = 0; j < n_t; ++j)
+        for (unsigned int i = 0; i <= n_r; ++i)
+          {
+            const double phi = 2 * numbers::PI * j / n_t;
+            Point<dim>   p;
+            p[0] = radius_at(i) * std::cos(phi);
+            p[1] = radius_at(i) * std::sin(phi);
+            if constexpr (dim == 3)
+              p[2] = s.thickness * k / n_z;
+            vertices.push_back(p);
+          }
+
+    // Local axes: xi radial, eta angular (counter-clockwise), zeta axial;
+    // this is right-handed, so deal.II's lexicographic vertex order gives a
+    // positive Jacobian.
+    std::vector<CellData<dim>> cells;
+    for (unsigned int k = 0; k < std::max(1u, n_z); ++k)
+      for (unsigned int j = 0; j < n_t; ++j)
+        for (unsigned int i = 0; i < n_r; ++i)
+          {
+            CellData<dim> c;
+            unsigned int  v = 0;
+            for (unsigned int dk = 0; dk < (dim == 3 ? 2u : 1u); ++dk)
+              for (unsigned int dj = 0; dj < 2; ++dj)
+                for (unsigned int di = 0; di < 2; ++di)
+                  c.vertices[v++] = vertex_index(i + di, j + dj, k + dk);
+            c.material_id = 0;
+            cells.push_back(c);
+          }
+    tria.create_triangulation(vertices, cells, SubCellData());
+
+    const double tol = 1e-8 * s.outer_radius;
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary())
+          {
+            const Point<dim> c = face->center();
+            bool on_z_plane    = false;
+            if constexpr (dim == 3)
+              on_z_plane = std::abs(c[2]) < tol ||
+                           std::abs(c[2] - s.thickness) < tol;
+            if (on_z_plane)
+              face->set_boundary_id(s.plane_strain_slab ?
+                                      boundary_id::roller_z :
+                                      boundary_id::far_field);
+            else if (axial_distance(c) < 0.5 * (s.radius + radius_at(1)))
+              face->set_boundary_id(boundary_id::tunnel_wall);
+            else
+              face->set_boundary_id(boundary_id::far_field);
+          }
+
+    tria.set_all_manifold_ids(0);
+    if constexpr (dim == 2)
+      tria.set_manifold(0, SphericalManifold<2>(Point<2>()));
+    else
+      tria.set_manifold(0, CylindricalManifold<3>(2));
+  }
+
+  template <int dim>
+  void
+  read_gmsh_mesh(Triangulation<dim> &tria, const std::string &file)
+  {
+    std::ifstream in(file);
+    AssertThrow(in.good(),
+                ExcMessage("Continuum/mesh: cannot open mesh file '" + file +
+                           "'"));
+    GridIn<dim> grid_in;
+    grid_in.attach_triangulation(tria);
+    try
+      {
+        grid_in.read_msh(in);
+      }
+    catch (const std::exception &e)
+      {
+        AssertThrow(false,
+                    ExcMessage("Continuum/mesh: cannot read '" + file +
+                               "' as a " + std::to_string(dim) +
+                               "D quadrilateral/hexahedral Gmsh mesh: " +
+                               e.what()));
+      }
+
+    // Circular boundaries (far field, interface, wall) get a manifold so
+    // that refinement and MappingQ follow the circle; faces that are not on
+    // one circle around the axis (e.g. the tunnel face) stay flat.
+    for (const types::boundary_id id :
+         {boundary_id::far_field, boundary_id::interface, boundary_id::tunnel_wall})
+      {
+        bool any = false;
+        for (const auto &cell : tria.active_cell_iterators())
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary() && face->boundary_id() == id)
+              {
+                double rmin = 1e300, rmax = 0;
+                for (const unsigned int v : face->vertex_indices())
+                  {
+                    const double r = axial_distance(face->vertex(v));
+                    rmin           = std::min(rmin, r);
+                    rmax           = std::max(rmax, r);
+                  }
+                if (rmax - rmin <= 1e-6 * rmax)
+                  {
+                    face->set_all_manifold_ids(id);
+                    any = true;
+                  }
+              }
+        if (any)
+          {
+            if constexpr (dim == 2)
+              tria.set_manifold(id, SphericalManifold<2>(Point<2>()));
+            else
+              tria.set_manifold(id, CylindricalManifold<3>(2));
+          }
+      }
+  }
+
+  template <int dim>
+  std::set<types::boundary_id>
+  coarse_boundary_ids(const Triangulation<dim> &tria)
+  {
+    std::set<types::boundary_id> ids;
+    for (const auto &cell : tria.cell_iterators_on_level(0))
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary())
+          ids.insert(face->boundary_id());
+    return ids;
+  }
+
+  template void
+  generate_tunnel_mesh<2>(Triangulation<2> &, const GeneratedMeshSettings &);
+  template void
+  generate_tunnel_mesh<3>(Triangulation<3> &, const GeneratedMeshSettings &);
+  template void
+  read_gmsh_mesh<2>(Triangulation<2> &, const std::string &);
+  template void
+  read_gmsh_mesh<3>(Triangulation<3> &, const std::string &);
+  template std::set<types::boundary_id>
+  coarse_boundary_ids<2>(const Triangulation<2> &);
+  template std::set<types::boundary_id>
+  coarse_boundary_ids<3>(const Triangulation<3> &);
+} // namespace demfem::fem

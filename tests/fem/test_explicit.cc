@@ -1,0 +1,95 @@
+// Explicit dynamics: a plane-strain bar under a suddenly applied end load
+// settles, with mass-proportional damping, on the static solution.
+#include <catch2/catch.hpp>
+
+#include <deal.II/grid/grid_generator.h>
+
+#include "fem/explicit_dynamics.h"
+#include "tests/fem/kirsch.h"
+
+#include <cmath>
+#include <iostream>
+
+using namespace demfem;
+
+TEST_CASE("Explicit bar under a step load settles on the static solution",
+          "[fem][explicit]")
+{
+  test::ensure_mpi();
+  const double L = 2.0, H = 0.4, E = 1e9, nu = 0.25, F = 1e6; // F per unit thickness
+  dealii::parallel::distributed::Triangulation<2> tria(MPI_COMM_WORLD);
+  dealii::GridGenerator::subdivided_hyper_rectangle(
+    tria, {20, 4}, dealii::Point<2>(0, 0), dealii::Point<2>(L, H), true);
+  // colorize: 0 = x min, 1 = x max, 2 = y min, 3 = y max. Left end: roller
+  // in x (id 1); bottom: roller in y (id 5); right end: loaded interface (id 2).
+  for (const auto &cell : tria.active_cell_iterators())
+    for (const auto &face : cell->face_iterators())
+      if (face->at_boundary())
+        {
+          const auto id = face->boundary_id();
+          face->set_boundary_id(id == 0 ? 1 : id == 1 ? 2 : id == 2 ? 5 : 0);
+        }
+
+  fem::ExplicitSettings s;
+  s.young_modulus = E;
+  s.poisson_ratio = nu;
+  s.density       = 2000;
+  s.mass_scaling  = 1.0;
+  s.fixed         = {{1, {true, false}}, {5, {false, true}}};
+  // Critical damping of the fundamental axial mode, omega_1 = pi c / (2 L)
+  // with the plane-strain constrained modulus; all modes then decay at
+  // least like exp(-a t / 2).
+  const double c = std::sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / s.density);
+  s.damping      = 2 * M_PI * c / (2 * L);
+  fem::ExplicitDynamics<2> dyn(tria, s);
+  dyn.setup();
+
+  const double dt_crit = dyn.critical_time_step();
+  // The Gershgorin estimate must be below the 1D element bound h / c.
+  CHECK(dt_crit < 0.1 / c * 1.0001);
+  CHECK(dt_crit > 0.1 / c * 0.3);
+
+  // Consistent nodal forces of a uniform traction F / H on the end (Q1:
+  // half weight at the two corner vertices).
+  const auto &pts = dyn.interface_vertices();
+  REQUIRE(pts.size() == 5);
+  std::vector<dealii::Tensor<1, 2>> forces(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    {
+      const bool corner = (pts[i][1] < 1e-12 || pts[i][1] > H - 1e-12);
+      forces[i][0]      = F / 4 * (corner ? 0.5 : 1.0);
+    }
+  dyn.set_interface_forces(forces);
+
+  const double dt = 0.9 * dt_crit;
+  // Settling time: amplitude ~ exp(-a t / 2) < 1e-9 needs t > 2 ln(1e9)/a.
+  const unsigned int n_steps =
+    static_cast<unsigned int>(std::ceil(2 * std::log(1e9) / s.damping / dt));
+  double max_u = 0;
+  for (unsigned int n = 0; n < n_steps; ++n)
+    {
+      dyn.step(dt);
+      for (const auto &u : dyn.interface_displacements())
+        max_u = std::max(max_u, u[0]);
+    }
+  // Static plane-strain solution: uniform sigma_xx = F / H, sigma_yy = 0,
+  // eps_xx = (1 - nu^2) sigma_xx / E (exact in Q1).
+  const double u_static = (1 - nu * nu) * F / H * L / E;
+  const auto   u_end    = dyn.interface_displacements();
+  double       err = 0;
+  for (std::size_t i = 0; i < u_end.size(); ++i)
+    {
+      err = std::max(err, std::abs(u_end[i][0] - u_static) / u_static);
+      const double uy_static = -nu / (1 - nu) * (1 - nu * nu) * F / H / E * pts[i][1];
+      err = std::max(err, std::abs(u_end[i][1] - uy_static) / u_static);
+    }
+  std::cout << "explicit bar: dt_crit " << dt_crit << " s (h/c = " << 0.1 / c << "), "
+            << n_steps << " steps, overshoot " << max_u / u_static
+            << ", final relative error " << err << ", kinetic energy "
+            << dyn.kinetic_energy() << std::endl;
+  CHECK(err < 1e-6);
+  // A suddenly applied load overshoots the static value (dynamic factor
+  // up to 2 undamped); near-critical damping keeps it between 1 and 2.
+  CHECK(max_u > u_static);
+  CHECK(max_u < 2 * u_static);
+}
