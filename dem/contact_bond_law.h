@@ -23,10 +23,10 @@ namespace demfem::dem
 
     struct Params
     {
-      typename Linear::Params linear; ///< kn, ks, friction, reference_gap
-      double cb_tenf   = 0;           ///< tensile strength [force]
-      double cb_shearf = 0;           ///< shear strength [force]
-      bool   bonded    = false;       ///< bond the contact when installed
+      typename Linear::Params linear;            ///< kn, ks, friction, reference_gap
+      double                  cb_tenf   = 0;     ///< tensile strength [force]
+      double                  cb_shearf = 0;     ///< shear strength [force]
+      bool                    bonded    = false; ///< bond the contact when installed
 
       void validate(const std::string &where) const
       {
@@ -42,8 +42,8 @@ namespace demfem::dem
     // tension, -2 broken in shear).
     enum : int
     {
-      s_lin    = 0,
-      s_bond   = Linear::n_state,
+      s_lin  = 0,
+      s_bond = Linear::n_state,
       n_state
     };
 
@@ -75,10 +75,10 @@ namespace demfem::dem
         {
           // Bonded springs: tension allowed (Fn = kn (g - g_r) for any sign)
           // and the shear spring never slips.
-          const double fn  = p.linear.kn * (k.gap - p.linear.reference_gap);
-          const double fss = lin[Linear::s_fss] - p.linear.ks * k.d_ss;
-          const double fst = lin[Linear::s_fst] - p.linear.ks * k.d_st;
-          const double fs  = std::sqrt(fss * fss + fst * fst);
+          const double fn   = p.linear.kn * (k.gap - p.linear.reference_gap);
+          const double fss  = lin[Linear::s_fss] - p.linear.ks * k.d_ss;
+          const double fst  = lin[Linear::s_fst] - p.linear.ks * k.d_st;
+          const double fs   = std::sqrt(fss * fss + fst * fst);
           int          mode = -1;
           if (fn >= p.cb_tenf)
             mode = 0;
@@ -93,11 +93,11 @@ namespace demfem::dem
               return;
             }
           LawEvent e;
-          e.kind     = LawEvent::bond_break;
-          e.element  = 0;
-          e.mode     = mode;
-          e.size     = 2 * k.min_radius();
-          e.gap      = k.gap;
+          e.kind    = LawEvent::bond_break;
+          e.element = 0;
+          e.mode    = mode;
+          e.size    = 2 * k.min_radius();
+          e.gap     = k.gap;
           // Contact-bond strengths are forces; reported as given.
           e.strength = mode == 0 ? p.cb_tenf : p.cb_shearf;
           events.push(e);

@@ -21,15 +21,15 @@ namespace demfem::dem
 
     struct Params
     {
-      typename Linear::Params linear; ///< kn, ks, friction, reference_gap
-      double pb_kn   = 0;     ///< bond normal stiffness [stress/disp]
-      double pb_ks   = 0;     ///< bond shear stiffness [stress/disp]
-      double pb_rmul = 1;     ///< radius multiplier lambda_bar
-      double pb_mcf  = 1;     ///< moment-contribution factor beta_bar
-      double pb_ten  = 0;     ///< tensile strength sigma_bar_c [stress]
-      double pb_coh  = 0;     ///< cohesion c_bar [stress]
-      double pb_fa   = 0;     ///< friction angle phi_bar [degrees]
-      bool   bonded  = false; ///< bond the contact when installed
+      typename Linear::Params linear;          ///< kn, ks, friction, reference_gap
+      double                  pb_kn   = 0;     ///< bond normal stiffness [stress/disp]
+      double                  pb_ks   = 0;     ///< bond shear stiffness [stress/disp]
+      double                  pb_rmul = 1;     ///< radius multiplier lambda_bar
+      double                  pb_mcf  = 1;     ///< moment-contribution factor beta_bar
+      double                  pb_ten  = 0;     ///< tensile strength sigma_bar_c [stress]
+      double                  pb_coh  = 0;     ///< cohesion c_bar [stress]
+      double                  pb_fa   = 0;     ///< friction angle phi_bar [degrees]
+      bool                    bonded  = false; ///< bond the contact when installed
 
       void validate(const std::string &where) const
       {
@@ -57,7 +57,7 @@ namespace demfem::dem
     // state: linear block, then B_bar, R_bar, bond Fn, Fss, Fst, Mt, Mbs, Mbt.
     enum : int
     {
-      s_lin = 0,
+      s_lin   = 0,
       s_state = Linear::n_state,
       s_rad,
       s_fn,
@@ -125,9 +125,9 @@ namespace demfem::dem
       st[s_mbt] -= p.pb_kn * c.I * k.d_bt;
 
       // Maximum normal and shear stresses on the bond periphery.
-      const double mb  = std::sqrt(st[s_mbs] * st[s_mbs] + st[s_mbt] * st[s_mbt]);
-      const double fs  = std::sqrt(st[s_fss] * st[s_fss] + st[s_fst] * st[s_fst]);
-      const double sig = st[s_fn] / c.A;
+      const double mb    = std::sqrt(st[s_mbs] * st[s_mbs] + st[s_mbt] * st[s_mbt]);
+      const double fs    = std::sqrt(st[s_fss] * st[s_fss] + st[s_fst] * st[s_fst]);
+      const double sig   = st[s_fn] / c.A;
       const double sigma = sig + p.pb_mcf * mb * R / c.I;
       double       tau   = fs / c.A;
       if (dim == 3)
@@ -195,8 +195,8 @@ namespace demfem::dem
 
     static double strain_energy(const Params &p, const double *st)
     {
-      double        e = Linear::strain_energy(p.linear, st + s_lin);
-      const Section c = section(st[s_rad]);
+      double        e   = Linear::strain_energy(p.linear, st + s_lin);
+      const Section c   = section(st[s_rad]);
       auto          add = [&e](double f2, double k) {
         if (k > 0)
           e += 0.5 * f2 / k;

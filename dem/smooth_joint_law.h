@@ -21,16 +21,16 @@ namespace demfem::dem
 
     struct Params
     {
-      double sj_kn   = 0;     ///< normal stiffness [stress/disp]
-      double sj_ks   = 0;     ///< shear stiffness [stress/disp]
-      double sj_fric = 0;     ///< friction coefficient mu
-      double sj_da   = 0;     ///< dilation angle psi [degrees]
-      double sj_ten  = 0;     ///< tensile strength sigma_c [stress]
-      double sj_coh  = 0;     ///< cohesion c [stress]
-      double sj_fa   = 0;     ///< friction angle phi [degrees]
-      double sj_rmul = 1;     ///< radius multiplier lambda
-      double dip     = 0;     ///< dip angle theta_p [degrees]
-      double ddir    = 0;     ///< dip direction theta_d [degrees] (3D)
+      double sj_kn    = 0;     ///< normal stiffness [stress/disp]
+      double sj_ks    = 0;     ///< shear stiffness [stress/disp]
+      double sj_fric  = 0;     ///< friction coefficient mu
+      double sj_da    = 0;     ///< dilation angle psi [degrees]
+      double sj_ten   = 0;     ///< tensile strength sigma_c [stress]
+      double sj_coh   = 0;     ///< cohesion c [stress]
+      double sj_fa    = 0;     ///< friction angle phi [degrees]
+      double sj_rmul  = 1;     ///< radius multiplier lambda
+      double dip      = 0;     ///< dip angle theta_p [degrees]
+      double ddir     = 0;     ///< dip direction theta_d [degrees] (3D)
       bool   sj_large = false; ///< large-strain mode S_l
       bool   bonded   = false; ///< bond the joint when installed (S_j = 3)
 
@@ -86,7 +86,7 @@ namespace demfem::dem
     /// Joint unit normal from dip and dip direction (seed Eq. 1).
     static Vec<dim> joint_normal(const Params &p)
     {
-      Vec<dim> nj;
+      Vec<dim>     nj;
       const double tp = deg(p.dip), td = deg(p.ddir);
       if constexpr (dim == 2)
         nj << std::sin(tp), std::cos(tp);
@@ -171,14 +171,14 @@ namespace demfem::dem
       const double   dne = alpha * dn;
       const Vec<dim> dse = alpha * ds;
 
-      const double   A    = area(st[s_rad]);
-      const double   knA  = p.sj_kn * A, ksA = p.sj_ks * A;
-      const double   fn_o = st[s_fn];
-      const Vec<dim> fs_o = vec(st, s_fs);
-      double         fn   = fn_o + knA * dne;   // Eq. 7, tension positive
-      const Vec<dim> fs_t = fs_o - ksA * dse;   // Eq. 8, trial shear force
+      const double   A   = area(st[s_rad]);
+      const double   knA = p.sj_kn * A, ksA = p.sj_ks * A;
+      const double   fn_o  = st[s_fn];
+      const Vec<dim> fs_o  = vec(st, s_fs);
+      double         fn    = fn_o + knA * dne; // Eq. 7, tension positive
+      const Vec<dim> fs_t  = fs_o - ksA * dse; // Eq. 8, trial shear force
       const double   fs_tn = fs_t.norm();
-      const double   fsmu  = -p.sj_fric * fn;   // Eq. 9
+      const double   fsmu  = -p.sj_fric * fn; // Eq. 9
       Vec<dim>       fs    = fs_t;
       bool           slip  = false;
       // Coulomb limit, Eq. 10-11 (slip iff the trial force exceeds it).

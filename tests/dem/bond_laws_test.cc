@@ -55,8 +55,8 @@ namespace
     int                  step = 0;
 
     explicit Driver(const typename Law::Params &params)
-      : p(params)
-      , k(touching_pair<dim>())
+        : p(params)
+        , k(touching_pair<dim>())
     {
       p.validate("test");
       st.resize(Law::state_size(p));
@@ -180,9 +180,9 @@ namespace
   // Runs N steps of combined loading with the given strengths; returns the
   // driver for inspection.
   template <int dim>
-  Driver<ParallelBondLaw<dim>, dim>
-  pbond_run(double ten, double coh, double fa, double mcf, double dn, double dst,
-            double dtw, double dbs)
+  Driver<ParallelBondLaw<dim>, dim> pbond_run(double ten, double coh, double fa,
+                                              double mcf, double dn, double dst,
+                                              double dtw, double dbs)
   {
     auto p   = two_grain_pbond<dim>();
     p.pb_ten = ten;
@@ -264,7 +264,7 @@ TEST_CASE("parallel bond: shear breakage on both sides of c - sigma tan(phi)", "
   // 3D twist term: tau = beta |Mt| R / J = beta ks_bar theta_t R.
   {
     const double th = 1e-3, tau_t = 0.5 * pb_ks * th * 5e-3;
-    auto d = pbond_run<3>(1e20, tau_t * (1 + eps), 0, 0.5, 0, 0, th, 0);
+    auto         d = pbond_run<3>(1e20, tau_t * (1 + eps), 0, 0.5, 0, 0, th, 0);
     CHECK(d.breaks() == 0);
     auto d2 = pbond_run<3>(1e20, tau_t * (1 - eps), 0, 0.5, 0, 0, th, 0);
     CHECK(d2.breaks() == 1);
@@ -274,11 +274,11 @@ TEST_CASE("parallel bond: shear breakage on both sides of c - sigma tan(phi)", "
 
 TEST_CASE("parallel bond: linear part after breakage follows Coulomb", "[bond]")
 {
-  auto p      = two_grain_pbond<2>();
-  p.linear.kn = 1e8;
-  p.linear.ks = 5e7;
+  auto p            = two_grain_pbond<2>();
+  p.linear.kn       = 1e8;
+  p.linear.ks       = 5e7;
   p.linear.friction = 0.4;
-  p.pb_coh    = 1e5; // tiny: breaks in shear almost at once
+  p.pb_coh          = 1e5; // tiny: breaks in shear almost at once
   Driver<ParallelBondLaw<2>, 2> d(p);
   d.run(100, -1e-7, 0, 0, 0, 0, 0); // compress 1e-5 m: linear Fn = -1000 N
   CHECK(d.breaks() == 0);
@@ -387,12 +387,12 @@ TEST_CASE("bond laws: invalid properties throw InputError", "[bond]")
   CHECK_THROWS_AS(bad_pb([](P &p) { p.pb_coh = -1; }), InputError);
   CHECK_THROWS_AS(bad_pb([](P &p) { p.pb_fa = 90; }), InputError);
   CHECK_THROWS_AS(bad_pb([](P &p) { p.linear.kn = -1; }), InputError);
-  CHECK_THROWS_WITH(bad_pb([](P &p) { p.pb_mcf = 1.5; }),
-                    Catch::Contains("pb_mcf") && Catch::Contains("1.5") &&
-                      Catch::Contains("[0, 1]"));
+  CHECK_THROWS_WITH(bad_pb([](P &p) { p.pb_mcf = 1.5; }), Catch::Contains("pb_mcf") &&
+                                                              Catch::Contains("1.5") &&
+                                                              Catch::Contains("[0, 1]"));
   CHECK_NOTHROW(bad_pb([](P &p) { p.pb_mcf = 0; }));
 
-  using C = ContactBondLaw<2>::Params;
+  using C     = ContactBondLaw<2>::Params;
   auto bad_cb = [](auto modify) {
     C p = cbond(1, 1);
     modify(p);

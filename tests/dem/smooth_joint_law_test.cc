@@ -55,8 +55,8 @@ namespace
     int                  step = 0;
 
     Driver(const typename Law::Params &params, const ContactStep<dim> &geo)
-      : p(params)
-      , k(geo)
+        : p(params)
+        , k(geo)
     {
       p.validate("test");
       st.resize(Law::state_size(p));
@@ -129,7 +129,7 @@ TEST_CASE("smooth joint: dilation while slipping, seed Eq. 12", "[smoothjoint]")
   const double fb = d.fn();
   d.run(1, 0, 0, -1e-8);
   const double slope =
-    2e8 * std::tan(rad(10)) / (1 + 0.5 * std::tan(rad(10)) * 2) * 500 * 1e-8;
+      2e8 * std::tan(rad(10)) / (1 + 0.5 * std::tan(rad(10)) * 2) * 500 * 1e-8;
   CHECK(fa - d.fn() == Approx(slope).epsilon(1e-6));
   // Eq. 9-10: the limit uses Fn of Eq. 7, i.e. before this step's dilation.
   CHECK(d.fs()[0] == Approx(0.5 * fb).epsilon(tight));
@@ -148,11 +148,11 @@ namespace
   // Bonded horizontal joint loaded in tension then examined.
   Driver<2> bonded_pull(double ten, double gap)
   {
-    auto p     = base2();
-    p.bonded   = true;
-    p.sj_ten   = ten;
-    p.sj_coh   = 1e20;
-    p.sj_fric  = 0.3;
+    auto p    = base2();
+    p.bonded  = true;
+    p.sj_ten  = ten;
+    p.sj_coh  = 1e20;
+    p.sj_fric = 0.3;
     Driver<2> d(p, pair2(M_PI / 2));
     d.run(1000, gap / 1000, 0, 0);
     return d;
@@ -168,7 +168,8 @@ TEST_CASE("smooth joint: tensile breakage, seed Eq. 13-14", "[smoothjoint]")
     CHECK(d.count(LawEvent::bond_break) == 0);
     CHECK(d.fn() == Approx(2000).epsilon(tight));
     CHECK(d.f.Fn == Approx(2000).epsilon(tight)); // tension carried
-    CHECK(SJ2::strain_energy(d.p, d.st.data()) == Approx(0.5 * 2000 * 1e-5).epsilon(tight));
+    CHECK(SJ2::strain_energy(d.p, d.st.data()) ==
+          Approx(0.5 * 2000 * 1e-5).epsilon(tight));
   }
   auto d = bonded_pull(1e5 * (1 - eps), 1e-5);
   REQUIRE(d.count(LawEvent::bond_break) == 1);
@@ -267,8 +268,8 @@ TEST_CASE("smooth joint: pair across a 30 deg dipping joint slides along the joi
   auto p    = base2();
   p.sj_ks   = 1e10; // kn A = ks A = 2e8 N/m
   p.sj_fric = 0.2;
-  p.dip     = 30; // n_j = (sin 30, cos 30)
-  Driver<2> d(p, pair2(M_PI / 2)); // contact normal +y: n_c . n_j > 0
+  p.dip     = 30;                     // n_j = (sin 30, cos 30)
+  Driver<2>    d(p, pair2(M_PI / 2)); // contact normal +y: n_c . n_j > 0
   const Vec<2> nj(0.5, std::sqrt(3.0) / 2), tj(std::sqrt(3.0) / 2, -0.5);
   CHECK((d.nj() - nj).norm() < 1e-15);
   // Press piece 2 towards piece 1 along the contact normal by D = 1e-5 m.
@@ -293,7 +294,8 @@ TEST_CASE("smooth joint: pair across a 30 deg dipping joint slides along the joi
   const Vec<2> F = -fn * nj - fs * tj;
   CHECK(d.f.Fn == Approx(-F[1]).epsilon(tight));
   CHECK(d.f.Fst == Approx(-F[0]).epsilon(tight));
-  CHECK(d.f.Fst == Approx(-(1732.0508 * 0.5 - 346.41016 * std::sqrt(3.0) / 2)).epsilon(1e-7));
+  CHECK(d.f.Fst ==
+        Approx(-(1732.0508 * 0.5 - 346.41016 * std::sqrt(3.0) / 2)).epsilon(1e-7));
   // Energies: strain Eq. 16 (with A); slip Eq. 17 summed over equal steps
   // with Fs growing linearly: E = 1/2 |Fs| (D/2 - |Fs| / (ks A)).
   CHECK(SJ2::strain_energy(d.p, d.st.data()) ==
@@ -308,7 +310,7 @@ TEST_CASE("smooth joint: surfaces assigned by the sign of n_c . n_j", "[smoothjo
   p.sj_ks  = 1e10; // isotropic joint: F = -kn A (relative displacement)
   p.bonded = true;
   p.sj_ten = p.sj_coh = 1e20;
-  p.dip    = 30;
+  p.dip               = 30;
   const Vec<2> nj(0.5, std::sqrt(3.0) / 2);
   const double D = 1e-5;
   // Piece 2 above the joint (n_c = +y): n_j kept; pulling apart = tension.
@@ -334,19 +336,19 @@ TEST_CASE("smooth joint: surfaces assigned by the sign of n_c . n_j", "[smoothjo
 TEST_CASE("smooth joint: 3D joint normal, shear components, activity", "[smoothjoint]")
 {
   SJ3::Params p;
-  p.dip  = 30;
-  p.ddir = 60;
+  p.dip          = 30;
+  p.ddir         = 60;
   const Vec<3> n = SJ3::joint_normal(p);
   CHECK(n[0] == Approx(0.5 * std::sqrt(3.0) / 2).epsilon(1e-14)); // Eq. 1
   CHECK(n[1] == Approx(0.25).epsilon(1e-14));
   CHECK(n[2] == Approx(std::sqrt(3.0) / 2).epsilon(1e-14));
 
   // Horizontal joint, contact normal +z (s = x, t = y): A = pi R^2.
-  p.dip     = 0;
-  p.ddir    = 0;
-  p.sj_kn   = 1e10;
-  p.sj_ks   = 5e9;
-  p.sj_fric = 1;
+  p.dip      = 0;
+  p.ddir     = 0;
+  p.sj_kn    = 1e10;
+  p.sj_ks    = 5e9;
+  p.sj_fric  = 1;
   p.sj_large = true;
   ContactStep<3> k;
   k.s << 1, 0, 0;
@@ -397,8 +399,11 @@ TEST_CASE("smooth joint: invalid properties throw InputError", "[smoothjoint]")
   CHECK_THROWS_AS(bad([](P &p) { p.dip = 360.5; }), InputError);
   CHECK_THROWS_AS(bad([](P &p) { p.dip = -1; }), InputError);
   CHECK_THROWS_AS(bad([](P &p) { p.ddir = 181; }), InputError);
-  CHECK_NOTHROW(bad([](P &p) { p.dip = 360; p.ddir = 180; }));
-  CHECK_THROWS_WITH(bad([](P &p) { p.sj_fa = 95; }),
-                    Catch::Contains("sj_fa") && Catch::Contains("95") &&
-                      Catch::Contains("[0, 90)"));
+  CHECK_NOTHROW(bad([](P &p) {
+    p.dip  = 360;
+    p.ddir = 180;
+  }));
+  CHECK_THROWS_WITH(bad([](P &p) { p.sj_fa = 95; }), Catch::Contains("sj_fa") &&
+                                                         Catch::Contains("95") &&
+                                                         Catch::Contains("[0, 90)"));
 }
