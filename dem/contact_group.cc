@@ -1,0 +1,120 @@
+#include "dem/contact_group.h"
+
+namespace demfem::dem
+{
+  template <>
+  Vec<2> initial_s_axis<2>(const Vec<2> &)
+  {
+    return Vec<2>::Zero();
+  }
+
+  template <>
+  Vec<3> initial_s_axis<3>(const Vec<3> &n)
+  {
+    // Project global x (or y when x is nearly parallel to n) onto the plane.
+    Vec<3> e = std::abs(n[0]) < 0.9 ? Vec<3>::UnitX() : Vec<3>::UnitY();
+    Vec<3> s = e - e.dot(n) * n;
+    return s.normalized();
+  }
+
+  template <int dim>
+  ContactGeometry<dim> ContactGroupBase<dim>::geometry(std::size_t k, const Particles<dim> &p,
+                                                       const Walls<dim> &w,
+                                                       std::array<double, dim> *weights) const
+  {
+    ContactGeometry<dim> g;
+    const std::uint32_t  i = end1[k], j = end2[k];
+    g.R1                   = p.radius[i];
+    Vec<dim> d;
+    if (is_wall[k])
+      {
+        std::array<double, dim> wgt;
+        d           = w.closest_point(j, p.x[i], wgt) - p.x[i];
+        g.R2        = 0;
+        g.ball_wall = true;
+        if (weights)
+          *weights = wgt;
+      }
+    else
+      {
+        d    = p.x[j] - p.x[i];
+        g.R2 = p.radius[j];
+      }
+    const double dist = d.norm();
+    // Coincident centres have no normal; keep the previous one.
+    g.n   = dist > 0 ? Vec<dim>(d / dist) : n_prev[k];
+    g.gap = dist - g.R1 - g.R2;
+    g.xc  = p.x[i] + (g.R1 + 0.5 * g.gap) * g.n; // memo Eq. 2
+    if constexpr (dim == 3)
+      {
+        g.s = s_axis[k];
+        g.t = g.n.cross(g.s);
+      }
+    else
+      {
+        g.s.setZero();
+        g.t = Vec<2>(-g.n[1], g.n[0]);
+      }
+    return g;
+  }
+
+  template <int dim>
+  std::size_t ContactGroupBase<dim>::add(std::uint32_t i, std::uint32_t j, bool wall,
+                                         const Particles<dim> &p, const Walls<dim> &w)
+  {
+    const std::size_t k = size();
+    end1.push_back(i);
+    end2.push_back(j);
+    is_wall.push_back(wall);
+    s_axis.push_back(Vec<dim>::Zero());
+    n_prev.push_back(Vec<dim>::UnitX());
+    xc.push_back(Vec<dim>::Zero());
+    gap.push_back(0);
+    local_force.push_back(ContactForce{});
+    force.push_back(Vec<dim>::Zero());
+    moment.push_back(RotVec<dim>::Zero());
+    facet_weights.push_back({});
+    state_.resize(state_.size() + stride(), 0.0);
+    ContactGeometry<dim> g = geometry(k, p, w, &facet_weights[k]);
+    n_prev[k]              = g.n;
+    if constexpr (dim == 3)
+      {
+        s_axis[k] = initial_s_axis<3>(g.n);
+        g.s       = s_axis[k];
+        g.t       = g.n.cross(g.s);
+      }
+    xc[k]  = g.xc;
+    gap[k] = g.gap;
+    install(k, g);
+    return k;
+  }
+
+  template <int dim>
+  void ContactGroupBase<dim>::remove(std::size_t k)
+  {
+    const std::size_t last = size() - 1;
+    if (k != last)
+      {
+        end1[k]          = end1[last];
+        end2[k]          = end2[last];
+        is_wall[k]       = is_wall[last];
+        s_axis[k]        = s_axis[last];
+        n_prev[k]        = n_prev[last];
+        xc[k]            = xc[last];
+        gap[k]           = gap[last];
+        local_force[k]   = local_force[last];
+        force[k]         = force[last];
+        moment[k]        = moment[last];
+        facet_weights[k] = facet_weights[last];
+        const int n      = stride();
+        std::copy(&state_[last * n], &state_[last * n] + n, &state_[k * n]);
+      }
+    end1.pop_back(), end2.pop_back(), is_wall.pop_back(), s_axis.pop_back();
+    n_prev.pop_back(), xc.pop_back(), gap.pop_back(), local_force.pop_back();
+    force.pop_back(), moment.pop_back(), facet_weights.pop_back();
+    state_.resize(state_.size() - stride());
+  }
+
+  template class ContactGroupBase<2>;
+  template class ContactGroupBase<3>;
+} // namespace demfem::dem

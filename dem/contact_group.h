@@ -1,0 +1,232 @@
+#pragma once
+// Contacts grouped by law instance. Per-contact data common to every law is
+// kept in structure-of-arrays form in ContactGroupBase; the law state lives
+// in ContactGroup<dim, Law> as one block of doubles with a fixed stride. The
+// only virtual call is one `compute` per group per step: the contact loop
+// inside is compiled for the concrete law.
+#include "dem/contact_law.h"
+#include "dem/particles.h"
+#include "dem/walls.h"
+
+#include <omp.h>
+
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace demfem::dem
+{
+  template <int dim>
+  class ContactGroupBase
+  {
+  public:
+    virtual ~ContactGroupBase() = default;
+
+    virtual const char *law_name() const = 0;
+    virtual int         stride() const   = 0;
+
+    /// Adds a contact between particle i and particle j (or facet j when
+    /// `wall`), resolves its plane from the current positions and installs
+    /// the law (memo Eq. 29-31). Returns its index in the group.
+    std::size_t add(std::uint32_t i, std::uint32_t j, bool wall, const Particles<dim> &p,
+                    const Walls<dim> &w);
+    /// Removes contact k by moving the last contact into its slot.
+    virtual void remove(std::size_t k);
+
+    /// Updates the contact plane, the relative increments and the law for
+    /// every contact (threaded); fills force_global/moment_global/xc.
+    virtual void compute(const Particles<dim> &p, const Walls<dim> &w, double dt,
+                         std::vector<EventSink> &sinks) = 0;
+
+    virtual bool             deletable(std::size_t k) const                 = 0;
+    virtual bool             active(std::size_t k) const                    = 0;
+    virtual ContactStiffness stiffness(std::size_t k, const Particles<dim> &p) const = 0;
+    virtual double           strain_energy(std::size_t k) const             = 0;
+    virtual double           slip_energy(std::size_t k) const               = 0;
+    /// Sum of the strain energy of all contacts of the group.
+    virtual double           total_strain_energy() const                    = 0;
+    double                  *state(std::size_t k) { return &state_[k * stride()]; }
+    const double            *state(std::size_t k) const { return &state_[k * stride()]; }
+
+    std::size_t size() const { return end1.size(); }
+
+    /// Resolves the contact plane of contact k from the current positions
+    /// (memo Eq. 2; the s axis is the stored one, not updated here).
+    ContactGeometry<dim> geometry(std::size_t k, const Particles<dim> &p, const Walls<dim> &w,
+                                  std::array<double, dim> *facet_weights = nullptr) const;
+
+    // Per-contact data (structure of arrays).
+    std::vector<std::uint32_t>      end1, end2;  ///< particle, particle-or-facet
+    std::vector<char>               is_wall;
+    std::vector<Vec<dim>>           s_axis;      ///< 3D: tracked s axis (Eq. 5)
+    std::vector<Vec<dim>>           n_prev;      ///< normal of the previous step
+    std::vector<Vec<dim>>           xc;          ///< contact location
+    std::vector<double>             gap;         ///< contact gap
+    std::vector<ContactForce>       local_force; ///< contact-plane components
+    std::vector<Vec<dim>>           force;       ///< F_c (on piece 2), global
+    std::vector<RotVec<dim>>        moment;      ///< M_c (on piece 2), global
+    std::vector<std::array<double, dim>> facet_weights; ///< ball-wall: barycentric
+
+  protected:
+    virtual void install(std::size_t k, const ContactGeometry<dim> &g) = 0;
+    std::vector<double> state_;
+  };
+
+  template <int dim, class Law>
+  class ContactGroup final : public ContactGroupBase<dim>
+  {
+  public:
+    using Params = typename Law::Params;
+    explicit ContactGroup(const Params &p)
+      : params(p)
+      , stride_(Law::state_size(p))
+    {}
+
+    const char *law_name() const override { return Law::name; }
+    int         stride() const override { return stride_; }
+
+    void compute(const Particles<dim> &p, const Walls<dim> &w, double dt,
+                 std::vector<EventSink> &sinks) override;
+
+    bool active(std::size_t k) const override
+    {
+      return Law::active(params, this->state(k), this->gap[k]);
+    }
+    bool deletable(std::size_t k) const override
+    {
+      return Law::deletable(params, this->state(k), this->gap[k]);
+    }
+    ContactStiffness stiffness(std::size_t k, const Particles<dim> &p) const override
+    {
+      ContactGeometry<dim> g;
+      g.R1        = p.radius[this->end1[k]];
+      g.R2        = this->is_wall[k] ? 0.0 : p.radius[this->end2[k]];
+      g.ball_wall = this->is_wall[k];
+      return Law::stiffness(params, g, this->state(k));
+    }
+    double strain_energy(std::size_t k) const override
+    {
+      return Law::strain_energy(params, this->state(k));
+    }
+    double total_strain_energy() const override
+    {
+      double e = 0;
+      for (std::size_t k = 0; k < this->size(); ++k)
+        e += Law::strain_energy(params, this->state(k));
+      return e;
+    }
+    double slip_energy(std::size_t k) const override
+    {
+      return Law::slip_energy(params, this->state(k));
+    }
+
+    const Params params;
+
+  protected:
+    void install(std::size_t k, const ContactGeometry<dim> &g) override
+    {
+      Law::install(params, g, this->state(k));
+    }
+
+  private:
+    const int stride_;
+  };
+
+  //------------------------------------------------------------------------
+  // Kinematics shared by all laws (memo §1.3).
+
+  /// Initial s axis (memo §1.3.1): projection of global x onto the contact
+  /// plane, or of global y when x is (nearly) parallel to n.
+  template <int dim>
+  Vec<dim> initial_s_axis(const Vec<dim> &n);
+
+  template <int dim, class Law>
+  void ContactGroup<dim, Law>::compute(const Particles<dim> &p, const Walls<dim> &w, double dt,
+                                       std::vector<EventSink> &sinks)
+  {
+    const std::size_t nc = this->size();
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < nc; ++k)
+      {
+        EventSink &sink = sinks[omp_get_thread_num()];
+        sink.contact    = k;
+        ContactStep<dim> st;
+        static_cast<ContactGeometry<dim> &>(st) = this->geometry(k, p, w, &this->facet_weights[k]);
+        const std::uint32_t i = this->end1[k], j = this->end2[k];
+        // Contact-plane axes. 3D: memo Eq. 5 (rotate the old s axis about the
+        // line common to the old and new planes, then about the new normal by
+        // the mean spin of the two pieces), re-orthonormalised against n.
+        if constexpr (dim == 3)
+          {
+            const Vec<3> &nn = st.n, &no = this->n_prev[k];
+            Vec<3>        s1 = this->s_axis[k] - this->s_axis[k].cross(no.cross(nn));
+            RotVec<3>     w2 = st.ball_wall ? RotVec<3>::Zero() : p.w[j];
+            const Vec<3>  wt = (0.5 * (p.w[i] + w2).dot(nn)) * nn;
+            Vec<3>        s2 = s1 - s1.cross(wt * dt);
+            s2 -= s2.dot(nn) * nn;
+            if (s2.squaredNorm() < 1e-24)
+              s2 = initial_s_axis<3>(nn);
+            st.s = s2.normalized();
+            st.t = nn.cross(st.s);
+            this->s_axis[k] = st.s;
+          }
+        else
+          {
+            st.s.setZero();
+            st.t = Vec<2>(-st.n[1], st.n[0]); // t = k x n (memo Eq. 4)
+          }
+        this->n_prev[k] = st.n;
+        // Relative velocity of the surfaces at the contact (memo Eq. 7-8).
+        Vec<dim>    v1 = p.v[i], v2 = Vec<dim>::Zero();
+        RotVec<dim> w1 = p.w[i], w2 = RotVec<dim>::Zero();
+        const Vec<dim> r1 = st.xc - p.x[i];
+        if constexpr (dim == 3)
+          v1 += w1.cross(r1);
+        else
+          v1 += w1[0] * Vec<2>(-r1[1], r1[0]);
+        if (!st.ball_wall)
+          {
+            w2             = p.w[j];
+            const Vec<dim> r2 = st.xc - p.x[j];
+            v2             = p.v[j];
+            if constexpr (dim == 3)
+              v2 += w2.cross(r2);
+            else
+              v2 += w2[0] * Vec<2>(-r2[1], r2[0]);
+          }
+        else
+          for (int a = 0; a < dim; ++a)
+            v2 += this->facet_weights[k][a] * w.vertex_velocity[w.facet[j][a]];
+        // Increments (memo Eq. 9-11), in contact-plane components.
+        const Vec<dim>    dd = (v2 - v1) * dt;
+        const RotVec<dim> dth = (w2 - w1) * dt;
+        st.dt   = dt;
+        st.d_n  = dd.dot(st.n);
+        st.d_st = dd.dot(st.t);
+        if constexpr (dim == 3)
+          {
+            st.d_ss    = dd.dot(st.s);
+            st.d_twist = dth.dot(st.n);
+            st.d_bs    = dth.dot(st.s);
+            st.d_bt    = dth.dot(st.t);
+          }
+        else
+          st.d_bs = -dth[0]; // s = -k, so theta_bs = -theta_k (memo Table 1)
+        ContactForce &f = this->local_force[k];
+        Law::update(params, st, this->state(k), f, sink);
+        // Global force and moment on piece 2 (memo Eq. 58).
+        this->force[k] = -f.Fn * st.n + f.Fst * st.t;
+        if constexpr (dim == 3)
+          {
+            this->force[k] += f.Fss * st.s;
+            this->moment[k] = f.Mt * st.n + f.Mbs * st.s + f.Mbt * st.t;
+          }
+        else
+          this->moment[k][0] = -f.Mbs; // s = -k
+        this->xc[k]  = st.xc;
+        this->gap[k] = st.gap;
+      }
+  }
+} // namespace demfem::dem

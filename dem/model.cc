@@ -1,0 +1,500 @@
+#include "dem/model.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace demfem::dem
+{
+  template <int dim>
+  int Model<dim>::add_group(std::unique_ptr<ContactGroupBase<dim>> g)
+  {
+    groups_.push_back(std::move(g));
+    return static_cast<int>(groups_.size()) - 1;
+  }
+
+  template <int dim>
+  void Model<dim>::set_default_law(int ball_ball_group, int ball_wall_group)
+  {
+    if (ball_ball_group >= n_groups() || ball_wall_group >= n_groups())
+      throw InputError("Model::set_default_law: unknown law group");
+    default_ball_ = ball_ball_group;
+    default_wall_ = ball_wall_group;
+  }
+
+  template <int dim>
+  std::size_t Model<dim>::n_contacts() const
+  {
+    std::size_t n = 0;
+    for (const auto &g : groups_)
+      n += g->size();
+    return n;
+  }
+
+  template <int dim>
+  ContactRef Model<dim>::find(std::uint32_t i, std::uint32_t j, bool wall) const
+  {
+    if (!wall && i > j)
+      std::swap(i, j);
+    auto it = index_.find(key(i, j, wall));
+    return it == index_.end() ? ContactRef{} : it->second;
+  }
+
+  template <int dim>
+  void Model<dim>::erase(const ContactRef &c)
+  {
+    auto &g = *groups_[c.group];
+    index_.erase(key(g.end1[c.index], g.end2[c.index], g.is_wall[c.index]));
+    const std::size_t last = g.size() - 1;
+    if (c.index != last)
+      index_[key(g.end1[last], g.end2[last], g.is_wall[last])] = c;
+    g.remove(c.index);
+  }
+
+  template <int dim>
+  ContactRef Model<dim>::install(std::uint32_t i, std::uint32_t j, int group)
+  {
+    if (i == j || i >= particles.size() || j >= particles.size())
+      throw InputError("Model::install: invalid particle pair");
+    if (group < 0 || group >= n_groups())
+      throw InputError("Model::install: unknown law group " + std::to_string(group));
+    if (i > j)
+      std::swap(i, j);
+    if (auto old = find(i, j); old.group >= 0)
+      erase(old);
+    ContactRef c{group, groups_[group]->add(i, j, false, particles, walls)};
+    index_[key(i, j, false)] = c;
+    baseline_valid_          = false;
+    return c;
+  }
+
+  template <int dim>
+  ContactRef Model<dim>::install_wall(std::uint32_t i, std::uint32_t k, int group)
+  {
+    if (i >= particles.size() || k >= walls.n_facets())
+      throw InputError("Model::install_wall: invalid particle or facet");
+    if (group < 0 || group >= n_groups())
+      throw InputError("Model::install_wall: unknown law group " + std::to_string(group));
+    if (auto old = find(i, k, true); old.group >= 0)
+      erase(old);
+    ContactRef c{group, groups_[group]->add(i, k, true, particles, walls)};
+    index_[key(i, k, true)] = c;
+    baseline_valid_         = false;
+    return c;
+  }
+
+  template <int dim>
+  ContactRef Model<dim>::reassign(const ContactRef &c, int group)
+  {
+    auto &g = *groups_[c.group];
+    const std::uint32_t i = g.end1[c.index], j = g.end2[c.index];
+    return g.is_wall[c.index] ? install_wall(i, j, group) : install(i, j, group);
+  }
+
+  template <int dim>
+  void Model<dim>::set_timestep(double dt)
+  {
+    check_range("Model", "timestep", dt, 0, HUGE_VAL);
+    auto_dt_ = (dt == 0);
+    dt_      = dt;
+  }
+
+  template <int dim>
+  double Model<dim>::critical_timestep() const
+  {
+    const std::size_t   N = particles.size();
+    std::vector<double> kt(N, 0.0), kr(N, 0.0);
+    for (const auto &g : groups_)
+      for (std::size_t k = 0; k < g->size(); ++k)
+        {
+          if (!g->active(k))
+            continue;
+          const ContactStiffness s   = g->stiffness(k, particles);
+          const double           ktr = std::max(s.kn, s.ks);
+          const double           kro = std::max(s.kb, s.kt);
+          auto add = [&](std::uint32_t p) {
+            const double arm2 = (g->xc[k] - particles.x[p]).squaredNorm();
+            kt[p] += ktr;
+            kr[p] += kro + s.ks * arm2;
+          };
+          add(g->end1[k]);
+          if (!g->is_wall[k])
+            add(g->end2[k]);
+        }
+    double dt = std::numeric_limits<double>::infinity();
+    for (std::size_t p = 0; p < N; ++p)
+      {
+        if (!(particles.fixity[p] & fix_translation) && kt[p] > 0)
+          dt = std::min(dt, std::sqrt(particles.mass[p] / kt[p]));
+        if (!(particles.fixity[p] & fix_rotation) && kr[p] > 0)
+          dt = std::min(dt, std::sqrt(particles.inertia[p] / kr[p]));
+      }
+    return dt;
+  }
+
+  template <int dim>
+  bool Model<dim>::rebuild_needed() const
+  {
+    if (need_rebuild_ || x_at_rebuild_.size() != particles.size() ||
+        wall_at_rebuild_.size() != walls.vertex.size())
+      return true;
+    const double limit2 = 0.25 * skin * skin; // half the skin
+    for (std::size_t i = 0; i < particles.size(); ++i)
+      if ((particles.x[i] - x_at_rebuild_[i]).squaredNorm() > limit2)
+        return true;
+    for (std::size_t i = 0; i < walls.vertex.size(); ++i)
+      if ((walls.vertex[i] - wall_at_rebuild_[i]).squaredNorm() > limit2)
+        return true;
+    return false;
+  }
+
+  template <int dim>
+  void Model<dim>::detect_contacts()
+  {
+    if (skin <= 0)
+      skin = 0.1 * particles.min_radius();
+    std::vector<std::vector<char>> seen(groups_.size());
+    for (std::size_t g = 0; g < groups_.size(); ++g)
+      seen[g].assign(groups_[g]->size(), 0);
+    auto visit = [&](std::uint32_t i, std::uint32_t j, bool wall) {
+      auto it = index_.find(key(i, j, wall));
+      if (it != index_.end())
+        seen[it->second.group][it->second.index] = 1;
+      else if (!wall && default_ball_ >= 0)
+        {
+          ContactRef c{default_ball_, groups_[default_ball_]->add(i, j, false, particles, walls)};
+          index_[key(i, j, false)] = c;
+          seen[c.group].push_back(1);
+        }
+      else if (wall && default_wall_ >= 0)
+        {
+          ContactRef c{default_wall_, groups_[default_wall_]->add(i, j, true, particles, walls)};
+          index_[key(i, j, true)] = c;
+          seen[c.group].push_back(1);
+        }
+    };
+    for (const auto &[i, j] : grid_.ball_pairs(particles, skin))
+      visit(i, j, false);
+    for (const auto &[i, k] : grid_.wall_pairs(particles, walls, skin))
+      visit(i, k, true);
+    // Contacts whose pieces left the skin are dropped when their law allows
+    // (memo §1.6); backwards so swap-removal only moves visited contacts.
+    for (std::size_t g = 0; g < groups_.size(); ++g)
+      for (std::size_t k = groups_[g]->size(); k-- > 0;)
+        if (!seen[g][k] && groups_[g]->deletable(k))
+          erase(ContactRef{static_cast<int>(g), k});
+    x_at_rebuild_    = particles.x;
+    wall_at_rebuild_ = walls.vertex;
+    need_rebuild_    = false;
+    const double crit = critical_timestep();
+    if (auto_dt_)
+      dt_ = std::isfinite(crit) ? safety_factor * crit : dt_;
+    else if (check_timestep && dt_ > crit)
+      {
+        std::ostringstream msg;
+        msg << "time step " << dt_ << " s is above the critical time step " << crit
+            << " s (memo §1.12: min sqrt(m/k)) at step " << step_
+            << "; the explicit integration would be unstable. Reduce the time step, "
+               "use the automatic time step, or reduce the contact stiffness.";
+        throw InstabilityError(msg.str());
+      }
+  }
+
+  template <int dim>
+  void Model<dim>::compute_forces()
+  {
+    const std::size_t N = particles.size();
+    for (std::size_t i = 0; i < N; ++i)
+      {
+        particles.f[i].setZero();
+        particles.m[i].setZero();
+      }
+    for (auto &v : walls.vertex_force)
+      v.setZero();
+    sinks_.resize(std::max(1, omp_get_max_threads()));
+    for (std::size_t gi = 0; gi < groups_.size(); ++gi)
+      {
+        auto &g = *groups_[gi];
+        for (auto &s : sinks_)
+          s.events.clear();
+        g.compute(particles, walls, dt_, sinks_);
+        // Deterministic scatter of contact forces to the pieces.
+        for (std::size_t k = 0; k < g.size(); ++k)
+          {
+            const std::uint32_t i = g.end1[k], j = g.end2[k];
+            const Vec<dim>     &F = g.force[k];
+            const RotVec<dim>  &M = g.moment[k];
+            const Vec<dim>      r1 = g.xc[k] - particles.x[i];
+            particles.f[i] -= F;
+            if constexpr (dim == 3)
+              particles.m[i] -= M + r1.cross(F);
+            else
+              particles.m[i][0] -= M[0] + cross2(r1, F);
+            if (!g.is_wall[k])
+              {
+                const Vec<dim> r2 = g.xc[k] - particles.x[j];
+                particles.f[j] += F;
+                if constexpr (dim == 3)
+                  particles.m[j] += M + r2.cross(F);
+                else
+                  particles.m[j][0] += M[0] + cross2(r2, F);
+              }
+            else
+              for (int a = 0; a < dim; ++a)
+                walls.vertex_force[walls.facet[j][a]] += g.facet_weights[k][a] * F;
+          }
+        // Events of this group, in contact order whatever the thread count.
+        std::vector<std::pair<std::size_t, LawEvent>> ev;
+        for (auto &s : sinks_)
+          ev.insert(ev.end(), s.events.begin(), s.events.end());
+        if (ev.empty())
+          continue;
+        std::stable_sort(ev.begin(), ev.end(), [](const auto &a, const auto &b) {
+          return a.first != b.first ? a.first < b.first : a.second.element < b.second.element;
+        });
+        for (const auto &[k, e] : ev)
+          {
+            const std::int64_t id1 = particles.id[g.end1[k]];
+            const std::int64_t id2 =
+              g.is_wall[k] ? -1 - static_cast<std::int64_t>(g.end2[k]) : particles.id[g.end2[k]];
+            if (e.kind == LawEvent::bond_break)
+              {
+                CrackRecord<dim> c;
+                c.id1 = id1, c.id2 = id2, c.element = e.element, c.mode = e.mode;
+                const Vec<dim> n = g.n_prev[k];
+                Vec<dim>       t;
+                if constexpr (dim == 3)
+                  t = n.cross(g.s_axis[k]), c.position = g.xc[k] + e.r_s * g.s_axis[k] + e.r_t * t;
+                else
+                  t = Vec<2>(-n[1], n[0]), c.position = g.xc[k] + e.r_t * t;
+                c.normal   = n;
+                c.size     = e.size;
+                c.gap      = e.gap;
+                c.strength = e.strength;
+                c.step     = step_;
+                c.time     = time_;
+                cracks.push_back(c);
+                if (on_crack)
+                  on_crack(c);
+              }
+            else if (on_slip)
+              on_slip(SlipRecord{id1, id2, e.element, e.kind == LawEvent::slip_start, step_});
+          }
+      }
+  }
+
+  template <int dim>
+  void Model<dim>::integrate()
+  {
+    const std::size_t N     = particles.size();
+    const double      dt    = dt_;
+    const double      alpha = local_damping;
+    auto &P = particles;
+    int   bad = -1;
+    double power = 0; // power delivered to the assembly from outside
+#pragma omp parallel for schedule(static) reduction(+ : power)
+    for (std::size_t i = 0; i < N; ++i)
+      {
+        if (P.fixity[i] & fix_translation) // the agent holding it does -f.v
+          power -= P.f[i].dot(P.v[i]);
+        else
+          power += (P.f_ext[i] + P.mass[i] * gravity).dot(P.v[i]);
+        if (P.fixity[i] & fix_rotation)
+          power -= P.m[i].dot(P.w[i]);
+        else
+          power += P.m_ext[i].dot(P.w[i]);
+        if (!(P.fixity[i] & fix_translation))
+          {
+            Vec<dim> F = P.f[i] + P.f_ext[i] + P.mass[i] * gravity;
+            for (int d = 0; d < dim; ++d) // local damping (PFC): -alpha |F| sign(v)
+              F[d] -= alpha * std::abs(F[d]) * ((P.v[i][d] > 0) - (P.v[i][d] < 0));
+            P.v[i] += (dt / P.mass[i]) * F;
+          }
+        if (!(P.fixity[i] & fix_rotation))
+          {
+            RotVec<dim> M = P.m[i] + P.m_ext[i];
+            for (int d = 0; d < rot_dim<dim>; ++d)
+              M[d] -= alpha * std::abs(M[d]) * ((P.w[i][d] > 0) - (P.w[i][d] < 0));
+            P.w[i] += (dt / P.inertia[i]) * M;
+          }
+        P.x[i] += dt * P.v[i];
+        if (!P.x[i].allFinite() || !P.w[i].allFinite())
+          {
+#pragma omp critical
+            bad = static_cast<int>(i);
+          }
+      }
+    for (std::size_t v = 0; v < walls.vertex.size(); ++v)
+      power -= walls.vertex_force[v].dot(walls.vertex_velocity[v]);
+    work_in_ += power * dt;
+    walls.move(dt);
+    if (bad >= 0)
+      {
+        std::ostringstream msg;
+        msg << "particle " << P.id[bad] << " has a non-finite position or velocity at step "
+            << step_ << " (time step " << dt_ << " s, critical " << critical_timestep()
+            << " s): the run diverged; check the time step and contact stiffnesses.";
+        throw InstabilityError(msg.str());
+      }
+  }
+
+  template <int dim>
+  void Model<dim>::step()
+  {
+    if (rebuild_needed())
+      detect_contacts();
+    if (!(dt_ > 0))
+      throw InputError("Model::step: no time step (no contacts to estimate it from; set one)");
+    compute_forces();
+    integrate();
+    ++step_;
+    time_ += dt_;
+    // Exponential growth of kinetic energy is the signature of an unstable
+    // explicit integration. Physical transients do not grow by 1.5x per step
+    // for 15 consecutive steps (1.5^15 ~ 440): a start from rest under a
+    // constant load grows as t^2 (ratio < 1.5 after 4 steps), a wave front
+    // spreading through a 3D assembly as ~n^3 (ratio < 1.5 after ~7 steps).
+    if (!baseline_valid_ || step_ % 10 == 0)
+      check_energy_balance();
+    const double ke = kinetic_energy();
+    growth_steps_   = (ke > 1.5 * last_ke_ && ke > 0) ? growth_steps_ + 1 : 0;
+    last_ke_        = ke;
+    if (growth_steps_ >= 15)
+      {
+        std::ostringstream msg;
+        msg << "kinetic energy grew by more than 1.5x per step for 15 steps (now " << ke
+            << " J at step " << step_ << "): numerical instability. Time step " << dt_
+            << " s, critical estimate " << critical_timestep()
+            << " s; likely causes: time step above critical, too little damping, or a "
+               "stiffness contrast between coupled parts.";
+        throw InstabilityError(msg.str());
+      }
+  }
+
+  template <int dim>
+  void Model<dim>::check_energy_balance()
+  {
+    double se = 0;
+    for (const auto &g : groups_)
+      se += g->total_strain_energy();
+    const double e = kinetic_energy() + se;
+    if (!baseline_valid_)
+      {
+        energy0_        = e;
+        work_in_        = 0;
+        baseline_valid_ = true;
+        return;
+      }
+    // Damping and slip only remove energy, so kinetic + strain energy cannot
+    // exceed the initial energy plus the work put in. Central-difference
+    // round-off of the balance is O((w dt)^2) < 100% below the critical step;
+    // a factor 2 (plus a tiny absolute floor) separates it from divergence.
+    const double budget = std::max(energy0_ + work_in_, 0.0);
+    if (e > 2 * budget + 1e-12 * (1 + budget))
+      {
+        std::ostringstream msg;
+        msg << "energy balance violated at step " << step_ << ": kinetic + strain energy " << e
+            << " J exceeds the initial energy plus external work " << budget
+            << " J. The explicit integration is unstable: time step " << dt_
+            << " s, critical estimate " << critical_timestep()
+            << " s; likely causes: time step above critical, a stiffness contrast, or "
+               "overlaps created without resetting the energy baseline.";
+        throw InstabilityError(msg.str());
+      }
+  }
+
+  template <int dim>
+  void Model<dim>::cycle(std::int64_t n)
+  {
+    for (std::int64_t s = 0; s < n; ++s)
+      step();
+  }
+
+  template <int dim>
+  double Model<dim>::kinetic_energy() const
+  {
+    double            e = 0;
+    const std::size_t N = particles.size();
+#pragma omp parallel for reduction(+ : e) schedule(static)
+    for (std::size_t i = 0; i < N; ++i)
+      e += 0.5 * (particles.mass[i] * particles.v[i].squaredNorm() +
+                  particles.inertia[i] * particles.w[i].squaredNorm());
+    return e;
+  }
+
+  template <int dim>
+  double Model<dim>::strain_energy() const
+  {
+    double e = 0;
+    for (const auto &g : groups_)
+      for (std::size_t k = 0; k < g->size(); ++k)
+        e += g->strain_energy(k);
+    return e;
+  }
+
+  template <int dim>
+  double Model<dim>::slip_energy() const
+  {
+    double e = 0;
+    for (const auto &g : groups_)
+      for (std::size_t k = 0; k < g->size(); ++k)
+        e += g->slip_energy(k);
+    return e;
+  }
+
+  template <int dim>
+  double Model<dim>::unbalanced_ratio() const
+  {
+    double      unb = 0, con = 0;
+    std::size_t nf = 0, nc = 0;
+    for (std::size_t i = 0; i < particles.size(); ++i)
+      if (!(particles.fixity[i] & fix_translation))
+        {
+          unb += (particles.f[i] + particles.f_ext[i] + particles.mass[i] * gravity).norm();
+          ++nf;
+        }
+    for (const auto &g : groups_)
+      for (std::size_t k = 0; k < g->size(); ++k)
+        if (g->force[k].squaredNorm() > 0)
+          {
+            con += g->force[k].norm();
+            ++nc;
+          }
+    if (nf == 0 || nc == 0 || con == 0)
+      return 0;
+    return (unb / nf) / (con / nc);
+  }
+
+  template <int dim>
+  void Model<dim>::remove_particles(const std::vector<char> &remove)
+  {
+    for (std::size_t g = 0; g < groups_.size(); ++g)
+      for (std::size_t k = groups_[g]->size(); k-- > 0;)
+        {
+          auto &G = *groups_[g];
+          if (remove[G.end1[k]] || (!G.is_wall[k] && remove[G.end2[k]]))
+            erase(ContactRef{static_cast<int>(g), k});
+        }
+    const auto map = particles.remove_if(remove);
+    index_.clear();
+    for (std::size_t g = 0; g < groups_.size(); ++g)
+      {
+        auto &G = *groups_[g];
+        for (std::size_t k = 0; k < G.size(); ++k)
+          {
+            G.end1[k] = static_cast<std::uint32_t>(map[G.end1[k]]);
+            if (!G.is_wall[k])
+              G.end2[k] = static_cast<std::uint32_t>(map[G.end2[k]]);
+            index_[key(G.end1[k], G.end2[k], G.is_wall[k])] = ContactRef{static_cast<int>(g), k};
+          }
+      }
+    need_rebuild_   = true;
+    baseline_valid_ = false;
+  }
+
+  template class Model<2>;
+  template class Model<3>;
+} // namespace demfem::dem

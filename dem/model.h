@@ -1,0 +1,158 @@
+#pragma once
+// The DEM model: particles, walls, contacts grouped by law, contact
+// detection, central-difference integration with local damping, critical
+// time step, crack records and energy/stability monitoring.
+#include "dem/contact_group.h"
+#include "dem/neighbor_grid.h"
+
+#include <functional>
+#include <memory>
+#include <unordered_map>
+
+namespace demfem::dem
+{
+  /// One bond breakage (fistPkg §3.4; memo footnote 3).
+  template <int dim>
+  struct CrackRecord
+  {
+    std::int64_t id1 = 0, id2 = 0; ///< particle ids (id2 = -1 - facet for walls)
+    int          element = 0;      ///< element of the interface (0-based)
+    int          mode    = 0;      ///< 0 tension, 1 shear
+    Vec<dim>     position;         ///< element centroid at breakage
+    Vec<dim>     normal;           ///< contact normal at breakage
+    double       size     = 0;     ///< 2D: element length; 3D: 2 r_e
+    double       gap      = 0;     ///< element gap at breakage
+    double       strength = 0;     ///< strength exceeded [stress or force]
+    std::int64_t step     = 0;
+    double       time     = 0;
+  };
+
+  /// Start or end of slip at a contact element.
+  struct SlipRecord
+  {
+    std::int64_t id1 = 0, id2 = 0;
+    int          element = 0;
+    bool         started = false;
+    std::int64_t step    = 0;
+  };
+
+  /// Where a contact lives: its group and index in it.
+  struct ContactRef
+  {
+    int         group = -1;
+    std::size_t index = 0;
+  };
+
+  template <int dim>
+  class Model
+  {
+  public:
+    Particles<dim> particles;
+    Walls<dim>     walls;
+
+    // ---- contact laws ----------------------------------------------------
+    /// Adds a group of contacts governed by law `Law` with parameters `p`
+    /// (validated here); returns the group id.
+    template <class Law>
+    int add_law(const typename Law::Params &p, const std::string &where = "contact law")
+    {
+      p.validate(where);
+      groups_.push_back(std::make_unique<ContactGroup<dim, Law>>(p));
+      return static_cast<int>(groups_.size()) - 1;
+    }
+    int add_group(std::unique_ptr<ContactGroupBase<dim>> g);
+
+    /// Law group that new contacts receive (-1: none created).
+    void set_default_law(int ball_ball_group, int ball_wall_group);
+
+    /// Creates (or replaces) the contact between particles i and j with the
+    /// law of `group`; returns where it lives.
+    ContactRef install(std::uint32_t i, std::uint32_t j, int group);
+    /// Same for particle i and wall facet k.
+    ContactRef install_wall(std::uint32_t i, std::uint32_t k, int group);
+    /// Moves an existing contact to another law group (re-installing it).
+    ContactRef reassign(const ContactRef &c, int group);
+
+    ContactGroupBase<dim>       &group(int g) { return *groups_[g]; }
+    const ContactGroupBase<dim> &group(int g) const { return *groups_[g]; }
+    int                          n_groups() const { return static_cast<int>(groups_.size()); }
+    std::size_t                  n_contacts() const;
+    /// Looks up the contact between particles i and j (group -1 if none).
+    ContactRef find(std::uint32_t i, std::uint32_t j, bool wall = false) const;
+
+    // ---- stepping --------------------------------------------------------
+    double local_damping = 0.7;  ///< PFC local damping factor alpha
+    double skin          = 0;    ///< detection skin; 0: 0.1 * min radius
+    double safety_factor = 0.8;  ///< dt = safety * critical when automatic
+    Vec<dim> gravity     = Vec<dim>::Zero();
+    bool   check_timestep = true; ///< refuse dt above the critical estimate
+
+    /// Fixed time step (> 0) or automatic (0: safety * critical, updated at
+    /// every contact-detection pass).
+    void   set_timestep(double dt);
+    double timestep() const { return dt_; }
+    /// Critical time step (memo §1.12): min over particles of
+    /// sqrt(m / k_tran) and sqrt(I / k_rot) from the contact stiffnesses.
+    double critical_timestep() const;
+
+    /// Advances one step (detection when needed, forces, motion).
+    void step();
+    void cycle(std::int64_t n);
+
+    std::int64_t step_count() const { return step_; }
+    double       time() const { return time_; }
+
+    // ---- monitoring ------------------------------------------------------
+    double kinetic_energy() const;
+    double strain_energy() const;
+    double slip_energy() const;
+    /// Mean unbalanced force over free particles divided by the mean contact
+    /// force magnitude (PFC ratio-average, fistPkg §4.2.1).
+    double unbalanced_ratio() const;
+
+    std::vector<CrackRecord<dim>>                          cracks;
+    std::function<void(const CrackRecord<dim> &)>          on_crack;
+    std::function<void(const SlipRecord &)>                on_slip;
+
+    /// Work done on the assembly by prescribed motions, walls, external
+    /// forces and gravity since the energy baseline was taken.
+    double boundary_work() const { return work_in_; }
+    /// Restarts the energy-balance check from the current state; call after
+    /// changing the model by hand (radii, stiffnesses, prescribed overlaps).
+    void reset_energy_baseline() { baseline_valid_ = false; }
+
+    /// Removes particles (contacts to them are deleted first).
+    void remove_particles(const std::vector<char> &remove);
+    /// Forces the next step to rebuild the contact set.
+    void invalidate_contacts() { need_rebuild_ = true; }
+    /// Rebuilds the contact set now (creates contacts for new pairs).
+    void detect_contacts();
+
+  private:
+    void        compute_forces();
+    void        integrate();
+    bool        rebuild_needed() const;
+    std::uint64_t key(std::uint32_t i, std::uint32_t j, bool wall) const
+    {
+      return (static_cast<std::uint64_t>(i) << 32) | j | (wall ? (1ull << 63) : 0ull);
+    }
+    void erase(const ContactRef &c);
+
+    std::vector<std::unique_ptr<ContactGroupBase<dim>>> groups_;
+    std::unordered_map<std::uint64_t, ContactRef>       index_;
+    NeighborGrid<dim>                                   grid_;
+    std::vector<EventSink>                              sinks_;
+    int            default_ball_ = -1, default_wall_ = -1;
+    double         dt_ = 0;
+    bool           auto_dt_ = true;
+    bool           need_rebuild_ = true;
+    std::vector<Vec<dim>> x_at_rebuild_, wall_at_rebuild_;
+    std::int64_t   step_ = 0;
+    double         time_ = 0;
+    double         last_ke_ = 0;
+    int            growth_steps_ = 0;
+    bool           baseline_valid_ = false;
+    double         energy0_ = 0, work_in_ = 0;
+    void           check_energy_balance();
+  };
+} // namespace demfem::dem
