@@ -36,11 +36,11 @@ TEST_CASE("Explicit bar under a step load settles on the static solution",
   s.density       = 2000;
   s.mass_scaling  = 1.0;
   s.fixed         = {{1, {true, false}}, {5, {false, true}}};
-  // Critical damping of the fundamental axial mode, omega_1 = pi c / (2 L)
-  // with the plane-strain constrained modulus; all modes then decay at
-  // least like exp(-a t / 2).
+  // 30 % of critical damping for the fundamental axial mode, omega_1 =
+  // pi c / (2 L) with the plane-strain constrained modulus; underdamped
+  // modes then decay like exp(-a t / 2) (mass-proportional damping).
   const double c = std::sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / s.density);
-  s.damping      = 2 * M_PI * c / (2 * L);
+  s.damping      = 0.3 * 2 * M_PI * c / (2 * L);
   fem::ExplicitDynamics<2> dyn(tria, s);
   dyn.setup();
 
@@ -62,9 +62,10 @@ TEST_CASE("Explicit bar under a step load settles on the static solution",
   dyn.set_interface_forces(forces);
 
   const double dt = 0.9 * dt_crit;
-  // Settling time: amplitude ~ exp(-a t / 2) < 1e-9 needs t > 2 ln(1e9)/a.
+  // Settling time: amplitude ~ exp(-a t / 2) < 1e-9 needs t > 2 ln(1e9)/a;
+  // twice that for modes below omega_1 (lateral modes of the bar).
   const unsigned int n_steps =
-    static_cast<unsigned int>(std::ceil(2 * std::log(1e9) / s.damping / dt));
+    static_cast<unsigned int>(std::ceil(4 * std::log(1e9) / s.damping / dt));
   double max_u = 0;
   for (unsigned int n = 0; n < n_steps; ++n)
     {
@@ -89,7 +90,7 @@ TEST_CASE("Explicit bar under a step load settles on the static solution",
             << dyn.kinetic_energy() << std::endl;
   CHECK(err < 1e-6);
   // A suddenly applied load overshoots the static value (dynamic factor
-  // up to 2 undamped); near-critical damping keeps it between 1 and 2.
+  // up to 2 undamped); damping keeps it between 1 and 2.
   CHECK(max_u > u_static);
   CHECK(max_u < 2 * u_static);
 }

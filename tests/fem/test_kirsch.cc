@@ -50,31 +50,77 @@ namespace
       }
     return e;
   }
+
+  dealii::SymmetricTensor<2, 2>
+  in_situ_2d(double sxx, double syy)
+  {
+    dealii::SymmetricTensor<2, 2> t;
+    t[0][0] = sxx;
+    t[1][1] = syy;
+    return t;
+  }
+
+  // Far-field traction change of the infinite medium: (sigma_K - sigma0).n.
+  void
+  use_exact_far_field(fem::ElasticProblem<2> &problem, const test::Kirsch &k)
+  {
+    const auto sigma0 = in_situ_2d(k.S1, k.S2);
+    problem.set_far_field_traction([k, sigma0](const Point<2> &p, const Tensor<1, 2> &n) {
+      return Tensor<1, 2>((k.stress(p[0], p[1]) - sigma0) * n);
+    });
+  }
+
+  WallErrors
+  kirsch_run(fem::ElasticSettings s, bool exact_far_field, const char *label)
+  {
+    const test::Kirsch k{s.radius, s.sxx, s.syy, s.young_modulus, s.poisson_ratio};
+    fem::ElasticProblem<2> problem(s, MPI_COMM_WORLD);
+    if (exact_far_field)
+      use_exact_far_field(problem, k);
+    problem.run(); // write_output = false: no files
+    const auto wall = problem.wall_results();
+    const auto e    = wall_errors(wall, k);
+    std::cout << "Kirsch " << label << " K=" << s.syy / s.sxx << ": R = " << s.outer_radius
+              << ", " << problem.n_cells() << " cells, " << problem.n_dofs() << " dofs, "
+              << wall.size() << " wall vertices, max rel error u " << e.max_rel_u
+              << ", hoop " << e.max_rel_hoop << ", CG iterations "
+              << problem.solver_iterations() << std::endl;
+    CHECK(wall.size() == s.cells_around << s.refinements);
+    return e;
+  }
 } // namespace
 
-// Default mesh (generated, outer radius 30a, 32 cells around the wall,
-// degree 2) and the physical far-field condition (far-field traction kept,
-// not the exact Kirsch one). Its truncation error alone is about
-// (a/R)^2 ~ 0.1-0.2 % of the wall displacement (thick-cylinder solution), so
-// the 0.5 % / 2 % limits of the issue test discretization + truncation.
-// Measured (Release): hydrostatic u 0.13 %, hoop 0.25 %; K = 0.5 u 0.21 %,
-// hoop 0.92 %.
+// Default mesh of `demfem fem` (generated, outer radius 30a, 32 cells around
+// the wall, degree 2) with the exact Kirsch tractions on the outer boundary,
+// which removes the truncation error of the finite domain, so the 0.5 % / 2 %
+// limits of the issue test the discretization and the stress recovery.
+// Measured (pointwise relative, max over the 32 wall vertices):
+//   hydrostatic: u 0.0064 %, hoop 0.50 %;  K = 0.5: u 0.041 %, hoop 1.06 %.
+// (The hoop error is that of averaging the cell stresses at the vertices.)
 TEST_CASE("Kirsch plane strain on the default mesh (degree 2)", "[fem][kirsch]")
 {
   test::ensure_mpi();
   for (const auto &[sxx, syy] : {std::pair{-45e6, -45e6}, std::pair{-30e6, -60e6}})
     {
-      const auto s = base_settings(sxx, syy);
-      fem::ElasticProblem<2> problem(s, MPI_COMM_WORLD);
-      problem.run(); // write_output = false: no files
-      const test::Kirsch k{s.radius, sxx, syy, s.young_modulus, s.poisson_ratio};
-      const auto         wall = problem.wall_results();
-      const auto         e    = wall_errors(wall, k);
-      std::cout << "Kirsch K=" << syy / sxx << " default mesh: " << wall.size()
-                << " wall vertices, max rel error u " << e.max_rel_u << ", hoop "
-                << e.max_rel_hoop << ", CG iterations " << problem.solver_iterations()
-                << std::endl;
-      CHECK(wall.size() == 32);
+      const auto e = kirsch_run(base_settings(sxx, syy), true, "default mesh, exact far field");
+      CHECK(e.max_rel_u < 0.005);
+      CHECK(e.max_rel_hoop < 0.02);
+    }
+}
+
+// The physical far-field condition (far-field traction unchanged) on a
+// finite domain has a truncation error ~ (a/R)^2: measured at R = 30a it is
+// 0.16 % (hydrostatic) and 0.76 % (K = 0.5) of the wall displacement, so the
+// 0.5 % limit needs R = 60a. Measured at R = 60a: hydrostatic u 0.035 %,
+// hoop 0.50 %; K = 0.5: u 0.17 %, hoop 1.18 %.
+TEST_CASE("Kirsch plane strain with the physical far field at R = 60a", "[fem][kirsch]")
+{
+  test::ensure_mpi();
+  for (const auto &[sxx, syy] : {std::pair{-45e6, -45e6}, std::pair{-30e6, -60e6}})
+    {
+      auto s         = base_settings(sxx, syy);
+      s.outer_radius = 60;
+      const auto e   = kirsch_run(s, false, "physical far field");
       CHECK(e.max_rel_u < 0.005);
       CHECK(e.max_rel_hoop < 0.02);
     }
@@ -83,8 +129,10 @@ TEST_CASE("Kirsch plane strain on the default mesh (degree 2)", "[fem][kirsch]")
 // With the exact Kirsch tractions on the outer boundary the only error left
 // is the discretization error, so the L2 error of the induced displacement
 // must converge at the optimal rate p + 1 (MappingQ(p) on the exact circles).
-// Measured rates (Release): degree 1: 1.9x, 1.9x; degree 2: 2.9x, 2.9x (see
-// the printed table; asserted with 0.25 slack for the pre-asymptotic range).
+// Measured (outer radius 8a, 16 cells around, refinements 0..3), relative
+// L2 errors and rates:
+//   degree 1: 1.17e-1, 3.49e-2, 9.23e-3, 2.35e-3 -> rates 1.75, 1.92, 1.98
+//   degree 2: 5.86e-3, 6.49e-4, 7.17e-5, 8.50e-6 -> rates 3.17, 3.18, 3.08
 TEST_CASE("Kirsch L2 error converges at rate p+1", "[fem][kirsch][convergence]")
 {
   test::ensure_mpi();
@@ -92,7 +140,7 @@ TEST_CASE("Kirsch L2 error converges at rate p+1", "[fem][kirsch][convergence]")
   for (const unsigned int degree : {1u, 2u})
     {
       std::vector<double> errors;
-      for (unsigned int ref = 0; ref < 3; ++ref)
+      for (unsigned int ref = 0; ref < 4; ++ref)
         {
           auto s         = base_settings(sxx, syy);
           s.outer_radius = 8.0;
@@ -101,13 +149,7 @@ TEST_CASE("Kirsch L2 error converges at rate p+1", "[fem][kirsch][convergence]")
           s.refinements  = ref;
           const test::Kirsch k{s.radius, sxx, syy, s.young_modulus, s.poisson_ratio};
           fem::ElasticProblem<2> problem(s, MPI_COMM_WORLD);
-          dealii::SymmetricTensor<2, 2> sigma0;
-          sigma0[0][0] = sxx;
-          sigma0[1][1] = syy;
-          problem.set_far_field_traction(
-            [k, sigma0](const Point<2> &p, const Tensor<1, 2> &n) {
-              return Tensor<1, 2>((k.stress(p[0], p[1]) - sigma0) * n);
-            });
+          use_exact_far_field(problem, k);
           problem.run();
           const test::KirschDisplacement<2> exact(k);
           errors.push_back(problem.l2_error(exact) / problem.l2_norm(exact));
@@ -118,8 +160,10 @@ TEST_CASE("Kirsch L2 error converges at rate p+1", "[fem][kirsch][convergence]")
             std::cout << ", rate " << std::log2(errors[ref - 1] / errors[ref]);
           std::cout << std::endl;
         }
-      for (unsigned int ref = 1; ref < errors.size(); ++ref)
-        CHECK(std::log2(errors[ref - 1] / errors[ref]) > degree + 1 - 0.25);
+      // The first step is pre-asymptotic for degree 1 (rate 1.75); the last
+      // two must be within 0.2 of p + 1.
+      for (unsigned int ref = 2; ref < errors.size(); ++ref)
+        CHECK(std::log2(errors[ref - 1] / errors[ref]) > degree + 1 - 0.2);
     }
 }
 
