@@ -1,0 +1,43 @@
+#pragma once
+// Runs the built `demfem` executable and captures stdout, stderr, exit code.
+#include <array>
+#include <cstdio>
+#include <map>
+#include <regex>
+#include <string>
+#include <sys/wait.h>
+
+namespace demfem::testing
+{
+  struct CommandResult
+  {
+    int         exit_code = -1;
+    std::string out;
+  };
+
+  /// Runs `DEMFEM_EXE args` with stderr merged into the captured output.
+  inline CommandResult run_demfem(const std::string &args)
+  {
+    CommandResult r;
+    const std::string cmd = std::string(DEMFEM_EXE) + " " + args + " 2>&1";
+    FILE             *p   = popen(cmd.c_str(), "r");
+    if (!p)
+      return r;
+    std::array<char, 4096> buf;
+    while (fgets(buf.data(), buf.size(), p))
+      r.out += buf.data();
+    const int status = pclose(p);
+    r.exit_code      = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+  }
+
+  /// Extracts the numeric fields of a flat JSON object.
+  inline std::map<std::string, double> json_numbers(const std::string &text)
+  {
+    std::map<std::string, double> v;
+    const std::regex              field("\"([A-Za-z_0-9]+)\"\\s*:\\s*(-?[0-9.eE+-]+)");
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), field); it != std::sregex_iterator(); ++it)
+      v[(*it)[1]] = std::stod((*it)[2]);
+    return v;
+  }
+} // namespace demfem::testing
