@@ -240,7 +240,15 @@ namespace demfem::apps
                         ExcMessage(std::string("no parameter file given\n") + usage));
           }
         for (const auto &o : overrides)
-          apply_override(prm, o);
+          try
+            {
+              apply_override(prm, o);
+            }
+          catch (const std::exception &e)
+            {
+              AssertThrow(false,
+                          ExcMessage("--set \"" + o + "\": " + exception_text(e)));
+            }
         if (print)
           {
             if (Utilities::MPI::this_mpi_process(comm) == 0)

@@ -21,6 +21,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <sstream>
 
 namespace demfem::fem
 {
@@ -51,16 +52,24 @@ namespace demfem::fem
     // Components of a 3x3 symmetric tensor in output order.
     constexpr unsigned int voigt[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
 
-    void
+    std::string
+    str(const double x)
+    {
+      std::ostringstream o;
+      o << x;
+      return o.str();
+    }
+
+    // Returns s after checking it, so that the constructor can validate
+    // before any member with MPI-collective destructor exists.
+    const ElasticSettings &
     check_settings(const ElasticSettings &s)
     {
       AssertThrow(s.young_modulus > 0,
-                  ExcMessage("Continuum/young modulus = " +
-                             std::to_string(s.young_modulus) +
+                  ExcMessage("Continuum/young modulus = " + str(s.young_modulus) +
                              " is invalid: it must be > 0 (Pa)"));
       AssertThrow(s.poisson_ratio > -1.0 && s.poisson_ratio < 0.5,
-                  ExcMessage("Continuum/poisson ratio = " +
-                             std::to_string(s.poisson_ratio) +
+                  ExcMessage("Continuum/poisson ratio = " + str(s.poisson_ratio) +
                              " is invalid: it must lie in the open interval "
                              "(-1, 0.5)"));
       AssertThrow(s.radius > 0,
@@ -71,12 +80,15 @@ namespace demfem::fem
                   ExcMessage("Continuum/solver must be 'amg-cg' or 'direct'"));
       AssertThrow(s.excavation_stages >= 1,
                   ExcMessage("Tunnel/excavation stages must be >= 1"));
+      AssertThrow(s.dimension == 2 || s.dimension == 3,
+                  ExcMessage("Problem/dimension must be 2 or 3"));
+      return s;
     }
   } // namespace
 
   template <int dim>
   ElasticProblem<dim>::ElasticProblem(const ElasticSettings &s, MPI_Comm comm)
-    : settings(s)
+    : settings(check_settings(s))
     , comm(comm)
     , triangulation(comm)
     , fe(FE_Q<dim>(std::max(1u, s.degree)), dim)
@@ -90,7 +102,6 @@ namespace demfem::fem
             s.verbose ? TimerOutput::summary : TimerOutput::never,
             TimerOutput::wall_times)
   {
-    check_settings(settings);
     const double E  = settings.young_modulus;
     const double nu = settings.poisson_ratio;
     lambda          = E * nu / ((1 + nu) * (1 - 2 * nu));
