@@ -1,0 +1,394 @@
+// Engine + law integration: the contact laws driven through Model::step
+// (detection, memo §1.3 kinematics, scatter, integration, crack records).
+#include "dem/flat_joint_law.h"
+#include "dem/linear_law.h"
+#include "dem/model.h"
+#include "dem/smooth_joint_law.h"
+
+#include <catch2/catch.hpp>
+#include <omp.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace demfem::dem;
+
+namespace
+{
+  /// Tiny models: one thread avoids the OpenMP fork/join cost per step that
+  /// dominates on a loaded machine. Restores the previous count.
+  struct Threads
+  {
+    int old = omp_get_max_threads();
+    explicit Threads(int n) { omp_set_num_threads(n); }
+    ~Threads() { omp_set_num_threads(old); }
+  };
+
+  double uniform(std::mt19937_64 &g, double a, double b)
+  {
+    return a + (b - a) * (static_cast<double>(g() >> 11) * 0x1.0p-53);
+  }
+
+  // ------------------------------------------------------------------------
+  // Bonded flat-joint pair pulled apart until tension breakage.
+  template <int dim>
+  void pull_apart()
+  {
+    Threads      one(1);
+    Model<dim>   m;
+    const double r = 0.01;
+    Vec<dim>     x1 = Vec<dim>::Zero();
+    x1[0]           = 2 * r;
+    m.particles.add(Vec<dim>::Zero(), r, 2650);
+    m.particles.add(x1, r, 2650);
+    typename FlatJointLaw<dim>::Params p;
+    p.Nr     = dim == 2 ? 3 : 2;
+    p.Nal    = 6;
+    p.rmul   = 1;
+    p.kn     = 1e11;
+    p.ks     = 4e10;
+    p.ten    = 1e6;
+    p.coh    = 1e9; // shear strength far away: tension governs
+    p.fa     = 0;
+    p.bonded = true;
+    const int g = m.template add_law<FlatJointLaw<dim>>(p);
+    const ContactRef c = m.install(0, 1, g);
+    m.particles.fixity[0] = m.particles.fixity[1] = fix_all;
+    const double vp = 0.5, dt = 1e-7; // opening 5e-8 per step, break at 1e-5
+    m.particles.v[1][0] = vp;
+    m.set_timestep(dt);
+    int                           calls = 0;
+    std::vector<Vec<dim>>         xc_at_call, x1_at_call;
+    m.on_crack = [&](const CrackRecord<dim> &) {
+      ++calls;
+      xc_at_call.push_back(m.group(g).xc[c.index]);
+      x1_at_call.push_back(m.particles.x[1]);
+    };
+    int steps = 0;
+    while (m.cracks.empty() && steps < 1000)
+      m.step(), ++steps;
+    m.cycle(20); // nothing else may break
+    const int nel = dim == 2 ? p.Nr : p.Nr * p.Nal;
+    REQUIRE(m.cracks.size() == static_cast<std::size_t>(nel));
+    CHECK(calls == nel);
+    // The uniform tension reaches sigma_c = kn g when g = ten / kn = 1e-5,
+    // i.e. after 200 increments of 5e-8; the check is sigma > ten, so the
+    // break comes at step 200 or 201 (round-off of the accumulated gap).
+    CHECK(steps >= 200);
+    CHECK(steps <= 202);
+    const double R = p.rmul * r;
+    std::vector<char> element_seen(nel, 0);
+    for (std::size_t k = 0; k < m.cracks.size(); ++k)
+      {
+        const auto &cr = m.cracks[k];
+        INFO("crack " << k << " element " << cr.element);
+        CHECK(cr.mode == 0);
+        CHECK(cr.id1 == m.particles.id[0]);
+        CHECK(cr.id2 == m.particles.id[1]);
+        REQUIRE(cr.element >= 0);
+        REQUIRE(cr.element < nel);
+        element_seen[cr.element] = 1;
+        // normal = contact normal (centre 0 -> centre 1 = +x)
+        CHECK((cr.normal - Vec<dim>::UnitX()).norm() < 1e-14);
+        // position on the contact plane, midway between the grains (equal
+        // radii: x_c = midpoint of the centres, memo Eq. 2)
+        const Vec<dim> rel = cr.position - xc_at_call[k];
+        CHECK(std::abs(rel.dot(cr.normal)) < 1e-15);
+        CHECK(cr.position[0] == Approx(0.5 * x1_at_call[k][0]).epsilon(1e-14));
+        CHECK(cr.position[0] > m.particles.x[0][0]);
+        CHECK(cr.position[0] < x1_at_call[k][0]);
+        // gap at breakage: ten / kn within one increment
+        CHECK(cr.gap == Approx(p.ten / p.kn).margin(vp * dt * 1.01));
+        CHECK(cr.strength == p.ten);
+        CHECK(cr.step == steps - 1);
+        if constexpr (dim == 2)
+          {
+            // element centroid rho^(e) t, memo Eq. 13 (e 1-based)
+            const int    e   = cr.element + 1;
+            const double rho = R * (-2.0 * e + 1 + p.Nr) / p.Nr;
+            CHECK(rel[1] == Approx(rho).margin(1e-15)); // t = k x n = +y
+            CHECK(cr.size == Approx(2 * R / p.Nr).epsilon(1e-14)); // element length
+          }
+        else
+          {
+            // memo Eq. 16-17: centroid distance and equal-area radius
+            const int    e = cr.element + 1;
+            const int    I = (e - 1) / p.Nal, J = e - 1 - I * p.Nal;
+            const double dr = R / p.Nr, da = 2 * M_PI / p.Nal;
+            const double r1 = I * dr, r2 = (I + 1) * dr, a1 = J * da, a2 = (J + 1) * da;
+            const double A  = 0.5 * (a2 - a1) * (r2 * r2 - r1 * r1);
+            const double radial = (r2 * r2 * r2 - r1 * r1 * r1) / (r2 * r2 - r1 * r1);
+            const double s = 2.0 / 3.0 * (std::sin(a2) - std::sin(a1)) / (a2 - a1) * radial;
+            const double t = 2.0 / 3.0 * (std::cos(a1) - std::cos(a2)) / (a2 - a1) * radial;
+            CHECK(rel.norm() == Approx(std::hypot(s, t)).epsilon(1e-12));
+            CHECK(cr.size == Approx(2 * std::sqrt(A / M_PI)).epsilon(1e-14));
+          }
+      }
+    for (int e = 0; e < nel; ++e)
+      CHECK(element_seen[e] == 1);
+    CHECK(FlatJointLaw<dim>::bonded_count(p, m.group(g).state(c.index)) == 0);
+  }
+} // namespace
+
+TEST_CASE("bonded flat joint pulled apart: one tensile crack per element (2D)", "[enginelaws]")
+{
+  pull_apart<2>();
+}
+
+TEST_CASE("bonded flat joint pulled apart: one tensile crack per element (3D)", "[enginelaws]")
+{
+  pull_apart<3>();
+}
+
+namespace
+{
+  // ------------------------------------------------------------------------
+  // Random bonded disk assembly compressed by the top row.
+  struct RunResult
+  {
+    std::vector<Vec<2>> x;
+    std::size_t         cracks = 0;
+  };
+
+  RunResult compress_assembly(int threads)
+  {
+    Threads         th(threads);
+    Model<2>        m;
+    std::mt19937_64 gen(12345);
+    const int       nx = 20, ny = 10;
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        {
+          Vec<2> x(2.0 * i + uniform(gen, -0.05, 0.05), 2.0 * j + uniform(gen, -0.05, 0.05));
+          m.particles.add(x, uniform(gen, 0.95, 1.05), 2650);
+        }
+    FlatJointLaw<2>::Params p;
+    p.Nr = 3, p.kn = 1e8, p.ks = 5e7, p.fric = 0.5, p.ten = 2e5, p.coh = 4e5, p.fa = 30;
+    p.bonded       = true;
+    const int gfj  = m.add_law<FlatJointLaw<2>>(p);
+    LinearLaw<2>::Params lp;
+    lp.kn = 1e8, lp.ks = 5e7, lp.friction = 0.5;
+    m.set_default_law(m.add_law<LinearLaw<2>>(lp), -1);
+    for (std::uint32_t a = 0; a < m.particles.size(); ++a)
+      for (std::uint32_t b = a + 1; b < m.particles.size(); ++b)
+        if ((m.particles.x[b] - m.particles.x[a]).norm() <
+            m.particles.radius[a] + m.particles.radius[b] + 0.1)
+          m.install(a, b, gfj);
+    for (std::size_t i = 0; i < m.particles.size(); ++i)
+      {
+        if (i < static_cast<std::size_t>(nx)) // bottom row
+          m.particles.fixity[i] = fix_all;
+        else if (i >= static_cast<std::size_t>(nx * (ny - 1))) // top row
+          {
+            m.particles.fixity[i] = fix_translation;
+            m.particles.v[i]      = Vec<2>(0.0, -0.5);
+          }
+      }
+    m.set_timestep(0); // automatic: 0.8 of the critical estimate
+    m.cycle(200);
+    return {m.particles.x, m.cracks.size()};
+  }
+} // namespace
+
+TEST_CASE("results do not depend on the thread count", "[enginelaws]")
+{
+  const RunResult a = compress_assembly(1);
+  const RunResult b = compress_assembly(2);
+  REQUIRE(a.x.size() == 200);
+  REQUIRE(a.x.size() == b.x.size());
+  // The scatter and event ordering are serial, every contact update is
+  // independent: the runs must agree to the last bit (1e-12 relative is
+  // the stated bound; we also count bitwise-identical coordinates).
+  double      dmax = 0, scale = 0, moved = 0;
+  std::size_t identical = 0;
+  std::mt19937_64 gen(12345);
+  for (std::size_t i = 0; i < a.x.size(); ++i)
+    {
+      dmax  = std::max(dmax, (a.x[i] - b.x[i]).cwiseAbs().maxCoeff());
+      scale = std::max(scale, a.x[i].cwiseAbs().maxCoeff());
+      identical += (a.x[i][0] == b.x[i][0]) + (a.x[i][1] == b.x[i][1]);
+    }
+  // reference grid positions are within 0.05 of 2 i, 2 j: free particles
+  // must have moved (the test is not vacuous)
+  for (std::size_t i = 20; i < 180; ++i)
+    moved = std::max(moved, std::abs(a.x[i][1] - 2.0 * (i / 20)));
+  CHECK(moved > 1e-3);
+  CHECK(dmax <= 1e-12 * scale);
+  CHECK(identical == 2 * a.x.size());
+  CHECK(a.cracks == b.cracks);
+  WARN("thread independence: max |dx| " << dmax << ", identical coordinates " << identical
+                                        << "/400, cracks " << a.cracks << ", max moved "
+                                        << moved);
+}
+
+namespace
+{
+  /// Square wall z = 0 (3D, two triangles) or segment y = 0 (2D), half
+  /// size L; returns the wall id.
+  template <int dim>
+  int floor_wall(Model<dim> &m, double L)
+  {
+    const int w = m.walls.add_wall("floor");
+    if constexpr (dim == 2)
+      {
+        const int a = m.walls.add_vertex(Vec<2>(-L, 0)), b = m.walls.add_vertex(Vec<2>(L, 0));
+        m.walls.add_facet(w, {a, b});
+      }
+    else
+      {
+        const int a = m.walls.add_vertex(Vec<3>(-L, -L, 0));
+        const int b = m.walls.add_vertex(Vec<3>(L, -L, 0));
+        const int c = m.walls.add_vertex(Vec<3>(L, L, 0));
+        const int d = m.walls.add_vertex(Vec<3>(-L, L, 0));
+        m.walls.add_facet(w, {a, b, c});
+        m.walls.add_facet(w, {a, c, d});
+      }
+    return w;
+  }
+
+  /// Ball above the floor at height h; 3D at (0, -L/2) so that the ball
+  /// stays far from the diagonal shared by the two triangles.
+  template <int dim>
+  Vec<dim> above_floor(double h, double L)
+  {
+    Vec<dim> x = Vec<dim>::Zero();
+    if constexpr (dim == 3)
+      x[1] = -0.5 * L;
+    x[dim - 1] = h;
+    return x;
+  }
+
+  // ------------------------------------------------------------------------
+  template <int dim>
+  void linear_slip()
+  {
+    Threads      one(1);
+    Model<dim>   m;
+    const double r = 0.1, L = 1.0, delta = 1e-3;
+    floor_wall(m, L);
+    m.particles.add(above_floor<dim>(r - delta, L), r, 2650);
+    typename LinearLaw<dim>::Params lp;
+    lp.kn = 1e6, lp.ks = 1e6, lp.friction = 0.5;
+    const int g = m.template add_law<LinearLaw<dim>>(lp);
+    m.set_default_law(-1, g);
+    // Imposed motion: constant overlap delta, tangential velocity along +x,
+    // no rotation (so the ball slides rather than rolls).
+    m.particles.fixity[0] = fix_all;
+    m.particles.v[0][0]   = 0.01;
+    m.set_timestep(1e-4); // 1e-6 per step; slip starts at mu delta = 5e-4
+    int starts = 0;
+    m.on_slip  = [&](const SlipRecord &s) { starts += s.started; };
+    m.cycle(2000);
+    REQUIRE(m.group(g).size() == 1);
+    const ContactForce f  = m.group(g).local_force[0];
+    const double       fs = std::sqrt(f.Fss * f.Fss + f.Fst * f.Fst);
+    const double       fn = lp.kn * delta;
+    // flat wall: the overlap stays delta exactly (up to round-off)
+    CHECK(f.Fn == Approx(-fn).epsilon(1e-9));
+    CHECK(fs == Approx(lp.friction * fn).epsilon(1e-9));
+    CHECK(starts == 1);
+    // the contact drags the ball back: force on the ball along -x
+    CHECK(m.particles.f[0][0] == Approx(-lp.friction * fn).epsilon(1e-9));
+    CHECK(m.particles.f[0][dim - 1] == Approx(fn).epsilon(1e-9));
+    WARN("dim " << dim << " slip: |Fs| " << fs << " mu|Fn| " << lp.friction * std::abs(f.Fn));
+  }
+
+  // ------------------------------------------------------------------------
+  template <int dim>
+  void ball_wall_rest()
+  {
+    Threads      one(1);
+    Model<dim>   m;
+    const double r = 0.1, L = 1.0;
+    const int    w = floor_wall(m, L);
+    m.particles.add(above_floor<dim>(r + 0.005, L), r, 2650);
+    typename LinearLaw<dim>::Params lp;
+    lp.kn = 1e6, lp.ks = 1e6, lp.friction = 0.5;
+    const int g = m.template add_law<LinearLaw<dim>>(lp);
+    m.set_default_law(-1, g);
+    m.local_damping      = 0.7;
+    m.gravity[dim - 1]   = -9.81;
+    const double mass    = m.particles.mass[0];
+    m.set_timestep(0.1 * std::sqrt(mass / lp.kn));
+    m.cycle(20000);
+    const double mg = mass * 9.81;
+    REQUIRE(m.group(g).size() >= 1);
+    // force of the ball on the wall = -m g (downwards), on the ball + m g
+    const Vec<dim> fw = m.walls.wall_force(w);
+    CHECK(fw[dim - 1] == Approx(-mg).epsilon(1e-6));
+    CHECK(std::abs(fw[0]) < 1e-9 * mg);
+    CHECK(m.particles.f[0][dim - 1] == Approx(mg).epsilon(1e-6));
+    // rest: overlap m g / kn
+    CHECK(m.particles.x[0][dim - 1] == Approx(r - mg / lp.kn).epsilon(1e-9));
+    CHECK(m.kinetic_energy() < 1e-12 * mg * r);
+    WARN("dim " << dim << " ball-wall: wall force " << fw[dim - 1] << " vs -m g " << -mg);
+  }
+} // namespace
+
+TEST_CASE("linear law slip through the engine: |Fs| = mu |Fn|", "[enginelaws]")
+{
+  linear_slip<2>();
+  linear_slip<3>();
+}
+
+TEST_CASE("ball dropped on a wall comes to rest with contact force m g", "[enginelaws]")
+{
+  ball_wall_rest<2>();
+  ball_wall_rest<3>();
+}
+
+namespace
+{
+  // ------------------------------------------------------------------------
+  // Two particles across a 30-degree dipping smooth joint.
+  template <int dim>
+  void smooth_joint_slide()
+  {
+    Threads      one(1);
+    Model<dim>   m;
+    const double r = 0.01;
+    Vec<dim>     x1 = Vec<dim>::Zero();
+    x1[0]           = 2 * r;
+    m.particles.add(Vec<dim>::Zero(), r, 2650);
+    m.particles.add(x1, r, 2650);
+    typename SmoothJointLaw<dim>::Params p;
+    p.sj_kn   = 1e13;
+    p.sj_ks   = 1e12;
+    p.sj_fric = 0; // frictionless: nothing resists motion along the joint
+    p.dip     = 30;
+    p.ddir    = 90; // 3D: joint normal in the x-z plane
+    const int g = m.template add_law<SmoothJointLaw<dim>>(p);
+    m.install(0, 1, g);
+    const Vec<dim> nj = SmoothJointLaw<dim>::joint_normal(p);
+    m.particles.fixity[0] = fix_all;
+    m.particles.fixity[1] = fix_rotation; // no spin: pure translation of piece 2
+    const double P        = 100;
+    m.particles.f_ext[1][0] = -P; // push along -n_c, towards the fixed grain
+    const double kA   = p.sj_kn * (dim == 2 ? 2 * r : M_PI * r * r);
+    m.set_timestep(0.1 * std::sqrt(m.particles.mass[1] / kA));
+    m.cycle(3000);
+    const Vec<dim> u = m.particles.x[1] - x1;
+    REQUIRE(u.norm() > 0);
+    const Vec<dim> uhat = u / u.norm();
+    // Expected: along the projection of -x on the joint plane.
+    Vec<dim> along = -Vec<dim>::UnitX();
+    along -= along.dot(nj) * nj;
+    along.normalize();
+    // The normal closure is at most the static value P / (kn A) ~ 1e-9 m,
+    // the sliding displacement is O(mm); their ratio bounds the angle.
+    const double normal_part = std::abs(uhat.dot(nj));
+    CHECK(normal_part < 1e-4);
+    CHECK(uhat.dot(along) == Approx(1.0).margin(1e-8));
+    // ... and clearly not along the contact normal: cos(30 deg) from it
+    CHECK(uhat.dot(-Vec<dim>::UnitX()) == Approx(std::cos(M_PI / 6)).epsilon(1e-4));
+    WARN("dim " << dim << " smooth joint: |u| " << u.norm() << ", u.n_j/|u| " << normal_part
+                << ", u.(-x)/|u| " << uhat.dot(-Vec<dim>::UnitX()));
+  }
+} // namespace
+
+TEST_CASE("smooth joint through the engine: sliding follows the joint plane", "[enginelaws]")
+{
+  smooth_joint_slide<2>();
+  smooth_joint_slide<3>();
+}
