@@ -1,0 +1,327 @@
+// `demfem bench dem`: speed of the DEM engine on a dense, fully flat-jointed
+// assembly under constant-strain compression (issue 2 §5). Only the stepping
+// is timed; the scene set-up (generation, detection, installation) is not.
+//
+// Scene. Grains sit on a jittered lattice of spacing a = 2 r0 (2D hexagonal,
+// 3D face-centred cubic) with radii uniform in [0.8, 1.2] r0, so lattice
+// neighbours overlap or leave a gap of at most 0.4 r0. Every ball-ball pair
+// with a gap below 0.1 r0 receives a bonded flat joint (memo Table 5; g_o = 0
+// so the interface is installed stress-free whatever the geometric overlap,
+// memo Eq. 31), kn/ks from the deformability method (memo Eq. 40, E* = 50 GPa,
+// kappa* = 2) with L = 2 r0 for the whole group (one law instance), infinite
+// strengths so the run stays elastic. The bottom layer is held fixed and the
+// top layer moves down at a constant velocity (axial strain rate 0.1 /s, i.e.
+// a strain of order 1e-5 over a benchmark run). Pairs that come within the
+// skin later get a linear contact (the usual default law).
+#include "apps/commands.h"
+#include "dem/flat_joint_law.h"
+#include "dem/linear_law.h"
+#include "dem/model.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace
+{
+  using namespace demfem::dem;
+
+  struct BenchOptions
+  {
+    int          dim     = 2;
+    std::int64_t n       = 10000;
+    std::int64_t steps   = 1000;
+    int          threads = 1;
+    bool         json    = false;
+  };
+
+  struct BenchResult
+  {
+    std::size_t n_particles = 0, n_contacts = 0, n_flatjoints = 0;
+    double      setup_s = 0, wall_s = 0, timestep = 0, unbalanced = 0, kinetic = 0;
+    int         elements = 0;
+  };
+
+  constexpr double r0       = 1e-3;  // mean grain radius [m]
+  constexpr double density  = 2650;  // [kg/m^3]
+  constexpr double emod     = 50e9;  // E* [Pa]
+  constexpr double kratio   = 2.0;   // kappa*
+  constexpr double rate     = 0.1;   // axial strain rate [1/s]
+  constexpr double max_gap  = 0.1;   // installation gap / r0
+
+  void print_usage(std::ostream &out)
+  {
+    out << "usage: demfem bench [dem] --dim 2|3 --n N --steps S --threads T [--json]\n"
+           "\n"
+           "Times S steps of a dense, fully flat-jointed assembly of N grains under\n"
+           "constant-strain compression (2D Nr = 2; 3D Nr = 2, Nal = 8). Only the\n"
+           "stepping is timed.\n"
+           "  --dim 2|3      model dimension (default 2)\n"
+           "  --n N          number of grains, 8 <= N <= 100000000 (default 10000)\n"
+           "  --steps S      number of timed steps, 1 <= S <= 1e9 (default 1000)\n"
+           "  --threads T    OpenMP threads, 1 <= T <= 1024 (default 1)\n"
+           "  --json         print one JSON object instead of the text report\n";
+  }
+
+  /// Parses an integer option value in [lo, hi]; throws a message naming it.
+  std::int64_t parse_int(const std::string &opt, const char *value, std::int64_t lo,
+                         std::int64_t hi, const std::string &allowed)
+  {
+    if (value == nullptr)
+      throw std::invalid_argument("option " + opt + " needs a value (" + allowed + ")");
+    char      *end = nullptr;
+    errno          = 0;
+    const long long v = std::strtoll(value, &end, 10);
+    if (end == value || *end != '\0' || errno != 0 || v < lo || v > hi)
+      throw std::invalid_argument("invalid value '" + std::string(value) + "' for option " +
+                                  opt + " (allowed: " + allowed + ")");
+    return v;
+  }
+
+  BenchOptions parse(int argc, char **argv, bool &help)
+  {
+    BenchOptions o;
+    int          a = 1;
+    if (a < argc && std::strcmp(argv[a], "dem") == 0)
+      ++a;
+    for (; a < argc; ++a)
+      {
+        const std::string opt   = argv[a];
+        const char       *value = a + 1 < argc ? argv[a + 1] : nullptr;
+        if (opt == "--help" || opt == "-h")
+          help = true;
+        else if (opt == "--json")
+          o.json = true;
+        else if (opt == "--dim")
+          o.dim = static_cast<int>(parse_int(opt, value, 2, 3, "2 or 3")), ++a;
+        else if (opt == "--n")
+          o.n = parse_int(opt, value, 8, 100000000, "an integer 8 <= N <= 100000000"), ++a;
+        else if (opt == "--steps")
+          o.steps = parse_int(opt, value, 1, 1000000000, "an integer 1 <= S <= 1000000000"), ++a;
+        else if (opt == "--threads")
+          o.threads = static_cast<int>(parse_int(opt, value, 1, 1024, "an integer 1 <= T <= 1024")),
+          ++a;
+        else
+          throw std::invalid_argument(
+              "unknown option '" + opt +
+              "' (allowed: dem, --dim 2|3, --n N, --steps S, --threads T, --json, --help)");
+      }
+    return o;
+  }
+
+  // Portable uniform deviate (std distributions differ across libraries).
+  double uniform(std::mt19937_64 &g, double a, double b)
+  {
+    return a + (b - a) * (static_cast<double>(g() >> 11) * 0x1.0p-53);
+  }
+
+  /// Lattice sites, layer by layer along the last axis (so truncating at N
+  /// cuts the top layer), spacing a between nearest neighbours.
+  template <int dim>
+  std::vector<Vec<dim>> lattice(std::int64_t n, double a)
+  {
+    std::vector<Vec<dim>> x;
+    x.reserve(n);
+    if constexpr (dim == 2)
+      {
+        // Hexagonal: rows a*sqrt(3)/2 apart, odd rows shifted by a/2.
+        const std::int64_t nx = std::max<std::int64_t>(2, std::llround(std::sqrt(double(n))));
+        for (std::int64_t row = 0; static_cast<std::int64_t>(x.size()) < n; ++row)
+          for (std::int64_t i = 0; i < nx && static_cast<std::int64_t>(x.size()) < n; ++i)
+            x.emplace_back((i + 0.5 * (row % 2)) * a, row * a * std::sqrt(3.0) / 2);
+      }
+    else
+      {
+        // Face-centred cubic: cubic cell c = a sqrt(2) with 4 sites; nxy cells
+        // across, whole cell layers split into their two atomic planes.
+        const double       c   = a * std::sqrt(2.0);
+        const std::int64_t nxy = std::max<std::int64_t>(1, std::llround(std::cbrt(n / 4.0)));
+        const double       plane[2][2][2] = {{{0, 0}, {0.5, 0.5}}, {{0.5, 0}, {0, 0.5}}};
+        for (std::int64_t layer = 0; static_cast<std::int64_t>(x.size()) < n; ++layer)
+          {
+            const int half = layer % 2;
+            const std::int64_t kz = layer / 2;
+            for (std::int64_t j = 0; j < nxy; ++j)
+              for (std::int64_t i = 0; i < nxy; ++i)
+                for (int s = 0; s < 2 && static_cast<std::int64_t>(x.size()) < n; ++s)
+                  x.emplace_back((i + plane[half][s][0]) * c, (j + plane[half][s][1]) * c,
+                                 (kz + 0.5 * half) * c);
+          }
+      }
+    return x;
+  }
+
+  template <int dim>
+  BenchResult run_dem(const BenchOptions &o)
+  {
+    using clock = std::chrono::steady_clock;
+    const auto t0 = clock::now();
+    Model<dim> model;
+    model.local_damping = 0.7;
+
+    // Grains: lattice sites jittered by up to 1e-3 r0 (breaks the symmetry of
+    // the contact normals without changing which pairs are bonded).
+    std::mt19937_64 gen(12345);
+    const double    a = 2 * r0;
+    for (const Vec<dim> &site : lattice<dim>(o.n, a))
+      {
+        Vec<dim> x = site;
+        for (int d = 0; d < dim; ++d)
+          x[d] += uniform(gen, -1e-3, 1e-3) * r0;
+        model.particles.add(x, uniform(gen, 0.8, 1.2) * r0, density);
+      }
+    auto &P = model.particles;
+
+    // Platens: bottom layer fixed, top layer moving down (constant strain rate).
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    for (const auto &x : P.x)
+      lo = std::min(lo, x[dim - 1]), hi = std::max(hi, x[dim - 1]);
+    const double height = hi - lo;
+    const double layer  = 0.5 * a; // below any layer spacing (2D 0.87 a, 3D 0.71 a)
+    for (std::size_t i = 0; i < P.size(); ++i)
+      {
+        if (P.x[i][dim - 1] < lo + layer)
+          P.fixity[i] = fix_all;
+        else if (P.x[i][dim - 1] > hi - layer)
+          {
+            P.fixity[i]       = fix_all;
+            P.v[i][dim - 1] = -rate * height;
+          }
+      }
+
+    // Laws: linear contacts for pairs detected by the skin, then a bonded flat
+    // joint on every pair with gap < 0.1 r0.
+    ContactGeometry<dim> ref;
+    ref.R1 = ref.R2 = r0; // L = 2 r0 (memo Eq. 40) for the whole group
+    const auto def  = FlatJointLaw<dim>::deformability(emod, kratio, ref);
+    typename FlatJointLaw<dim>::Params fj;
+    fj.Nr     = 2;
+    fj.Nal    = 8;
+    fj.rmul   = 1.0;
+    fj.gap0   = 0.0;
+    fj.kn     = def.kn;
+    fj.ks     = def.ks;
+    fj.fric   = 0.5;
+    fj.ten    = 1e20;
+    fj.coh    = 1e20;
+    fj.fa     = 0.0;
+    fj.bonded = true;
+    const auto lin = LinearLaw<dim>::deformability(emod, kratio, 0.5, ref);
+    const int  g_lin = model.template add_law<LinearLaw<dim>>(lin, "bench linear");
+    const int  g_fj  = model.template add_law<FlatJointLaw<dim>>(fj, "bench flatjoint");
+    model.set_default_law(g_lin, -1);
+    model.skin = max_gap * r0;
+    model.detect_contacts();
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    {
+      const auto &G = model.group(g_lin);
+      pairs.reserve(G.size());
+      for (std::size_t k = 0; k < G.size(); ++k)
+        if (G.gap[k] < max_gap * r0)
+          pairs.emplace_back(G.end1[k], G.end2[k]);
+    }
+    for (const auto &[i, j] : pairs)
+      model.install(i, j, g_fj);
+    model.skin = 0; // default 0.1 * min radius for the run
+    model.set_timestep(0);
+    model.detect_contacts(); // time step from the flat-joint stiffnesses
+
+    BenchResult r;
+    r.n_particles  = P.size();
+    r.n_contacts   = model.n_contacts();
+    r.n_flatjoints = model.group(g_fj).size();
+    r.elements     = FlatJointLaw<dim>::element_count(fj);
+    r.timestep     = model.timestep();
+    r.setup_s      = std::chrono::duration<double>(clock::now() - t0).count();
+
+    const auto t1 = clock::now();
+    model.cycle(o.steps);
+    r.wall_s     = std::chrono::duration<double>(clock::now() - t1).count();
+    r.unbalanced = model.unbalanced_ratio();
+    r.kinetic    = model.kinetic_energy();
+    return r;
+  }
+
+  void report(const BenchOptions &o, const BenchResult &r)
+  {
+    const double ps = double(r.n_particles) * o.steps / r.wall_s;
+    const double cs = double(r.n_contacts) * o.steps / r.wall_s;
+    char         buf[2048];
+    if (o.json)
+      {
+        std::snprintf(buf, sizeof buf,
+                      "{\"benchmark\": \"dem\", \"law\": \"flatjoint\", \"dim\": %d, "
+                      "\"n_particles\": %zu, \"n_contacts\": %zu, \"n_flatjoints\": %zu, "
+                      "\"elements_per_contact\": %d, \"threads\": %d, \"steps\": %lld, "
+                      "\"setup_s\": %.6g, \"wall_s\": %.6g, \"timestep\": %.6g, "
+                      "\"particle_steps_per_s\": %.6g, \"contact_updates_per_s\": %.6g, "
+                      "\"particle_steps_per_s_per_thread\": %.6g, "
+                      "\"unbalanced_ratio\": %.6g, \"kinetic_energy\": %.6g}\n",
+                      o.dim, r.n_particles, r.n_contacts, r.n_flatjoints, r.elements,
+                      o.threads, static_cast<long long>(o.steps), r.setup_s, r.wall_s,
+                      r.timestep, ps, cs, ps / o.threads, r.unbalanced, r.kinetic);
+        std::cout << buf;
+        return;
+      }
+    std::snprintf(buf, sizeof buf,
+                  "demfem bench dem: %dD flat-joint assembly under constant-strain compression\n"
+                  "  particles            %zu\n"
+                  "  contacts             %zu (%zu flat joints, %d elements each)\n"
+                  "  threads              %d\n"
+                  "  steps                %lld (time step %.4g s)\n"
+                  "  setup                %.3f s (not timed)\n"
+                  "  stepping wall time   %.3f s\n"
+                  "  particle steps / s   %.4g (%.4g per thread)\n"
+                  "  contact updates / s  %.4g\n"
+                  "  unbalanced ratio     %.3g at the end\n",
+                  o.dim, r.n_particles, r.n_contacts, r.n_flatjoints, r.elements, o.threads,
+                  static_cast<long long>(o.steps), r.timestep, r.setup_s, r.wall_s, ps,
+                  ps / o.threads, cs, r.unbalanced);
+    std::cout << buf;
+  }
+} // namespace
+
+int demfem::apps::run_bench(int argc, char **argv)
+{
+  BenchOptions o;
+  bool         help = false;
+  try
+    {
+      o = parse(argc, argv, help);
+    }
+  catch (const std::invalid_argument &e)
+    {
+      std::cerr << "demfem bench: " << e.what() << "\n";
+      print_usage(std::cerr);
+      return 2;
+    }
+  if (help)
+    {
+      print_usage(std::cout);
+      return 0;
+    }
+  omp_set_num_threads(o.threads);
+  try
+    {
+      const BenchResult r = o.dim == 2 ? run_dem<2>(o) : run_dem<3>(o);
+      report(o, r);
+    }
+  catch (const std::exception &e)
+    {
+      std::cerr << "demfem bench: " << e.what() << "\n";
+      return 1;
+    }
+  return 0;
+}

@@ -1,0 +1,86 @@
+// `demfem bench dem` (issue 2 §5): output contract and option checking.
+// No timing assertions: the benchmark's speed depends on the machine.
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <regex>
+#include <string>
+
+namespace
+{
+  struct RunResult
+  {
+    std::string out;
+    int         status = -1;
+  };
+
+  /// Runs the demfem executable with `args` (stderr merged into the output).
+  RunResult run_demfem(const std::string &args)
+  {
+    RunResult   r;
+    const std::string cmd = std::string("\"") + DEMFEM_EXE + "\" " + args + " 2>&1";
+    FILE       *f = popen(cmd.c_str(), "r");
+    REQUIRE(f != nullptr);
+    char buf[4096];
+    while (std::fgets(buf, sizeof buf, f))
+      r.out += buf;
+    const int st = pclose(f);
+    r.status     = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return r;
+  }
+
+  /// Numeric value of "key": number in a flat JSON object (NaN if absent).
+  double json_number(const std::string &json, const std::string &key)
+  {
+    const std::regex re("\"" + key + "\"\\s*:\\s*([-+0-9.eE]+)");
+    std::smatch      m;
+    if (!std::regex_search(json, m, re))
+      return std::nan("");
+    return std::stod(m[1].str());
+  }
+} // namespace
+
+TEST_CASE("bench dem --json reports the run of a dense bonded assembly", "[bench]")
+{
+  const RunResult r = run_demfem("bench dem --dim 2 --n 500 --steps 20 --threads 1 --json");
+  INFO(r.out);
+  REQUIRE(r.status == 0);
+  for (const char *key : {"dim", "n_particles", "n_contacts", "threads", "steps", "wall_s",
+                          "particle_steps_per_s", "contact_updates_per_s", "setup_s",
+                          "timestep"})
+    {
+      INFO(key);
+      CHECK(std::isfinite(json_number(r.out, key)));
+    }
+  CHECK(json_number(r.out, "dim") == 2);
+  CHECK(json_number(r.out, "n_particles") == 500);
+  CHECK(json_number(r.out, "threads") == 1);
+  CHECK(json_number(r.out, "steps") == 20);
+  // Dense and bonded: a hexagonal lattice bonds ~72% of its 3 neighbour
+  // pairs per grain, so contacts clearly exceed grains.
+  CHECK(json_number(r.out, "n_contacts") > 500);
+  CHECK(json_number(r.out, "wall_s") > 0);
+  CHECK(json_number(r.out, "timestep") > 0);
+  // Throughput is derived from the counts and the wall time.
+  CHECK(json_number(r.out, "particle_steps_per_s") ==
+        Approx(500 * 20 / json_number(r.out, "wall_s")).epsilon(1e-4));
+}
+
+TEST_CASE("bench dem rejects invalid options naming them", "[bench]")
+{
+  const RunResult dim = run_demfem("bench dem --dim 4 --n 500 --steps 20");
+  CHECK(dim.status != 0);
+  CHECK_THAT(dim.out, Catch::Contains("--dim"));
+  const RunResult thr = run_demfem("bench --dim 2 --threads 0");
+  CHECK(thr.status != 0);
+  CHECK_THAT(thr.out, Catch::Contains("--threads"));
+  const RunResult unk = run_demfem("bench dem --bogus 1");
+  CHECK(unk.status != 0);
+  CHECK_THAT(unk.out, Catch::Contains("--bogus"));
+  const RunResult help = run_demfem("bench --help");
+  CHECK(help.status == 0);
+  CHECK_THAT(help.out, Catch::Contains("--steps"));
+}
