@@ -392,3 +392,35 @@ TEST_CASE("smooth joint through the engine: sliding follows the joint plane", "[
   smooth_joint_slide<2>();
   smooth_joint_slide<3>();
 }
+
+TEST_CASE("ball resting on the shared edge of two coplanar facets feels one plane",
+          "[enginelaws][!mayfail]")
+{
+  // A flat wall made of two triangles must act as one plane (memo §1.3.1:
+  // x_c is the point of the wall closest to the ball, one contact per
+  // ball-wall pair). On the shared diagonal both facets have the same
+  // closest point, so one contact per facet would double the stiffness and
+  // halve the rest overlap m g / kn.
+  Threads      one(1);
+  Model<3>     m;
+  const double r = 0.1, L = 1.0;
+  const int    w = floor_wall(m, L);
+  m.particles.add(Vec<3>(0.2, 0.2, r + 0.005), r, 2650); // above the diagonal x = y
+  LinearLaw<3>::Params lp;
+  lp.kn = 1e6, lp.ks = 1e6, lp.friction = 0.5;
+  const int g = m.add_law<LinearLaw<3>>(lp);
+  m.set_default_law(-1, g);
+  m.gravity[2]      = -9.81;
+  const double mass = m.particles.mass[0];
+  m.set_timestep(0.1 * std::sqrt(mass / lp.kn));
+  m.cycle(20000);
+  const double mg = mass * 9.81;
+  CHECK(m.walls.wall_force(w)[2] == Approx(-mg).epsilon(1e-6)); // equilibrium
+  std::size_t active = 0;
+  for (std::size_t k = 0; k < m.group(g).size(); ++k)
+    active += m.group(g).local_force[k].Fn < 0;
+  WARN("edge rest: " << active << " loaded ball-wall contacts, overlap "
+                     << r - m.particles.x[0][2] << " vs m g / kn " << mg / lp.kn);
+  CHECK(active == 1);
+  CHECK(r - m.particles.x[0][2] == Approx(mg / lp.kn).epsilon(1e-6));
+}
