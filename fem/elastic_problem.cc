@@ -97,10 +97,6 @@ namespace demfem::fem
     , stress_dof_handler(triangulation)
     , pcout(std::cout,
             s.verbose && Utilities::MPI::this_mpi_process(comm) == 0)
-    , timer(comm,
-            pcout,
-            s.verbose ? TimerOutput::summary : TimerOutput::never,
-            TimerOutput::wall_times)
   {
     const double E  = settings.young_modulus;
     const double nu = settings.poisson_ratio;
@@ -132,7 +128,7 @@ namespace demfem::fem
   void
   ElasticProblem<dim>::make_grid()
   {
-    TimerOutput::Scope t(timer, "make grid");
+    const auto start = std::chrono::steady_clock::now();
     if (settings.mesh == "generate")
       {
         GeneratedMeshSettings g;
@@ -160,6 +156,14 @@ namespace demfem::fem
                              " (needed: 1 = far field, 3 = tunnel wall)"));
     has_roller = (dim == 3 && ids.count(boundary_id::roller_z) == 1);
     triangulation.refine_global(settings.refinements);
+    timer = std::make_unique<TimerOutput>(comm,
+                                          pcout,
+                                          settings.verbose ? TimerOutput::summary :
+                                                             TimerOutput::never,
+                                          TimerOutput::wall_times);
+    pcout << "   mesh read/generated in "
+          << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
+          << " s" << std::endl;
     pcout << "   mesh: " << triangulation.n_global_active_cells()
           << " cells, boundary ids:";
     for (const auto id : ids)
@@ -242,7 +246,7 @@ namespace demfem::fem
   void
   ElasticProblem<dim>::setup_system()
   {
-    TimerOutput::Scope t(timer, "setup");
+    TimerOutput::Scope t(*timer, "setup");
     dof_handler.distribute_dofs(fe);
     locally_owned_dofs = dof_handler.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(dof_handler, locally_relevant_dofs);
@@ -278,7 +282,7 @@ namespace demfem::fem
   void
   ElasticProblem<dim>::assemble_system()
   {
-    TimerOutput::Scope t(timer, "assemble matrix");
+    TimerOutput::Scope t(*timer, "assemble matrix");
     system_matrix = 0;
     const QGauss<dim> quadrature(fe.degree + 1);
     FEValues<dim>     fe_values(*mapping,
@@ -322,7 +326,7 @@ namespace demfem::fem
   void
   ElasticProblem<dim>::assemble_rhs(const bool in_situ_state)
   {
-    TimerOutput::Scope t(timer, "assemble rhs");
+    TimerOutput::Scope t(*timer, "assemble rhs");
     system_rhs = 0;
     const QGauss<dim - 1> face_quadrature(fe.degree + 1);
     FEFaceValues<dim>     fe_face_values(*mapping,
@@ -385,7 +389,7 @@ namespace demfem::fem
   unsigned int
   ElasticProblem<dim>::solve()
   {
-    TimerOutput::Scope            t(timer, "solve");
+    TimerOutput::Scope            t(*timer, "solve");
     TrilinosWrappers::MPI::Vector x(locally_owned_dofs, comm);
     const double                  rhs_norm = system_rhs.l2_norm();
     if (rhs_norm == 0)
@@ -471,7 +475,7 @@ namespace demfem::fem
   void
   ElasticProblem<dim>::recover_stress()
   {
-    TimerOutput::Scope t(timer, "stress recovery");
+    TimerOutput::Scope t(*timer, "stress recovery");
     stress_dof_handler.distribute_dofs(stress_fe);
     IndexSet relevant;
     DoFTools::extract_locally_relevant_dofs(stress_dof_handler, relevant);
@@ -522,7 +526,7 @@ namespace demfem::fem
   void
   ElasticProblem<dim>::output_results(const unsigned int stage, const double fraction)
   {
-    TimerOutput::Scope t(timer, "output");
+    TimerOutput::Scope t(*timer, "output");
     // Scaled induced displacement and total vertex stress of this stage.
     TrilinosWrappers::MPI::Vector owned(locally_owned_dofs, comm);
     owned = solution;

@@ -185,7 +185,9 @@ namespace demfem::fem
 
     std::vector<std::pair<double, std::string>> pvd_records;
     dealii::ConditionalOStream                  pcout;
-    dealii::TimerOutput                         timer;
+    // Created once the mesh is valid: a TimerOutput destroyed during the
+    // unwinding of an input error would print a deadlock warning.
+    std::unique_ptr<dealii::TimerOutput> timer;
   };
 
   /** Principal stresses, largest (most tensile) first. */

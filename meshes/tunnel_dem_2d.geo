@@ -1,0 +1,29 @@
+// 2D continuum around an embedded DEM region: the DEM region fills the ring
+// a <= r <= b around the tunnel (radius a); the continuum covers b <= r <= R
+// and its inner circle r = b is the interface to the DEM region.
+// Physical ids (DESIGN.md section 4): 1 far field, 2 interface (r = b).
+// Generate: gmsh -2 -format msh2 tunnel_dem_2d.geo -o tunnel_dem_2d.msh
+b  = 3.0;   // interface radius (DEM region outer radius), a = 1
+R  = 30.0;
+nt = 12;    // cells per quarter circle at the interface (48 around)
+nr = 18;
+q  = (R / b)^(1.0 / nr);
+
+Point(1) = {0, 0, 0};
+Point(2) = {b, 0, 0};  Point(3) = {0, b, 0};  Point(4) = {-b, 0, 0};  Point(5) = {0, -b, 0};
+Point(6) = {R, 0, 0};  Point(7) = {0, R, 0};  Point(8) = {-R, 0, 0};  Point(9) = {0, -R, 0};
+Circle(1) = {2, 1, 3}; Circle(2) = {3, 1, 4}; Circle(3) = {4, 1, 5}; Circle(4) = {5, 1, 2};
+Circle(5) = {6, 1, 7}; Circle(6) = {7, 1, 8}; Circle(7) = {8, 1, 9}; Circle(8) = {9, 1, 6};
+Line(9) = {2, 6}; Line(10) = {3, 7}; Line(11) = {4, 8}; Line(12) = {5, 9};
+Curve Loop(1) = {9, 5, -10, -1};  Plane Surface(1) = {1};
+Curve Loop(2) = {10, 6, -11, -2}; Plane Surface(2) = {2};
+Curve Loop(3) = {11, 7, -12, -3}; Plane Surface(3) = {3};
+Curve Loop(4) = {12, 8, -9, -4};  Plane Surface(4) = {4};
+Transfinite Curve{1:8} = nt + 1;
+Transfinite Curve{9:12} = nr + 1 Using Progression q;
+Transfinite Surface{1:4};
+Recombine Surface{1:4};
+
+Physical Curve(1) = {5:8};
+Physical Curve(2) = {1:4};
+Physical Surface(1) = {1:4};
