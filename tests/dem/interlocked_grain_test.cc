@@ -126,8 +126,8 @@ namespace
           {
             const int    I = (e - 1) / p.Nal, J = e - 1 - I * p.Nal;
             const double r1 = I * dr, r2 = (I + 1) * dr, a1 = J * da, a2 = (J + 1) * da;
-            const double A  = 0.5 * (a2 - a1) * (r2 * r2 - r1 * r1);
-            const double s  = 2.0 / 3.0 * (std::sin(a2) - std::sin(a1)) / (a2 - a1) *
+            const double A = 0.5 * (a2 - a1) * (r2 * r2 - r1 * r1);
+            const double s = 2.0 / 3.0 * (std::sin(a2) - std::sin(a1)) / (a2 - a1) *
                              (r2 * r2 * r2 - r1 * r1 * r1) / (r2 * r2 - r1 * r1);
             if (s < 0)
               sum += A * s * s;
@@ -176,8 +176,8 @@ namespace
         int loaded = 0;
         for (int e = 0; e < nelements; ++e)
           {
-            const auto     rc  = FJ::element_centroid(p, st, e);
-            Vec<dim>       pos = G.xc[ci];
+            const auto rc  = FJ::element_centroid(p, st, e);
+            Vec<dim>   pos = G.xc[ci];
             if constexpr (dim == 2)
               pos += rc[1] * Vec<2>(-n_c[1], n_c[0]); // t = k x n
             else
@@ -185,11 +185,11 @@ namespace
                 const Vec<3> sa = G.s_axis[ci], ta = n_c.cross(sa);
                 pos += rc[0] * sa + rc[1] * ta;
               }
-            const Vec<dim> rel   = pos - m.particles.x[0];
-            const double   vn    = omega * (-rel[1] * n_c[0] + rel[0] * n_c[1]); // (k x r).n
-            const double   gap   = FJ::element_gap(p, st, e);
-            const double   fn_e  = FJ::element_force(p, st, e)[0];
-            const int      bs    = FJ::bond_state(p, st, e);
+            const Vec<dim> rel  = pos - m.particles.x[0];
+            const double   vn   = omega * (-rel[1] * n_c[0] + rel[0] * n_c[1]); // (k x r).n
+            const double   gap  = FJ::element_gap(p, st, e);
+            const double   fn_e = FJ::element_force(p, st, e)[0];
+            const int      bs   = FJ::bond_state(p, st, e);
             CHECK(bs == 0);
             if (vn > 0)
               {
@@ -233,8 +233,7 @@ namespace
         CHECK(m.particles.m[0][0] == Approx(0).margin(1e-9 * std::abs(mz)));
         CHECK(m.particles.m[0][1] == Approx(0).margin(1e-9 * std::abs(mz)));
       }
-    WARN("dim " << dim << " phase 1: moment on centre " << mz << " N m, closed form "
-                << 4 * Mface);
+    WARN("dim " << dim << " phase 1: moment on centre " << mz << " N m, closed form " << 4 * Mface);
 
     // ---- phase 2: stop the centre, free the rotation of the others -------
     m.particles.w[0].setZero();
@@ -254,9 +253,9 @@ namespace
       }
     for (int k = 0; k < 4; ++k)
       {
-        const int          i  = k + 1;
-        const auto        &G  = m.group(s.g);
-        const ContactForce f  = G.local_force[s.c[k].index];
+        const int          i = k + 1;
+        const auto        &G = m.group(s.g);
+        const ContactForce f = G.local_force[s.c[k].index];
         INFO("grain " << i << " rotation " << rot[i] << " Fn " << f.Fn << " (phase 1 "
                       << fn_phase1[k] << ")");
         // The compression at the far end of the face pushes the neighbour
@@ -274,18 +273,12 @@ namespace
             CHECK(std::abs(m.particles.w[i][1]) < 1e-9);
           }
         if (k == 0)
-          WARN("dim " << dim << " phase 2: neighbour rotation " << rot[i] << " (theta "
-                      << theta << "), Fn " << f.Fn << " vs phase 1 " << fn_phase1[k]);
+          WARN("dim " << dim << " phase 2: neighbour rotation " << rot[i] << " (theta " << theta
+                      << "), Fn " << f.Fn << " vs phase 1 " << fn_phase1[k]);
       }
   }
 } // namespace
 
-TEST_CASE("interlocked grain 2D (memo §2.2, Fig. 24)", "[interlocked]")
-{
-  run_interlocked<2>();
-}
+TEST_CASE("interlocked grain 2D (memo §2.2, Fig. 24)", "[interlocked]") { run_interlocked<2>(); }
 
-TEST_CASE("interlocked grain 3D (memo §2.2, Fig. 25)", "[interlocked]")
-{
-  run_interlocked<3>();
-}
+TEST_CASE("interlocked grain 3D (memo §2.2, Fig. 25)", "[interlocked]") { run_interlocked<3>(); }
