@@ -295,7 +295,7 @@ namespace demfem::dem
     auto &P = particles;
     int   bad = -1;
     double power = 0; // power delivered to the assembly from outside
-#pragma omp parallel for schedule(static) reduction(+ : power)
+#pragma omp parallel for schedule(static) reduction(+ : power) if (N > parallel_threshold)
     for (std::size_t i = 0; i < N; ++i)
       {
         if (P.fixity[i] & fix_translation) // the agent holding it does -f.v
@@ -380,7 +380,18 @@ namespace demfem::dem
     double se = 0;
     for (const auto &g : groups_)
       se += g->total_strain_energy();
-    const double e = kinetic_energy() + se;
+    // Only free degrees of freedom belong to the balance: the motion of fixed
+    // ones is imposed from outside and enters through the boundary work.
+    double ke = 0;
+    const auto &P = particles;
+    for (std::size_t i = 0; i < P.size(); ++i)
+      {
+        if (!(P.fixity[i] & fix_translation))
+          ke += 0.5 * P.mass[i] * P.v[i].squaredNorm();
+        if (!(P.fixity[i] & fix_rotation))
+          ke += 0.5 * P.inertia[i] * P.w[i].squaredNorm();
+      }
+    const double e = ke + se;
     if (!baseline_valid_)
       {
         energy0_        = e;
@@ -418,7 +429,7 @@ namespace demfem::dem
   {
     double            e = 0;
     const std::size_t N = particles.size();
-#pragma omp parallel for reduction(+ : e) schedule(static)
+#pragma omp parallel for reduction(+ : e) schedule(static) if (N > parallel_threshold)
     for (std::size_t i = 0; i < N; ++i)
       e += 0.5 * (particles.mass[i] * particles.v[i].squaredNorm() +
                   particles.inertia[i] * particles.w[i].squaredNorm());
