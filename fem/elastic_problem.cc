@@ -705,18 +705,40 @@ namespace demfem::fem
         output_results(k, double(k) / settings.excavation_stages);
 
     const auto wall = wall_results();
-    double     max_u = 0, hoop_min = 1e300, hoop_max = -1e300;
+    // Hoop stress only on the wall circle (a 3D mesh's id 3 also holds the
+    // tunnel face, where the hoop direction is undefined at the axis).
+    double r_wall = 0;
     for (const auto &w : wall)
+      r_wall = std::max(r_wall, std::hypot(w.x[0], w.x[1]));
+    // Per stage k: release fraction f, induced u scales with f, total stress
+    // is sigma0 + f (sigma - sigma0).
+    struct StageRecord
+    {
+      double fraction, max_u = 0, hoop_min = 1e300, hoop_max = -1e300;
+    };
+    std::vector<StageRecord> history;
+    for (unsigned int k = 0; k <= settings.excavation_stages; ++k)
       {
-        max_u = std::max(max_u, w.u.norm());
-        const double r = std::hypot(w.x[0], w.x[1]);
-        Tensor<1, 3> t;
-        t[0] = -w.x[1] / r;
-        t[1] = w.x[0] / r;
-        const double hoop = t * (w.stress * t);
-        hoop_min          = std::min(hoop_min, hoop);
-        hoop_max          = std::max(hoop_max, hoop);
+        StageRecord h;
+        h.fraction = double(k) / settings.excavation_stages;
+        for (const auto &w : wall)
+          {
+            h.max_u        = std::max(h.max_u, h.fraction * w.u.norm());
+            const double r = std::hypot(w.x[0], w.x[1]);
+            if (r < (1 - 1e-6) * r_wall)
+              continue;
+            Tensor<1, 3> t;
+            t[0]              = -w.x[1] / r;
+            t[1]              = w.x[0] / r;
+            const auto   sig  = sigma0_3d + h.fraction * (w.stress - sigma0_3d);
+            const double hoop = t * (sig * t);
+            h.hoop_min        = std::min(h.hoop_min, hoop);
+            h.hoop_max        = std::max(h.hoop_max, hoop);
+          }
+        history.push_back(h);
       }
+    const double max_u = history.back().max_u, hoop_min = history.back().hoop_min,
+                 hoop_max = history.back().hoop_max;
     const double wall_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (root)
@@ -734,6 +756,13 @@ namespace demfem::fem
               ds << ',' << w.stress[c[0]][c[1]];
             ds << '\n';
           }
+        std::ofstream hs(settings.output_directory + "/history.csv");
+        hs << std::setprecision(12)
+           << "stage,release_fraction,max_wall_displacement,min_wall_hoop_stress,"
+              "max_wall_hoop_stress\n";
+        for (unsigned int k = 0; k < history.size(); ++k)
+          hs << k << ',' << history[k].fraction << ',' << history[k].max_u << ','
+             << history[k].hoop_min << ',' << history[k].hoop_max << '\n';
         std::ofstream js(settings.output_directory + "/summary.json");
         js << std::setprecision(12) << "{\n"
            << "  \"command\": \"fem\",\n"

@@ -186,5 +186,11 @@ TEST_CASE("Excavation stages write a VTK series", "[fem][output]")
                                   std::to_string(k) + ".pvtu"));
   CHECK(std::filesystem::exists(s.output_directory + "/summary.json"));
   CHECK(std::filesystem::exists(s.output_directory + "/wall_displacement.csv"));
+  std::ifstream hist(s.output_directory + "/history.csv");
+  std::string   line;
+  int           rows = 0;
+  while (std::getline(hist, line))
+    ++rows;
+  CHECK(rows == 1 + 5); // header + stages 0..4
   std::filesystem::remove_all(s.output_directory);
 }
