@@ -204,6 +204,44 @@ namespace demfem::dem
   }
 
   template <int dim>
+  void Model<dim>::suppress_duplicate_wall_contacts(ContactGroupBase<dim> &g)
+  {
+    // A ball touching a wall at an edge or vertex shared by several facets
+    // has one contact per facet, all with the same closest point. The wall
+    // surface is one surface: only the first of them (lowest facet index)
+    // transmits force, or the wall would be twice as stiff along its edges.
+    wall_scratch_.clear();
+    for (std::size_t k = 0; k < g.size(); ++k)
+      if (g.is_wall[k])
+        wall_scratch_.push_back(k);
+    if (wall_scratch_.size() < 2)
+      return;
+    std::sort(wall_scratch_.begin(), wall_scratch_.end(), [&](std::size_t a, std::size_t b) {
+      const int wa = walls.facet_wall[g.end2[a]], wb = walls.facet_wall[g.end2[b]];
+      return g.end1[a] != g.end1[b] ? g.end1[a] < g.end1[b] : wa != wb ? wa < wb : g.end2[a] < g.end2[b];
+    });
+    for (std::size_t a = 0; a < wall_scratch_.size(); ++a)
+      {
+        const std::size_t ka = wall_scratch_[a];
+        if (g.force[ka].squaredNorm() == 0 && g.moment[ka].squaredNorm() == 0)
+          continue;
+        const double tol = 1e-9 * particles.radius[g.end1[ka]];
+        for (std::size_t b = a + 1; b < wall_scratch_.size(); ++b)
+          {
+            const std::size_t kb = wall_scratch_[b];
+            if (g.end1[kb] != g.end1[ka] || walls.facet_wall[g.end2[kb]] != walls.facet_wall[g.end2[ka]])
+              break;
+            if ((g.xc[kb] - g.xc[ka]).squaredNorm() <= tol * tol)
+              {
+                g.force[kb].setZero();
+                g.moment[kb].setZero();
+                g.local_force[kb] = ContactForce{};
+              }
+          }
+      }
+  }
+
+  template <int dim>
   void Model<dim>::compute_forces()
   {
     const std::size_t N = particles.size();
@@ -221,6 +259,7 @@ namespace demfem::dem
         for (auto &s : sinks_)
           s.events.clear();
         g.compute(particles, walls, dt_, sinks_);
+        suppress_duplicate_wall_contacts(g);
         // Deterministic scatter of contact forces to the pieces.
         for (std::size_t k = 0; k < g.size(); ++k)
           {

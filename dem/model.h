@@ -130,6 +130,8 @@ namespace demfem::dem
 
   private:
     void        compute_forces();
+    void        suppress_duplicate_wall_contacts(ContactGroupBase<dim> &g);
+    std::vector<std::size_t> wall_scratch_;
     void        integrate();
     bool        rebuild_needed() const;
     std::uint64_t key(std::uint32_t i, std::uint32_t j, bool wall) const

@@ -401,7 +401,7 @@ TEST_CASE("smooth joint through the engine: sliding follows the joint plane", "[
 }
 
 TEST_CASE("ball resting on the shared edge of two coplanar facets feels one plane",
-          "[enginelaws][!mayfail]")
+          "[enginelaws]")
 {
   // A flat wall made of two triangles must act as one plane (memo §1.3.1:
   // x_c is the point of the wall closest to the ball, one contact per
