@@ -131,13 +131,14 @@ def main():
     O.step()
     setup = time.perf_counter() - t0
     contacts = O.interactions.countReal()
-    t1 = time.perf_counter()
+    c1, t1 = time.process_time(), time.perf_counter()
     O.run(steps, True)
     wall = time.perf_counter() - t1
+    cpu = time.process_time() - c1  # all threads of the process
     threads = O.numThreads
     res = {
         "code": "yade", "dim": dim, "n_particles": len(ids), "n_contacts": contacts,
-        "threads": threads, "steps": steps, "setup_s": setup, "wall_s": wall,
+        "threads": threads, "steps": steps, "setup_s": setup, "wall_s": wall, "cpu_s": cpu,
         "timestep": O.dt, "particle_steps_per_s": len(ids) * steps / wall,
         "contact_updates_per_s": contacts * steps / wall,
         "particle_steps_per_s_per_thread": len(ids) * steps / wall / threads,
