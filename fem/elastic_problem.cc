@@ -198,7 +198,7 @@ namespace demfem::fem
                         continue;
                       }
                     if (point_pins &&
-                        std::abs(p[dim - 1] - zmin) > 1e-10 * settings.outer_radius)
+                        std::abs(p[dim - 1] - zmin) > 1e-10 * std::abs(zmin) + 1e-12)
                       continue;
                     ext[0] = std::max(ext[0], p[0]);
                     ext[1] = std::max(ext[1], -p[0]);
@@ -212,34 +212,48 @@ namespace demfem::fem
 
     // Three tangential pins remove the in-plane rigid modes without
     // over-constraining a uniform strain field: u_y at max x and min x,
-    // u_x at max y. In 3D without rollers also u_z there.
-    const double tol = 1e-10 * std::max(1.0, std::abs(ext[0]));
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (!cell->is_artificial())
-        for (const auto &face : cell->face_iterators())
-          if (face->at_boundary() &&
-              face->boundary_id() == boundary_id::far_field)
-            for (const unsigned int v : face->vertex_indices())
-              {
-                const Point<dim> &p = face->vertex(v);
-                if (point_pins &&
-                    std::abs(p[dim - 1] - zmin) > 1e-10 * settings.outer_radius)
-                  continue;
-                const double value[3] = {p[0], -p[0], p[1]};
-                for (unsigned int k = 0; k < 3; ++k)
-                  if (std::abs(value[k] - ext[k]) < tol)
-                    {
-                      std::vector<unsigned int> comps = {k < 2 ? 1u : 0u};
-                      if (point_pins)
-                        comps.push_back(2);
-                      for (const unsigned int c : comps)
-                        {
-                          const auto dof = face->vertex_dof_index(v, c);
-                          if (!constraints.is_constrained(dof))
-                            constraints.add_line(dof);
-                        }
-                    }
-              }
+    // u_x at max y. In 3D without rollers also u_z there. Among the vertices
+    // with the extreme coordinate (a whole edge for a square domain) the one
+    // closest to the axis through the centre is taken, where the symmetric
+    // solution has no tangential displacement.
+    const double tol = 1e-10 * std::max({1.0, ext[0], ext[1], ext[2]});
+    const auto   for_each_candidate = [&](const auto &fn) {
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (!cell->is_artificial())
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary() && face->boundary_id() == boundary_id::far_field)
+              for (const unsigned int v : face->vertex_indices())
+                {
+                  const Point<dim> &p = face->vertex(v);
+                  if (point_pins &&
+                      std::abs(p[dim - 1] - zmin) > 1e-10 * std::abs(zmin) + 1e-12)
+                    continue;
+                  const double value[3]  = {p[0], -p[0], p[1]};
+                  const double offset[3] = {std::abs(p[1]), std::abs(p[1]), std::abs(p[0])};
+                  for (unsigned int k = 0; k < 3; ++k)
+                    if (std::abs(value[k] - ext[k]) < tol)
+                      fn(face, v, k, offset[k]);
+                }
+    };
+    double off[3] = {inf, inf, inf};
+    for_each_candidate([&](const auto &, unsigned int, unsigned int k, double o) {
+      off[k] = std::min(off[k], o);
+    });
+    for (double &o : off)
+      o = Utilities::MPI::min(o, comm);
+    for_each_candidate([&](const auto &face, unsigned int v, unsigned int k, double o) {
+      if (std::abs(o - off[k]) > tol)
+        return;
+      std::vector<unsigned int> comps = {k < 2 ? 1u : 0u};
+      if (point_pins)
+        comps.push_back(2);
+      for (const unsigned int c : comps)
+        {
+          const auto dof = face->vertex_dof_index(v, c);
+          if (!constraints.is_constrained(dof))
+            constraints.add_line(dof);
+        }
+    });
   }
 
   template <int dim>
