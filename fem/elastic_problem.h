@@ -36,6 +36,13 @@
 
 namespace demfem::fem
 {
+  namespace internal
+  {
+    // Components of a 3x3 symmetric tensor in output order:
+    // xx, yy, zz, xy, xz, yz.
+    inline constexpr unsigned int voigt[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+  } // namespace internal
+
   struct ElasticSettings
   {
     unsigned int dimension        = 2;
