@@ -24,18 +24,17 @@ namespace demfem::apps
     using namespace dealii;
 
     const char *usage =
-      "usage: demfem fem FILE.prm [--set \"Section/key=value\"]... "
-      "[--print-parameters] [--help]\n"
-      "\n"
-      "Linear elastic continuum around a circular tunnel (dim 2: plane strain,\n"
-      "dim 3: slab or 3D mesh). In-situ stress (tension positive, Pa) is released\n"
-      "on the tunnel wall (boundary id 3); the far field (id 1) keeps its traction.\n"
-      "Writes summary.json, wall_displacement.csv (excavation-induced),\n"
-      "wall_stress.csv (total stress) and solution.pvd (+ .pvtu/.vtu) into\n"
-      "Problem/output directory. Run with mpirun -np N for a distributed solve.\n";
+        "usage: demfem fem FILE.prm [--set \"Section/key=value\"]... "
+        "[--print-parameters] [--help]\n"
+        "\n"
+        "Linear elastic continuum around a circular tunnel (dim 2: plane strain,\n"
+        "dim 3: slab or 3D mesh). In-situ stress (tension positive, Pa) is released\n"
+        "on the tunnel wall (boundary id 3); the far field (id 1) keeps its traction.\n"
+        "Writes summary.json, wall_displacement.csv (excavation-induced),\n"
+        "wall_stress.csv (total stress) and solution.pvd (+ .pvtu/.vtu) into\n"
+        "Problem/output directory. Run with mpirun -np N for a distributed solve.\n";
 
-    void
-    declare_parameters(ParameterHandler &prm)
+    void declare_parameters(ParameterHandler &prm)
     {
       prm.enter_subsection("Problem");
       prm.declare_entry("dimension", "2", Patterns::Integer(2, 3),
@@ -48,12 +47,13 @@ namespace demfem::apps
       prm.declare_entry("radius", "1.0", Patterns::Double(), "Tunnel radius a [m] (> 0)");
       for (const std::string c : {"xx", "yy", "zz", "xy", "xz", "yz"})
         prm.declare_entry("in situ stress " + c,
-                          c == "xx" ? "-30e6" :
-                          c == "yy" ? "-60e6" :
-                          c == "zz" ? "-45e6" : "0",
+                          c == "xx"   ? "-30e6"
+                          : c == "yy" ? "-60e6"
+                          : c == "zz" ? "-45e6"
+                                      : "0",
                           Patterns::Double(),
                           "In-situ stress component " + c +
-                            " [Pa], tension positive; z is the tunnel axis");
+                              " [Pa], tension positive; z is the tunnel axis");
       prm.declare_entry("excavation stages", "1", Patterns::Integer(1, 1000),
                         "The wall traction is released in this many equal "
                         "steps; one VTK output per stage");
@@ -84,20 +84,19 @@ namespace demfem::apps
     }
 
     // "Section/sub/key=value" -> prm.set inside the sections.
-    void
-    apply_override(ParameterHandler &prm, const std::string &arg)
+    void apply_override(ParameterHandler &prm, const std::string &arg)
     {
       const auto eq = arg.find('=');
       AssertThrow(eq != std::string::npos && eq > 0,
                   ExcMessage("--set expects \"Section/key=value\", got \"" + arg + "\""));
-      const std::string path = arg.substr(0, eq), value = arg.substr(eq + 1);
+      const std::string        path = arg.substr(0, eq), value = arg.substr(eq + 1);
       std::vector<std::string> parts;
       std::stringstream        ss(path);
       for (std::string p; std::getline(ss, p, '/');)
         parts.push_back(p);
-      AssertThrow(parts.size() >= 2,
-                  ExcMessage("--set \"" + arg + "\": the key needs its section, "
-                             "e.g. \"Tunnel/radius=1.5\""));
+      AssertThrow(parts.size() >= 2, ExcMessage("--set \"" + arg +
+                                                "\": the key needs its section, "
+                                                "e.g. \"Tunnel/radius=1.5\""));
       for (std::size_t i = 0; i + 1 < parts.size(); ++i)
         prm.enter_subsection(parts[i]);
       try
@@ -114,8 +113,7 @@ namespace demfem::apps
         prm.leave_subsection();
     }
 
-    fem::ElasticSettings
-    read_settings(ParameterHandler &prm)
+    fem::ElasticSettings read_settings(ParameterHandler &prm)
     {
       fem::ElasticSettings s;
       prm.enter_subsection("Problem");
@@ -133,21 +131,21 @@ namespace demfem::apps
       s.excavation_stages = prm.get_integer("excavation stages");
       prm.leave_subsection();
       prm.enter_subsection("Continuum");
-      s.mesh                            = prm.get("mesh");
-      s.outer_radius                    = prm.get_double("outer radius");
-      s.young_modulus                   = prm.get_double("young modulus");
-      s.poisson_ratio                   = prm.get_double("poisson ratio");
-      const std::string material        = prm.get("material file");
-      s.degree                          = prm.get_integer("element degree");
-      s.refinements                     = prm.get_integer("refinements");
-      s.solver                          = prm.get("solver");
+      s.mesh                     = prm.get("mesh");
+      s.outer_radius             = prm.get_double("outer radius");
+      s.young_modulus            = prm.get_double("young modulus");
+      s.poisson_ratio            = prm.get_double("poisson ratio");
+      const std::string material = prm.get("material file");
+      s.degree                   = prm.get_integer("element degree");
+      s.refinements              = prm.get_integer("refinements");
+      s.solver                   = prm.get("solver");
       prm.leave_subsection();
 
       if (!material.empty())
         {
-          AssertThrow(std::filesystem::is_regular_file(material),
-                      ExcMessage("Continuum/material file: '" + material +
-                                 "' does not exist"));
+          AssertThrow(
+              std::filesystem::is_regular_file(material),
+              ExcMessage("Continuum/material file: '" + material + "' does not exist"));
           boost::property_tree::ptree tree;
           try
             {
@@ -157,10 +155,10 @@ namespace demfem::apps
             }
           catch (const std::exception &e)
             {
-              AssertThrow(false,
-                          ExcMessage("Continuum/material file '" + material +
-                                     "': need numeric top-level keys \"E\" (Pa) "
-                                     "and \"nu\": " + e.what()));
+              AssertThrow(false, ExcMessage("Continuum/material file '" + material +
+                                            "': need numeric top-level keys \"E\" (Pa) "
+                                            "and \"nu\": " +
+                                            e.what()));
             }
         }
       if (s.mesh != "generate")
@@ -169,8 +167,7 @@ namespace demfem::apps
       return s;
     }
 
-    std::string
-    exception_text(const std::exception &e)
+    std::string exception_text(const std::exception &e)
     {
       if (const auto *d = dynamic_cast<const ExceptionBase *>(&e))
         {
@@ -185,8 +182,7 @@ namespace demfem::apps
     }
   } // namespace
 
-  int
-  run_fem(int argc, char **argv)
+  int run_fem(int argc, char **argv)
   {
     Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
     const MPI_Comm                   comm = MPI_COMM_WORLD;
@@ -215,8 +211,7 @@ namespace demfem::apps
               overrides.push_back(a.substr(6));
             else if (a.rfind("-", 0) == 0)
               {
-                AssertThrow(false,
-                            ExcMessage("unknown option '" + a + "' (see --help)"));
+                AssertThrow(false, ExcMessage("unknown option '" + a + "' (see --help)"));
               }
             else
               {
@@ -246,8 +241,7 @@ namespace demfem::apps
             }
           catch (const std::exception &e)
             {
-              AssertThrow(false,
-                          ExcMessage("--set \"" + o + "\": " + exception_text(e)));
+              AssertThrow(false, ExcMessage("--set \"" + o + "\": " + exception_text(e)));
             }
         if (print)
           {

@@ -20,8 +20,7 @@ namespace demfem::fem
   using internal::voigt;
 
   template <int dim>
-  void
-  ElasticProblem<dim>::recover_stress()
+  void ElasticProblem<dim>::recover_stress()
   {
     TimerOutput::Scope t(*timer, "stress recovery");
     stress_dof_handler.distribute_dofs(stress_fe);
@@ -35,8 +34,8 @@ namespace demfem::fem
     std::vector<Point<dim>> points;
     for (const unsigned int v : GeometryInfo<dim>::vertex_indices())
       points.push_back(GeometryInfo<dim>::unit_cell_vertex(v));
-    const Quadrature<dim>                vertex_quadrature(points);
-    FEValues<dim>                        fe_values(*mapping, fe, vertex_quadrature, update_gradients);
+    const Quadrature<dim> vertex_quadrature(points);
+    FEValues<dim>         fe_values(*mapping, fe, vertex_quadrature, update_gradients);
     const FEValuesExtractors::Vector     u(0);
     std::vector<SymmetricTensor<2, dim>> eps(points.size());
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -45,7 +44,7 @@ namespace demfem::fem
           fe_values.reinit(cell);
           fe_values[u].get_function_symmetric_gradients(solution, eps);
           const typename DoFHandler<dim>::active_cell_iterator scell(
-            &triangulation, cell->level(), cell->index(), &stress_dof_handler);
+              &triangulation, cell->level(), cell->index(), &stress_dof_handler);
           for (const unsigned int v : cell->vertex_indices())
             {
               SymmetricTensor<2, 3> e3;
@@ -53,7 +52,7 @@ namespace demfem::fem
                 for (unsigned int j = i; j < dim; ++j)
                   e3[i][j] = eps[v][i][j];
               const SymmetricTensor<2, 3> s =
-                lambda * trace(e3) * unit_symmetric_tensor<3>() + 2 * mu * e3;
+                  lambda * trace(e3) * unit_symmetric_tensor<3>() + 2 * mu * e3;
               for (unsigned int k = 0; k < 6; ++k)
                 {
                   const auto idx = scell->vertex_dof_index(v, k);
@@ -71,16 +70,15 @@ namespace demfem::fem
   }
 
   template <int dim>
-  void
-  ElasticProblem<dim>::output_results(const unsigned int stage, const double fraction)
+  void ElasticProblem<dim>::output_results(const unsigned int stage,
+                                           const double       fraction)
   {
     TimerOutput::Scope t(*timer, "output");
     // Scaled induced displacement and total vertex stress of this stage.
     TrilinosWrappers::MPI::Vector owned(locally_owned_dofs, comm);
     owned = solution;
     owned *= fraction;
-    TrilinosWrappers::MPI::Vector displacement(locally_owned_dofs,
-                                               locally_relevant_dofs,
+    TrilinosWrappers::MPI::Vector displacement(locally_owned_dofs, locally_relevant_dofs,
                                                comm);
     displacement = owned;
 
@@ -94,7 +92,8 @@ namespace demfem::fem
               continue;
             SymmetricTensor<2, 3> s = sigma0_3d;
             for (unsigned int k = 0; k < 6; ++k)
-              s[voigt[k][0]][voigt[k][1]] += fraction * vertex_stress(cell->vertex_dof_index(v, k));
+              s[voigt[k][0]][voigt[k][1]] +=
+                  fraction * vertex_stress(cell->vertex_dof_index(v, k));
             const auto p = principal_stresses(s);
             for (unsigned int k = 0; k < 6; ++k)
               stress(cell->vertex_dof_index(v, k)) = s[voigt[k][0]][voigt[k][1]];
@@ -106,28 +105,21 @@ namespace demfem::fem
     DataOut<dim> data_out;
     data_out.attach_dof_handler(dof_handler);
     data_out.add_data_vector(
-      displacement,
-      std::vector<std::string>(dim, "displacement"),
-      DataOut<dim>::type_automatic,
-      std::vector<DataComponentInterpretation::DataComponentInterpretation>(
-        dim, DataComponentInterpretation::component_is_part_of_vector));
-    data_out.add_data_vector(stress_dof_handler,
-                             stress,
-                             std::vector<std::string>{"stress_xx",
-                                                      "stress_yy",
-                                                      "stress_zz",
-                                                      "stress_xy",
-                                                      "stress_xz",
-                                                      "stress_yz",
-                                                      "principal_stress_1",
-                                                      "principal_stress_2",
-                                                      "principal_stress_3"});
+        displacement, std::vector<std::string>(dim, "displacement"),
+        DataOut<dim>::type_automatic,
+        std::vector<DataComponentInterpretation::DataComponentInterpretation>(
+            dim, DataComponentInterpretation::component_is_part_of_vector));
+    data_out.add_data_vector(
+        stress_dof_handler, stress,
+        std::vector<std::string>{"stress_xx", "stress_yy", "stress_zz", "stress_xy",
+                                 "stress_xz", "stress_yz", "principal_stress_1",
+                                 "principal_stress_2", "principal_stress_3"});
     Vector<float> subdomain(triangulation.n_active_cells());
     subdomain = triangulation.locally_owned_subdomain();
     data_out.add_data_vector(subdomain, "subdomain");
     data_out.build_patches(*mapping, settings.degree);
     const std::string name = data_out.write_vtu_with_pvtu_record(
-      settings.output_directory + "/", "solution", stage, comm, 4);
+        settings.output_directory + "/", "solution", stage, comm, 4);
     pvd_records.emplace_back(fraction, name);
     if (Utilities::MPI::this_mpi_process(comm) == 0)
       {
@@ -138,10 +130,9 @@ namespace demfem::fem
   }
 
   template <int dim>
-  std::vector<WallVertex>
-  ElasticProblem<dim>::wall_results() const
+  std::vector<WallVertex> ElasticProblem<dim>::wall_results() const
   {
-    std::vector<double> flat;
+    std::vector<double>    flat;
     std::set<unsigned int> seen;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -149,9 +140,9 @@ namespace demfem::fem
           if (cell->face(f)->at_boundary() &&
               cell->face(f)->boundary_id() == boundary_id::tunnel_wall)
             {
-              const auto face = cell->face(f);
+              const auto                                           face = cell->face(f);
               const typename DoFHandler<dim>::active_cell_iterator scell(
-                &triangulation, cell->level(), cell->index(), &stress_dof_handler);
+                  &triangulation, cell->level(), cell->index(), &stress_dof_handler);
               const auto sface = scell->face(f);
               for (const unsigned int v : face->vertex_indices())
                 {
@@ -163,7 +154,8 @@ namespace demfem::fem
                   for (unsigned int d = 0; d < 3; ++d)
                     flat.push_back(d < dim ? p[d] : 0.0);
                   for (unsigned int d = 0; d < 3; ++d)
-                    flat.push_back(d < dim ? solution(face->vertex_dof_index(v, d)) : 0.0);
+                    flat.push_back(d < dim ? solution(face->vertex_dof_index(v, d))
+                                           : 0.0);
                   for (unsigned int k = 0; k < 6; ++k)
                     flat.push_back(sigma0_3d[voigt[k][0]][voigt[k][1]] +
                                    vertex_stress(sface->vertex_dof_index(v, k)));
@@ -187,25 +179,20 @@ namespace demfem::fem
       const double a = std::atan2(w.x[1], w.x[0]);
       return a < 0 ? a + 2 * numbers::PI : a;
     };
-    std::sort(result.begin(), result.end(), [&](const WallVertex &a, const WallVertex &b) {
-      const double da = angle(a), db = angle(b);
-      if (std::abs(da - db) > 1e-12)
-        return da < db;
-      return a.x[2] < b.x[2];
-    });
+    std::sort(result.begin(), result.end(),
+              [&](const WallVertex &a, const WallVertex &b) {
+                const double da = angle(a), db = angle(b);
+                if (std::abs(da - db) > 1e-12)
+                  return da < db;
+                return a.x[2] < b.x[2];
+              });
     return result;
   }
 
-  template void
-  ElasticProblem<2>::recover_stress();
-  template void
-  ElasticProblem<3>::recover_stress();
-  template void
-  ElasticProblem<2>::output_results(unsigned int, double);
-  template void
-  ElasticProblem<3>::output_results(unsigned int, double);
-  template std::vector<WallVertex>
-  ElasticProblem<2>::wall_results() const;
-  template std::vector<WallVertex>
-  ElasticProblem<3>::wall_results() const;
+  template void ElasticProblem<2>::recover_stress();
+  template void ElasticProblem<3>::recover_stress();
+  template void ElasticProblem<2>::output_results(unsigned int, double);
+  template void ElasticProblem<3>::output_results(unsigned int, double);
+  template std::vector<WallVertex> ElasticProblem<2>::wall_results() const;
+  template std::vector<WallVertex> ElasticProblem<3>::wall_results() const;
 } // namespace demfem::fem

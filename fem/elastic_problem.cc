@@ -28,8 +28,7 @@ namespace demfem::fem
   using namespace dealii;
   using internal::voigt;
 
-  SymmetricTensor<2, 3>
-  ElasticSettings::in_situ_stress() const
+  SymmetricTensor<2, 3> ElasticSettings::in_situ_stress() const
   {
     SymmetricTensor<2, 3> s;
     s[0][0] = sxx;
@@ -41,8 +40,7 @@ namespace demfem::fem
     return s;
   }
 
-  std::array<double, 3>
-  principal_stresses(const SymmetricTensor<2, 3> &s)
+  std::array<double, 3> principal_stresses(const SymmetricTensor<2, 3> &s)
   {
     // deal.II returns the eigenvalues in descending order.
     return eigenvalues(s);
@@ -51,8 +49,7 @@ namespace demfem::fem
   namespace
   {
 
-    std::string
-    str(const double x)
+    std::string str(const double x)
     {
       std::ostringstream o;
       o << x;
@@ -61,8 +58,7 @@ namespace demfem::fem
 
     // Returns s after checking it, so that the constructor can validate
     // before any member with MPI-collective destructor exists.
-    const ElasticSettings &
-    check_settings(const ElasticSettings &s)
+    const ElasticSettings &check_settings(const ElasticSettings &s)
     {
       AssertThrow(s.young_modulus > 0,
                   ExcMessage("Continuum/young modulus = " + str(s.young_modulus) +
@@ -71,8 +67,7 @@ namespace demfem::fem
                   ExcMessage("Continuum/poisson ratio = " + str(s.poisson_ratio) +
                              " is invalid: it must lie in the open interval "
                              "(-1, 0.5)"));
-      AssertThrow(s.radius > 0,
-                  ExcMessage("Tunnel/radius must be > 0 (m)"));
+      AssertThrow(s.radius > 0, ExcMessage("Tunnel/radius must be > 0 (m)"));
       AssertThrow(s.degree >= 1 && s.degree <= 2,
                   ExcMessage("Continuum/element degree must be 1 or 2"));
       AssertThrow(s.solver == "amg-cg" || s.solver == "direct",
@@ -87,15 +82,14 @@ namespace demfem::fem
 
   template <int dim>
   ElasticProblem<dim>::ElasticProblem(const ElasticSettings &s, MPI_Comm comm)
-    : settings(check_settings(s))
-    , comm(comm)
-    , triangulation(comm)
-    , fe(FE_Q<dim>(std::max(1u, s.degree)), dim)
-    , dof_handler(triangulation)
-    , stress_fe(FE_Q<dim>(1), 9)
-    , stress_dof_handler(triangulation)
-    , pcout(std::cout,
-            s.verbose && Utilities::MPI::this_mpi_process(comm) == 0)
+      : settings(check_settings(s))
+      , comm(comm)
+      , triangulation(comm)
+      , fe(FE_Q<dim>(std::max(1u, s.degree)), dim)
+      , dof_handler(triangulation)
+      , stress_fe(FE_Q<dim>(1), 9)
+      , stress_dof_handler(triangulation)
+      , pcout(std::cout, s.verbose && Utilities::MPI::this_mpi_process(comm) == 0)
   {
     const double E  = settings.young_modulus;
     const double nu = settings.poisson_ratio;
@@ -116,16 +110,14 @@ namespace demfem::fem
   }
 
   template <int dim>
-  void
-  ElasticProblem<dim>::set_far_field_traction(
-    std::function<Tensor<1, dim>(const Point<dim> &, const Tensor<1, dim> &)> f)
+  void ElasticProblem<dim>::set_far_field_traction(
+      std::function<Tensor<1, dim>(const Point<dim> &, const Tensor<1, dim> &)> f)
   {
     far_field_traction = std::move(f);
   }
 
   template <int dim>
-  void
-  ElasticProblem<dim>::make_grid()
+  void ElasticProblem<dim>::make_grid()
   {
     const auto start = std::chrono::steady_clock::now();
     if (settings.mesh == "generate")
@@ -141,28 +133,26 @@ namespace demfem::fem
       }
     else
       {
-        AssertThrow(std::filesystem::is_regular_file(settings.mesh),
-                    ExcMessage("Continuum/mesh: file '" + settings.mesh +
-                               "' does not exist"));
+        AssertThrow(
+            std::filesystem::is_regular_file(settings.mesh),
+            ExcMessage("Continuum/mesh: file '" + settings.mesh + "' does not exist"));
         read_gmsh_mesh(triangulation, settings.mesh);
       }
     const auto ids = coarse_boundary_ids(triangulation);
-    for (const types::boundary_id id :
-         {boundary_id::far_field, boundary_id::tunnel_wall})
+    for (const types::boundary_id id : {boundary_id::far_field, boundary_id::tunnel_wall})
       AssertThrow(ids.count(id) == 1,
                   ExcMessage("Continuum/mesh '" + settings.mesh +
                              "' has no boundary with id " + std::to_string(id) +
                              " (needed: 1 = far field, 3 = tunnel wall)"));
     has_roller = (dim == 3 && ids.count(boundary_id::roller_z) == 1);
     triangulation.refine_global(settings.refinements);
-    timer = std::make_unique<TimerOutput>(comm,
-                                          pcout,
-                                          settings.verbose ? TimerOutput::summary :
-                                                             TimerOutput::never,
-                                          TimerOutput::wall_times);
-    pcout << "   mesh read/generated in "
-          << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
-          << " s" << std::endl;
+    timer = std::make_unique<TimerOutput>(
+        comm, pcout, settings.verbose ? TimerOutput::summary : TimerOutput::never,
+        TimerOutput::wall_times);
+    pcout
+        << "   mesh read/generated in "
+        << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
+        << " s" << std::endl;
     pcout << "   mesh: " << triangulation.n_global_active_cells()
           << " cells, boundary ids:";
     for (const auto id : ids)
@@ -171,8 +161,7 @@ namespace demfem::fem
   }
 
   template <int dim>
-  void
-  ElasticProblem<dim>::pin_rigid_body_modes()
+  void ElasticProblem<dim>::pin_rigid_body_modes()
   {
     // Candidate vertices: on far-field faces; in 3D without rollers only on
     // the lowest z level so that single points (not lines) are pinned.
@@ -185,8 +174,7 @@ namespace demfem::fem
         for (const auto &cell : dof_handler.active_cell_iterators())
           if (!cell->is_artificial())
             for (const auto &face : cell->face_iterators())
-              if (face->at_boundary() &&
-                  face->boundary_id() == boundary_id::far_field)
+              if (face->at_boundary() && face->boundary_id() == boundary_id::far_field)
                 for (const unsigned int v : face->vertex_indices())
                   {
                     const Point<dim> &p = face->vertex(v);
@@ -215,7 +203,7 @@ namespace demfem::fem
     // with the extreme coordinate (a whole edge for a square domain) the one
     // closest to the axis through the centre is taken, where the symmetric
     // solution has no tangential displacement.
-    const double tol = 1e-10 * std::max({1.0, ext[0], ext[1], ext[2]});
+    const double tol                = 1e-10 * std::max({1.0, ext[0], ext[1], ext[2]});
     const auto   for_each_candidate = [&](const auto &fn) {
       for (const auto &cell : dof_handler.active_cell_iterators())
         if (!cell->is_artificial())
@@ -228,7 +216,8 @@ namespace demfem::fem
                       std::abs(p[dim - 1] - zmin) > 1e-10 * std::abs(zmin) + 1e-12)
                     continue;
                   const double value[3]  = {p[0], -p[0], p[1]};
-                  const double offset[3] = {std::abs(p[1]), std::abs(p[1]), std::abs(p[0])};
+                  const double offset[3] = {std::abs(p[1]), std::abs(p[1]),
+                                            std::abs(p[0])};
                   for (unsigned int k = 0; k < 3; ++k)
                     if (std::abs(value[k] - ext[k]) < tol)
                       fn(face, v, k, offset[k]);
@@ -256,8 +245,7 @@ namespace demfem::fem
   }
 
   template <int dim>
-  void
-  ElasticProblem<dim>::setup_system()
+  void ElasticProblem<dim>::setup_system()
   {
     TimerOutput::Scope t(*timer, "setup");
     dof_handler.distribute_dofs(fe);
@@ -270,20 +258,15 @@ namespace demfem::fem
     if constexpr (dim == 3)
       if (has_roller)
         VectorTools::interpolate_boundary_values(
-          *mapping,
-          dof_handler,
-          boundary_id::roller_z,
-          Functions::ZeroFunction<dim>(dim),
-          constraints,
-          fe.component_mask(FEValuesExtractors::Scalar(2)));
+            *mapping, dof_handler, boundary_id::roller_z,
+            Functions::ZeroFunction<dim>(dim), constraints,
+            fe.component_mask(FEValuesExtractors::Scalar(2)));
     pin_rigid_body_modes();
     constraints.close();
 
     DynamicSparsityPattern dsp(locally_relevant_dofs);
     DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, false);
-    SparsityTools::distribute_sparsity_pattern(dsp,
-                                               locally_owned_dofs,
-                                               comm,
+    SparsityTools::distribute_sparsity_pattern(dsp, locally_owned_dofs, comm,
                                                locally_relevant_dofs);
     system_matrix.reinit(locally_owned_dofs, locally_owned_dofs, dsp, comm);
     system_rhs.reinit(locally_owned_dofs, comm);
@@ -292,20 +275,17 @@ namespace demfem::fem
   }
 
   template <int dim>
-  void
-  ElasticProblem<dim>::assemble_system()
+  void ElasticProblem<dim>::assemble_system()
   {
     TimerOutput::Scope t(*timer, "assemble matrix");
     system_matrix = 0;
-    const QGauss<dim> quadrature(fe.degree + 1);
-    FEValues<dim>     fe_values(*mapping,
-                            fe,
-                            quadrature,
-                            update_gradients | update_JxW_values);
-    const FEValuesExtractors::Vector u(0);
-    const unsigned int               n = fe.n_dofs_per_cell();
-    FullMatrix<double>               cell_matrix(n, n);
-    Vector<double>                   cell_rhs(n);
+    const QGauss<dim>                    quadrature(fe.degree + 1);
+    FEValues<dim>                        fe_values(*mapping, fe, quadrature,
+                                                   update_gradients | update_JxW_values);
+    const FEValuesExtractors::Vector     u(0);
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    FullMatrix<double>                   cell_matrix(n, n);
+    Vector<double>                       cell_rhs(n);
     std::vector<types::global_dof_index> dofs(n);
     std::vector<SymmetricTensor<2, dim>> eps(n);
 
@@ -336,18 +316,14 @@ namespace demfem::fem
   }
 
   template <int dim>
-  void
-  ElasticProblem<dim>::assemble_rhs(const bool in_situ_state)
+  void ElasticProblem<dim>::assemble_rhs(const bool in_situ_state)
   {
     TimerOutput::Scope t(*timer, "assemble rhs");
     system_rhs = 0;
-    const QGauss<dim - 1> face_quadrature(fe.degree + 1);
-    FEFaceValues<dim>     fe_face_values(*mapping,
-                                     fe,
-                                     face_quadrature,
-                                     update_values | update_normal_vectors |
-                                       update_quadrature_points |
-                                       update_JxW_values);
+    const QGauss<dim - 1>                face_quadrature(fe.degree + 1);
+    FEFaceValues<dim>                    fe_face_values(*mapping, fe, face_quadrature,
+                                                        update_values | update_normal_vectors |
+                                                            update_quadrature_points | update_JxW_values);
     const FEValuesExtractors::Vector     u(0);
     const unsigned int                   n = fe.n_dofs_per_cell();
     Vector<double>                       cell_rhs(n);
@@ -366,10 +342,9 @@ namespace demfem::fem
               // Pre-excavation state: sigma0.n on every boundary. Excavation:
               // release -sigma0.n on the wall, optional far-field change.
               const bool loaded =
-                in_situ_state ? true :
-                                (id == boundary_id::tunnel_wall ||
-                                 (id == boundary_id::far_field &&
-                                  far_field_traction));
+                  in_situ_state ? true
+                                : (id == boundary_id::tunnel_wall ||
+                                   (id == boundary_id::far_field && far_field_traction));
               if (!loaded)
                 continue;
               any = true;
@@ -383,11 +358,10 @@ namespace demfem::fem
                   else if (id == boundary_id::tunnel_wall)
                     t = -(sigma0 * normal);
                   else
-                    t = far_field_traction(fe_face_values.quadrature_point(q),
-                                           normal);
+                    t = far_field_traction(fe_face_values.quadrature_point(q), normal);
                   for (unsigned int i = 0; i < n; ++i)
-                    cell_rhs(i) += fe_face_values[u].value(i, q) * t *
-                                   fe_face_values.JxW(q);
+                    cell_rhs(i) +=
+                        fe_face_values[u].value(i, q) * t * fe_face_values.JxW(q);
                 }
             }
           if (!any)
@@ -399,8 +373,7 @@ namespace demfem::fem
   }
 
   template <int dim>
-  unsigned int
-  ElasticProblem<dim>::solve()
+  unsigned int ElasticProblem<dim>::solve()
   {
     TimerOutput::Scope            t(*timer, "solve");
     TrilinosWrappers::MPI::Vector x(locally_owned_dofs, comm);
@@ -419,8 +392,7 @@ namespace demfem::fem
         TrilinosWrappers::PreconditionAMG                 amg;
         TrilinosWrappers::PreconditionAMG::AdditionalData data;
         std::vector<std::vector<bool>>                    constant_modes;
-        DoFTools::extract_constant_modes(dof_handler,
-                                         ComponentMask(dim, true),
+        DoFTools::extract_constant_modes(dof_handler, ComponentMask(dim, true),
                                          constant_modes);
         data.constant_modes        = constant_modes;
         data.elliptic              = true;
@@ -437,19 +409,18 @@ namespace demfem::fem
       }
     constraints.distribute(x);
     solution = x;
-    pcout << "   solver (" << settings.solver << "): " << last_iterations
-          << " iterations" << std::endl;
+    pcout << "   solver (" << settings.solver << "): " << last_iterations << " iterations"
+          << std::endl;
     return last_iterations;
   }
 
   template <int dim>
-  double
-  ElasticProblem<dim>::in_situ_patch_error()
+  double ElasticProblem<dim>::in_situ_patch_error()
   {
     assemble_rhs(true);
     solve();
-    const QGauss<dim>                    quadrature(fe.degree + 1);
-    FEValues<dim>                        fe_values(*mapping, fe, quadrature, update_gradients);
+    const QGauss<dim> quadrature(fe.degree + 1);
+    FEValues<dim>     fe_values(*mapping, fe, quadrature, update_gradients);
     const FEValuesExtractors::Vector     u(0);
     std::vector<SymmetricTensor<2, dim>> eps(quadrature.size());
     double                               err = 0, scale = 0;
@@ -470,7 +441,7 @@ namespace demfem::fem
                 for (unsigned int j = i; j < dim; ++j)
                   e3[i][j] = e[i][j];
               const SymmetricTensor<2, 3> s =
-                lambda * trace(e3) * unit_symmetric_tensor<3>() + 2 * mu * e3;
+                  lambda * trace(e3) * unit_symmetric_tensor<3>() + 2 * mu * e3;
               for (unsigned int k = 0; k < 6; ++k)
                 {
                   const unsigned int i = voigt[k][0], j = voigt[k][1];
@@ -485,44 +456,33 @@ namespace demfem::fem
   }
 
   template <int dim>
-  double
-  ElasticProblem<dim>::l2_error(const Function<dim> &exact) const
+  double ElasticProblem<dim>::l2_error(const Function<dim> &exact) const
   {
     Vector<float> cellwise(triangulation.n_active_cells());
-    VectorTools::integrate_difference(*mapping,
-                                      dof_handler,
-                                      solution,
-                                      exact,
-                                      cellwise,
-                                      QGauss<dim>(fe.degree + 2),
-                                      VectorTools::L2_norm);
-    return VectorTools::compute_global_error(triangulation, cellwise, VectorTools::L2_norm);
+    VectorTools::integrate_difference(*mapping, dof_handler, solution, exact, cellwise,
+                                      QGauss<dim>(fe.degree + 2), VectorTools::L2_norm);
+    return VectorTools::compute_global_error(triangulation, cellwise,
+                                             VectorTools::L2_norm);
   }
 
   template <int dim>
-  double
-  ElasticProblem<dim>::l2_norm(const Function<dim> &exact) const
+  double ElasticProblem<dim>::l2_norm(const Function<dim> &exact) const
   {
     TrilinosWrappers::MPI::Vector zero(locally_owned_dofs, locally_relevant_dofs, comm);
-    Vector<float> cellwise(triangulation.n_active_cells());
-    VectorTools::integrate_difference(*mapping,
-                                      dof_handler,
-                                      zero,
-                                      exact,
-                                      cellwise,
-                                      QGauss<dim>(fe.degree + 2),
-                                      VectorTools::L2_norm);
-    return VectorTools::compute_global_error(triangulation, cellwise, VectorTools::L2_norm);
+    Vector<float>                 cellwise(triangulation.n_active_cells());
+    VectorTools::integrate_difference(*mapping, dof_handler, zero, exact, cellwise,
+                                      QGauss<dim>(fe.degree + 2), VectorTools::L2_norm);
+    return VectorTools::compute_global_error(triangulation, cellwise,
+                                             VectorTools::L2_norm);
   }
 
   template <int dim>
-  void
-  ElasticProblem<dim>::run()
+  void ElasticProblem<dim>::run()
   {
     const auto start = std::chrono::steady_clock::now();
-    pcout << "demfem fem: " << dim << "D "
-          << (dim == 2 ? "plane strain" : "") << ", E = " << settings.young_modulus
-          << " Pa, nu = " << settings.poisson_ratio << std::endl;
+    pcout << "demfem fem: " << dim << "D " << (dim == 2 ? "plane strain" : "")
+          << ", E = " << settings.young_modulus << " Pa, nu = " << settings.poisson_ratio
+          << std::endl;
     make_grid(); // validates the mesh before anything is written
     setup_system();
     assemble_system();
@@ -532,7 +492,7 @@ namespace demfem::fem
 
     // Without output (tests) nothing is written at all.
     const bool root =
-      settings.write_output && Utilities::MPI::this_mpi_process(comm) == 0;
+        settings.write_output && Utilities::MPI::this_mpi_process(comm) == 0;
     if (root)
       std::filesystem::create_directories(settings.output_directory);
     MPI_Barrier(comm);
@@ -576,7 +536,7 @@ namespace demfem::fem
     const double max_u = history.back().max_u, hoop_min = history.back().hoop_min,
                  hoop_max = history.back().hoop_max;
     const double wall_time =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (root)
       {
         std::ofstream du(settings.output_directory + "/wall_displacement.csv");
@@ -612,9 +572,10 @@ namespace demfem::fem
            << "  \"E\": " << settings.young_modulus << ",\n"
            << "  \"nu\": " << settings.poisson_ratio << ",\n"
            << "  \"radius\": " << settings.radius << ",\n"
-           << "  \"in_situ_stress\": {\"xx\": " << settings.sxx << ", \"yy\": " << settings.syy
-           << ", \"zz\": " << settings.szz << ", \"xy\": " << settings.sxy
-           << ", \"xz\": " << settings.sxz << ", \"yz\": " << settings.syz << "},\n"
+           << "  \"in_situ_stress\": {\"xx\": " << settings.sxx
+           << ", \"yy\": " << settings.syy << ", \"zz\": " << settings.szz
+           << ", \"xy\": " << settings.sxy << ", \"xz\": " << settings.sxz
+           << ", \"yz\": " << settings.syz << "},\n"
            << "  \"excavation_stages\": " << settings.excavation_stages << ",\n"
            << "  \"solver\": \"" << settings.solver << "\",\n"
            << "  \"solver_iterations\": " << last_iterations << ",\n"

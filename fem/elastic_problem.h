@@ -40,7 +40,8 @@ namespace demfem::fem
   {
     // Components of a 3x3 symmetric tensor in output order:
     // xx, yy, zz, xy, xz, yz.
-    inline constexpr unsigned int voigt[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+    inline constexpr unsigned int voigt[6][2] = {{0, 0}, {1, 1}, {2, 2},
+                                                 {0, 1}, {0, 2}, {1, 2}};
   } // namespace internal
 
   struct ElasticSettings
@@ -49,7 +50,7 @@ namespace demfem::fem
     std::string  output_directory = "out/fem";
     double       radius           = 1.0;
     // In-situ stress, tension positive [Pa].
-    double sxx = 0, syy = 0, szz = 0, sxy = 0, sxz = 0, syz = 0;
+    double       sxx = 0, syy = 0, szz = 0, sxy = 0, sxz = 0, syz = 0;
     unsigned int excavation_stages = 1;
     std::string  mesh              = "generate";
     double       outer_radius      = 30.0;
@@ -68,8 +69,7 @@ namespace demfem::fem
     bool   write_output     = true;
     bool   verbose          = true;
 
-    dealii::SymmetricTensor<2, 3>
-    in_situ_stress() const;
+    dealii::SymmetricTensor<2, 3> in_situ_stress() const;
   };
 
   /** Results at one vertex of the tunnel wall (always 3 components). */
@@ -88,25 +88,18 @@ namespace demfem::fem
     ~ElasticProblem();
 
     /** Build or read the mesh and check its boundary ids. */
-    void
-    make_grid();
-    void
-    setup_system();
+    void make_grid();
+    void setup_system();
     /** Stiffness matrix and the excavation load (wall release). */
-    void
-    assemble_system();
+    void assemble_system();
     /** Returns the number of iterations (1 for the direct solver). */
-    unsigned int
-    solve();
+    unsigned int solve();
     /** Vertex-averaged cell stresses of the induced field. */
-    void
-    recover_stress();
+    void recover_stress();
     /** VTK of stage @p stage (release fraction @p fraction). */
-    void
-    output_results(unsigned int stage, double fraction);
+    void output_results(unsigned int stage, double fraction);
     /** Everything above plus the files of the output directory. */
-    void
-    run();
+    void run();
 
     /**
      * Optional far-field traction change on boundary id 1 as a function of
@@ -114,10 +107,10 @@ namespace demfem::fem
      * exact Kirsch tractions here to remove the truncation error of the
      * finite domain.
      */
-    void
-    set_far_field_traction(
-      std::function<dealii::Tensor<1, dim>(const dealii::Point<dim> &,
-                                           const dealii::Tensor<1, dim> &)> f);
+    void set_far_field_traction(
+        std::function<dealii::Tensor<1, dim>(const dealii::Point<dim> &,
+                                             const dealii::Tensor<1, dim> &)>
+            f);
 
     /**
      * Patch test: solve the pre-excavation state (traction sigma0.n on ids 1
@@ -125,41 +118,23 @@ namespace demfem::fem
      * quadrature points, on the components the boundary conditions leave
      * free (in-plane in 2D and for roller slabs).
      */
-    double
-    in_situ_patch_error();
+    double in_situ_patch_error();
 
     /** L2 norm of (u_h - u_exact) of the induced field. */
-    double
-    l2_error(const dealii::Function<dim> &exact) const;
+    double l2_error(const dealii::Function<dim> &exact) const;
     /** L2 norm of the exact field (for relative errors). */
-    double
-    l2_norm(const dealii::Function<dim> &exact) const;
+    double l2_norm(const dealii::Function<dim> &exact) const;
 
     /** Wall vertices (all ranks), sorted by angle then z, full release. */
-    std::vector<WallVertex>
-    wall_results() const;
+    std::vector<WallVertex> wall_results() const;
 
-    dealii::types::global_dof_index
-    n_dofs() const
-    {
-      return dof_handler.n_dofs();
-    }
-    unsigned int
-    n_cells() const
-    {
-      return triangulation.n_global_active_cells();
-    }
-    unsigned int
-    solver_iterations() const
-    {
-      return last_iterations;
-    }
+    dealii::types::global_dof_index n_dofs() const { return dof_handler.n_dofs(); }
+    unsigned int n_cells() const { return triangulation.n_global_active_cells(); }
+    unsigned int solver_iterations() const { return last_iterations; }
 
   private:
-    void
-    assemble_rhs(bool in_situ_state);
-    void
-    pin_rigid_body_modes();
+    void assemble_rhs(bool in_situ_state);
+    void pin_rigid_body_modes();
 
     ElasticSettings settings;
     MPI_Comm        comm;
@@ -177,8 +152,8 @@ namespace demfem::fem
     dealii::TrilinosWrappers::MPI::Vector  solution; // ghosted, induced
 
     // Vertex stress: FE_Q(1)^6 (xx, yy, zz, xy, xz, yz) of the induced field.
-    dealii::FESystem<dim>                            stress_fe;
-    dealii::DoFHandler<dim>                          stress_dof_handler;
+    dealii::FESystem<dim>                              stress_fe;
+    dealii::DoFHandler<dim>                            stress_dof_handler;
     dealii::LinearAlgebra::distributed::Vector<double> vertex_stress;
 
     dealii::SymmetricTensor<2, dim> sigma0;    // in-plane/3D part
@@ -198,8 +173,7 @@ namespace demfem::fem
   };
 
   /** Principal stresses, largest (most tensile) first. */
-  std::array<double, 3>
-  principal_stresses(const dealii::SymmetricTensor<2, 3> &s);
+  std::array<double, 3> principal_stresses(const dealii::SymmetricTensor<2, 3> &s);
 
 } // namespace demfem::fem
 

@@ -17,14 +17,13 @@ namespace demfem::fem
 
   template <int dim>
   ExplicitDynamics<dim>::ExplicitDynamics(
-    const parallel::distributed::Triangulation<dim> &tria,
-    const ExplicitSettings &                         s)
-    : triangulation(tria)
-    , settings(s)
-    , comm(tria.get_communicator())
-    , fe(FE_Q<dim>(s.degree), dim)
-    , mapping(s.degree)
-    , dof_handler(tria)
+      const parallel::distributed::Triangulation<dim> &tria, const ExplicitSettings &s)
+      : triangulation(tria)
+      , settings(s)
+      , comm(tria.get_communicator())
+      , fe(FE_Q<dim>(s.degree), dim)
+      , mapping(s.degree)
+      , dof_handler(tria)
   {
     AssertThrow(s.young_modulus > 0, ExcMessage("young modulus must be > 0"));
     AssertThrow(s.poisson_ratio > -1 && s.poisson_ratio < 0.5,
@@ -41,8 +40,7 @@ namespace demfem::fem
   }
 
   template <int dim>
-  void
-  ExplicitDynamics<dim>::setup()
+  void ExplicitDynamics<dim>::setup()
   {
     dof_handler.distribute_dofs(fe);
     owned = dof_handler.locally_owned_dofs();
@@ -61,11 +59,9 @@ namespace demfem::fem
     const double mu     = E / (2 * (1 + nu));
     const double rho    = settings.density * settings.mass_scaling;
 
-    const QGauss<dim> quadrature(fe.degree + 1);
-    FEValues<dim>     fe_values(mapping,
-                            fe,
-                            quadrature,
-                            update_values | update_gradients | update_JxW_values);
+    const QGauss<dim>                    quadrature(fe.degree + 1);
+    FEValues<dim>                        fe_values(mapping, fe, quadrature,
+                                                   update_values | update_gradients | update_JxW_values);
     const FEValuesExtractors::Vector     ex(0);
     const unsigned int                   n = fe.n_dofs_per_cell();
     FullMatrix<double>                   cell_k(n, n);
@@ -86,8 +82,9 @@ namespace demfem::fem
                   eps[i] = fe_values[ex].symmetric_gradient(i, q);
                   // Row-sum lumping: sum_j int rho phi_i.phi_j = int rho phi_i
                   // over the component of i (the scalar shapes sum to one).
-                  cell_m(i) += rho * fe_values.shape_value_component(
-                                       i, q, fe.system_to_component_index(i).first) *
+                  cell_m(i) += rho *
+                               fe_values.shape_value_component(
+                                   i, q, fe.system_to_component_index(i).first) *
                                w;
                 }
               for (unsigned int i = 0; i < n; ++i)
@@ -105,7 +102,7 @@ namespace demfem::fem
     mass.compress(VectorOperation::add);
 
     // Zero-displacement dofs (owned ones; each rank updates only its own).
-    std::set<types::global_dof_index> fixed;
+    std::set<types::global_dof_index>    fixed;
     std::vector<types::global_dof_index> face_dofs(fe.n_dofs_per_face());
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -117,8 +114,7 @@ namespace demfem::fem
                   face->get_dof_indices(face_dofs);
                   for (unsigned int i = 0; i < face_dofs.size(); ++i)
                     {
-                      const unsigned int c =
-                        fe.face_system_to_component_index(i).first;
+                      const unsigned int c = fe.face_system_to_component_index(i).first;
                       if (c < comps.size() && comps[c] && owned.is_element(face_dofs[i]))
                         fixed.insert(face_dofs[i]);
                     }
@@ -147,11 +143,10 @@ namespace demfem::fem
   }
 
   template <int dim>
-  double
-  ExplicitDynamics<dim>::critical_time_step() const
+  double ExplicitDynamics<dim>::critical_time_step() const
   {
     std::set<types::global_dof_index> fixed(fixed_dofs.begin(), fixed_dofs.end());
-    double omega2 = 0;
+    double                            omega2 = 0;
     for (const auto row : owned)
       {
         if (fixed.count(row))
@@ -166,8 +161,8 @@ namespace demfem::fem
   }
 
   template <int dim>
-  void
-  ExplicitDynamics<dim>::set_interface_forces(const std::vector<Tensor<1, dim>> &forces)
+  void ExplicitDynamics<dim>::set_interface_forces(
+      const std::vector<Tensor<1, dim>> &forces)
   {
     AssertThrow(forces.size() == iface_dofs.size(),
                 ExcMessage("set_interface_forces: got " + std::to_string(forces.size()) +
@@ -181,12 +176,11 @@ namespace demfem::fem
   }
 
   template <int dim>
-  void
-  ExplicitDynamics<dim>::step(const double dt)
+  void ExplicitDynamics<dim>::step(const double dt)
   {
     AssertThrow(dt > 0, ExcMessage("time step must be > 0"));
     stiffness.vmult(work, u); // internal force K u
-    const double a = settings.damping;
+    const double a  = settings.damping;
     const double c1 = 1 - 0.5 * a * dt, c2 = 1.0 / (1 + 0.5 * a * dt);
     for (const auto i : owned)
       {
@@ -201,8 +195,7 @@ namespace demfem::fem
   }
 
   template <int dim>
-  std::vector<Tensor<1, dim>>
-  ExplicitDynamics<dim>::interface_displacements() const
+  std::vector<Tensor<1, dim>> ExplicitDynamics<dim>::interface_displacements() const
   {
     std::vector<Tensor<1, dim>> r(iface_dofs.size());
     for (std::size_t k = 0; k < r.size(); ++k)
@@ -212,8 +205,7 @@ namespace demfem::fem
   }
 
   template <int dim>
-  std::vector<Tensor<1, dim>>
-  ExplicitDynamics<dim>::interface_velocities() const
+  std::vector<Tensor<1, dim>> ExplicitDynamics<dim>::interface_velocities() const
   {
     std::vector<Tensor<1, dim>> r(iface_dofs.size());
     for (std::size_t k = 0; k < r.size(); ++k)
@@ -223,8 +215,7 @@ namespace demfem::fem
   }
 
   template <int dim>
-  double
-  ExplicitDynamics<dim>::kinetic_energy() const
+  double ExplicitDynamics<dim>::kinetic_energy() const
   {
     double e = 0;
     for (const auto i : owned)

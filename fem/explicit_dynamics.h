@@ -38,7 +38,7 @@ namespace demfem::fem
     // Zero-displacement conditions: boundary id and the constrained
     // components (size dim). Default: far field (id 1) fully fixed.
     std::vector<std::pair<dealii::types::boundary_id, std::vector<bool>>> fixed = {
-      {boundary_id::far_field, {true, true, true}}};
+        {boundary_id::far_field, {true, true, true}}};
   };
 
   template <int dim>
@@ -46,56 +46,36 @@ namespace demfem::fem
   {
   public:
     ExplicitDynamics(const dealii::parallel::distributed::Triangulation<dim> &tria,
-                     const ExplicitSettings &settings);
+                     const ExplicitSettings                                  &settings);
     ~ExplicitDynamics();
 
     /** Distribute dofs, assemble K and the lumped mass; state = rest. */
-    void
-    setup();
+    void setup();
 
     /** Safe time step limit of the undamped central-difference scheme. */
-    double
-    critical_time_step() const;
+    double critical_time_step() const;
 
     /** Vertices on boundary id 2 whose dofs this rank owns (fixed order). */
-    const std::vector<dealii::Point<dim>> &
-    interface_vertices() const
+    const std::vector<dealii::Point<dim>> &interface_vertices() const
     {
       return iface_points;
     }
 
     /** Nodal forces [N] on the interface vertices, same order; held until
      *  replaced. */
-    void
-    set_interface_forces(const std::vector<dealii::Tensor<1, dim>> &forces);
+    void set_interface_forces(const std::vector<dealii::Tensor<1, dim>> &forces);
 
     /** Advance by dt (must not exceed critical_time_step()). */
-    void
-    step(double dt);
+    void step(double dt);
 
-    std::vector<dealii::Tensor<1, dim>>
-    interface_displacements() const;
+    std::vector<dealii::Tensor<1, dim>> interface_displacements() const;
     /** Velocities at the latest half step t - dt/2. */
-    std::vector<dealii::Tensor<1, dim>>
-    interface_velocities() const;
+    std::vector<dealii::Tensor<1, dim>> interface_velocities() const;
 
-    double
-    kinetic_energy() const;
-    double
-    time() const
-    {
-      return current_time;
-    }
-    const dealii::TrilinosWrappers::MPI::Vector &
-    displacement() const
-    {
-      return u;
-    }
-    const dealii::DoFHandler<dim> &
-    get_dof_handler() const
-    {
-      return dof_handler;
-    }
+    double                                       kinetic_energy() const;
+    double                                       time() const { return current_time; }
+    const dealii::TrilinosWrappers::MPI::Vector &displacement() const { return u; }
+    const dealii::DoFHandler<dim> &get_dof_handler() const { return dof_handler; }
 
   private:
     const dealii::parallel::distributed::Triangulation<dim> &triangulation;
@@ -106,13 +86,13 @@ namespace demfem::fem
     dealii::DoFHandler<dim>                                  dof_handler;
     dealii::IndexSet                                         owned;
 
-    dealii::TrilinosWrappers::SparseMatrix stiffness;
-    dealii::TrilinosWrappers::MPI::Vector  mass, u, v, f_ext, work;
+    dealii::TrilinosWrappers::SparseMatrix       stiffness;
+    dealii::TrilinosWrappers::MPI::Vector        mass, u, v, f_ext, work;
     std::vector<dealii::types::global_dof_index> fixed_dofs; // owned only
 
-    std::vector<dealii::Point<dim>>                           iface_points;
+    std::vector<dealii::Point<dim>>                               iface_points;
     std::vector<std::array<dealii::types::global_dof_index, dim>> iface_dofs;
-    double current_time = 0;
+    double                                                        current_time = 0;
   };
 } // namespace demfem::fem
 

@@ -17,21 +17,18 @@ namespace demfem::fem
   {
     // Distance from the tunnel axis (the origin in 2D, the z axis in 3D).
     template <int dim>
-    double
-    axial_distance(const Point<dim> &p)
+    double axial_distance(const Point<dim> &p)
     {
       return std::hypot(p[0], p[1]);
     }
   } // namespace
 
   template <int dim>
-  void
-  generate_tunnel_mesh(Triangulation<dim> &tria, const GeneratedMeshSettings &s)
+  void generate_tunnel_mesh(Triangulation<dim> &tria, const GeneratedMeshSettings &s)
   {
     AssertThrow(s.radius > 0, ExcMessage("Tunnel/radius must be > 0"));
     AssertThrow(s.outer_radius > s.radius,
-                ExcMessage("Continuum/outer radius (" +
-                           std::to_string(s.outer_radius) +
+                ExcMessage("Continuum/outer radius (" + std::to_string(s.outer_radius) +
                            ") must be larger than Tunnel/radius (" +
                            std::to_string(s.radius) + ")"));
     AssertThrow(s.cells_around >= 8, ExcMessage("need >= 8 cells around"));
@@ -40,9 +37,8 @@ namespace demfem::fem
     // Geometric grading r_i = a (R/a)^(i/n_r): radial size ~ r ln(R/a)/n_r,
     // tangential size ~ 2 pi r/n_t; equal when n_r = n_t ln(R/a)/(2 pi).
     const unsigned int n_r = std::max<unsigned int>(
-      2,
-      static_cast<unsigned int>(std::lround(
-        n_t * std::log(s.outer_radius / s.radius) / (2 * numbers::PI))));
+        2, static_cast<unsigned int>(std::lround(
+               n_t * std::log(s.outer_radius / s.radius) / (2 * numbers::PI))));
     const unsigned int n_z = (dim == 3 ? std::max(1u, s.layers) : 0);
 
     const auto radius_at = [&](unsigned int i) {
@@ -91,15 +87,13 @@ namespace demfem::fem
       for (const auto &face : cell->face_iterators())
         if (face->at_boundary())
           {
-            const Point<dim> c = face->center();
-            bool on_z_plane    = false;
+            const Point<dim> c          = face->center();
+            bool             on_z_plane = false;
             if constexpr (dim == 3)
-              on_z_plane = std::abs(c[2]) < tol ||
-                           std::abs(c[2] - s.thickness) < tol;
+              on_z_plane = std::abs(c[2]) < tol || std::abs(c[2] - s.thickness) < tol;
             if (on_z_plane)
-              face->set_boundary_id(s.plane_strain_slab ?
-                                      boundary_id::roller_z :
-                                      boundary_id::far_field);
+              face->set_boundary_id(s.plane_strain_slab ? boundary_id::roller_z
+                                                        : boundary_id::far_field);
             else if (axial_distance(c) < 0.5 * (s.radius + radius_at(1)))
               face->set_boundary_id(boundary_id::tunnel_wall);
             else
@@ -114,13 +108,11 @@ namespace demfem::fem
   }
 
   template <int dim>
-  void
-  read_gmsh_mesh(Triangulation<dim> &tria, const std::string &file)
+  void read_gmsh_mesh(Triangulation<dim> &tria, const std::string &file)
   {
     std::ifstream in(file);
     AssertThrow(in.good(),
-                ExcMessage("Continuum/mesh: cannot open mesh file '" + file +
-                           "'"));
+                ExcMessage("Continuum/mesh: cannot open mesh file '" + file + "'"));
     GridIn<dim> grid_in;
     grid_in.attach_triangulation(tria);
     try
@@ -130,10 +122,9 @@ namespace demfem::fem
     catch (const std::exception &e)
       {
         AssertThrow(false,
-                    ExcMessage("Continuum/mesh: cannot read '" + file +
-                               "' as a " + std::to_string(dim) +
-                               "D quadrilateral/hexahedral Gmsh mesh: " +
-                               e.what()));
+                    ExcMessage("Continuum/mesh: cannot read '" + file + "' as a " +
+                               std::to_string(dim) +
+                               "D quadrilateral/hexahedral Gmsh mesh: " + e.what()));
       }
 
     // Circular boundaries (far field, interface, wall) get a manifold so
@@ -171,8 +162,7 @@ namespace demfem::fem
   }
 
   template <int dim>
-  std::set<types::boundary_id>
-  coarse_boundary_ids(const Triangulation<dim> &tria)
+  std::set<types::boundary_id> coarse_boundary_ids(const Triangulation<dim> &tria)
   {
     std::set<types::boundary_id> ids;
     for (const auto &cell : tria.cell_iterators_on_level(0))
@@ -182,16 +172,12 @@ namespace demfem::fem
     return ids;
   }
 
-  template void
-  generate_tunnel_mesh<2>(Triangulation<2> &, const GeneratedMeshSettings &);
-  template void
-  generate_tunnel_mesh<3>(Triangulation<3> &, const GeneratedMeshSettings &);
-  template void
-  read_gmsh_mesh<2>(Triangulation<2> &, const std::string &);
-  template void
-  read_gmsh_mesh<3>(Triangulation<3> &, const std::string &);
-  template std::set<types::boundary_id>
-  coarse_boundary_ids<2>(const Triangulation<2> &);
-  template std::set<types::boundary_id>
-  coarse_boundary_ids<3>(const Triangulation<3> &);
+  template void generate_tunnel_mesh<2>(Triangulation<2> &,
+                                        const GeneratedMeshSettings &);
+  template void generate_tunnel_mesh<3>(Triangulation<3> &,
+                                        const GeneratedMeshSettings &);
+  template void read_gmsh_mesh<2>(Triangulation<2> &, const std::string &);
+  template void read_gmsh_mesh<3>(Triangulation<3> &, const std::string &);
+  template std::set<types::boundary_id> coarse_boundary_ids<2>(const Triangulation<2> &);
+  template std::set<types::boundary_id> coarse_boundary_ids<3>(const Triangulation<3> &);
 } // namespace demfem::fem

@@ -42,9 +42,8 @@ namespace demfem::fem
    * refinement and higher-order mappings follow the circles exactly.
    */
   template <int dim>
-  void
-  generate_tunnel_mesh(dealii::Triangulation<dim> &  tria,
-                       const GeneratedMeshSettings &settings);
+  void generate_tunnel_mesh(dealii::Triangulation<dim>  &tria,
+                            const GeneratedMeshSettings &settings);
 
   /**
    * Read a Gmsh .msh file (ASCII, format 2 or 4, quadrilaterals/hexahedra).
@@ -54,16 +53,15 @@ namespace demfem::fem
    * face) stay flat.
    */
   template <int dim>
-  void
-  read_gmsh_mesh(dealii::Triangulation<dim> &tria, const std::string &file);
+  void read_gmsh_mesh(dealii::Triangulation<dim> &tria, const std::string &file);
 
   /**
    * Boundary ids present on the coarse mesh (valid for distributed
    * triangulations since level 0 is replicated on every rank).
    */
   template <int dim>
-  std::set<dealii::types::boundary_id>
-  coarse_boundary_ids(const dealii::Triangulation<dim> &tria);
+  std::set<dealii::types::boundary_id> coarse_boundary_ids(
+      const dealii::Triangulation<dim> &tria);
 
 } // namespace demfem::fem
 

@@ -21,43 +21,39 @@ namespace
     std::string err;
   };
 
-  fs::path
-  work_dir()
+  fs::path work_dir()
   {
     static const fs::path dir =
-      fs::temp_directory_path() / ("demfem_fem_bad_input_" + std::to_string(getpid()));
+        fs::temp_directory_path() / ("demfem_fem_bad_input_" + std::to_string(getpid()));
     fs::create_directories(dir);
     return dir;
   }
 
-  Result
-  run_fem(const std::string &args)
+  Result run_fem(const std::string &args)
   {
-    const fs::path err_file = work_dir() / "stderr.txt";
+    const fs::path    err_file = work_dir() / "stderr.txt";
     const std::string cmd = std::string("timeout 60 ") + DEMFEM_EXE + " fem " + args +
                             " > /dev/null 2> " + err_file.string();
-    const int status = std::system(cmd.c_str());
+    const int         status = std::system(cmd.c_str());
     std::ifstream     in(err_file);
     std::stringstream ss;
     ss << in.rdbuf();
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
   }
 
-  std::string
-  example()
+  std::string example()
   {
     return std::string(DEMFEM_SOURCE_DIR) + "/apps/examples/kirsch_2d.prm";
   }
 
   // Runs the example with extra arguments into a fresh output directory and
   // checks failure, the message fragments and that nothing was written.
-  void
-  expect_failure(const std::string &extra, const std::vector<std::string> &fragments)
+  void expect_failure(const std::string &extra, const std::vector<std::string> &fragments)
   {
     const fs::path out = work_dir() / "out";
     fs::remove_all(out);
-    const Result r = run_fem(example() + " --set \"Problem/output directory=" +
-                             out.string() + "\" " + extra);
+    const Result r = run_fem(
+        example() + " --set \"Problem/output directory=" + out.string() + "\" " + extra);
     INFO("arguments: " << extra << "\nstderr: " << r.err);
     CHECK(r.exit_code != 0);
     CHECK(r.exit_code != 124); // not a timeout
@@ -104,8 +100,8 @@ TEST_CASE("fem: unknown keys are rejected", "[apps][fem]")
   std::ofstream(prm) << "subsection Continuum\n  set element degre = 2\nend\n";
   const fs::path out = work_dir() / "out";
   fs::remove_all(out);
-  const Result r = run_fem(prm.string() + " --set \"Problem/output directory=" +
-                           out.string() + "\"");
+  const Result r =
+      run_fem(prm.string() + " --set \"Problem/output directory=" + out.string() + "\"");
   INFO("stderr: " << r.err);
   CHECK(r.exit_code != 0);
   CHECK(r.err.find("element degre") != std::string::npos);
@@ -125,9 +121,10 @@ TEST_CASE("fem: material file sets E and nu", "[apps][fem]")
   std::ofstream(json) << "{\"E\": 5e10, \"nu\": 0.2, \"UCS\": 1.5e8}\n";
   const fs::path out = work_dir() / "out_material";
   fs::remove_all(out);
-  const Result r = run_fem(example() + " --set \"Problem/output directory=" +
-                           out.string() + "\" --set \"Continuum/material file=" +
-                           json.string() + "\" --set \"Continuum/element degree=1\"");
+  const Result r =
+      run_fem(example() + " --set \"Problem/output directory=" + out.string() +
+              "\" --set \"Continuum/material file=" + json.string() +
+              "\" --set \"Continuum/element degree=1\"");
   INFO("stderr: " << r.err);
   REQUIRE(r.exit_code == 0);
   std::ifstream     in(out / "summary.json");

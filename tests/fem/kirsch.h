@@ -5,8 +5,8 @@
 #define DEMFEM_TESTS_FEM_KIRSCH_H
 
 #include <deal.II/base/function.h>
-#include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/symmetric_tensor.h>
 
 #include <cmath>
 
@@ -16,22 +16,17 @@ namespace demfem::test
   {
     double a, S1, S2, E, nu;
 
-    double
-    shear_modulus() const
-    {
-      return E / (2 * (1 + nu));
-    }
+    double shear_modulus() const { return E / (2 * (1 + nu)); }
 
     // Induced displacement (Jaeger & Cook form), Cartesian components.
-    dealii::Tensor<1, 2>
-    displacement(const double x, const double y) const
+    dealii::Tensor<1, 2> displacement(const double x, const double y) const
     {
       const double G = shear_modulus(), r = std::hypot(x, y), t = std::atan2(y, x);
       const double q  = a * a / (r * r);
       const double ur = a * a / (4 * G * r) *
                         ((S1 + S2) + (S1 - S2) * (4 * (1 - nu) - q) * std::cos(2 * t));
       const double ut =
-        -a * a / (4 * G * r) * (S1 - S2) * (2 * (1 - 2 * nu) + q) * std::sin(2 * t);
+          -a * a / (4 * G * r) * (S1 - S2) * (2 * (1 - 2 * nu) + q) * std::sin(2 * t);
       dealii::Tensor<1, 2> u;
       u[0] = ur * std::cos(t) - ut * std::sin(t);
       u[1] = ur * std::sin(t) + ut * std::cos(t);
@@ -39,8 +34,7 @@ namespace demfem::test
     }
 
     // Total stress (in-plane components).
-    dealii::SymmetricTensor<2, 2>
-    stress(const double x, const double y) const
+    dealii::SymmetricTensor<2, 2> stress(const double x, const double y) const
     {
       const double r = std::hypot(x, y), t = std::atan2(y, x);
       const double q = a * a / (r * r), P = 0.5 * (S1 + S2), Q = 0.5 * (S1 - S2);
@@ -56,8 +50,7 @@ namespace demfem::test
     }
 
     // Hoop stress on the wall at polar angle t.
-    double
-    wall_hoop_stress(const double t) const
+    double wall_hoop_stress(const double t) const
     {
       return (S1 + S2) - 2 * (S1 - S2) * std::cos(2 * t);
     }
@@ -69,11 +62,11 @@ namespace demfem::test
   {
   public:
     explicit KirschDisplacement(const Kirsch &k)
-      : dealii::Function<dim>(dim)
-      , k(k)
-    {}
-    double
-    value(const dealii::Point<dim> &p, const unsigned int c) const override
+        : dealii::Function<dim>(dim)
+        , k(k)
+    {
+    }
+    double value(const dealii::Point<dim> &p, const unsigned int c) const override
     {
       return c < 2 ? k.displacement(p[0], p[1])[c] : 0.0;
     }
@@ -83,13 +76,12 @@ namespace demfem::test
   };
 
   // MPI for tests that build deal.II distributed objects; finalized at exit.
-  inline void
-  ensure_mpi()
+  inline void ensure_mpi()
   {
-    static int   argc    = 1;
-    static char  name[]  = "test_fem";
-    static char *args[]  = {name, nullptr};
-    static char **argv   = args;
+    static int                                      argc   = 1;
+    static char                                     name[] = "test_fem";
+    static char                                    *args[] = {name, nullptr};
+    static char                                   **argv   = args;
     static dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   }
 } // namespace demfem::test

@@ -19,8 +19,8 @@ TEST_CASE("Explicit bar under a step load settles on the static solution",
   test::ensure_mpi();
   const double L = 2.0, H = 0.4, E = 1e9, nu = 0.25, F = 1e6; // F per unit thickness
   dealii::parallel::distributed::Triangulation<2> tria(MPI_COMM_WORLD);
-  dealii::GridGenerator::subdivided_hyper_rectangle(
-    tria, {20, 4}, dealii::Point<2>(0, 0), dealii::Point<2>(L, H), true);
+  dealii::GridGenerator::subdivided_hyper_rectangle(tria, {20, 4}, dealii::Point<2>(0, 0),
+                                                    dealii::Point<2>(L, H), true);
   // colorize: 0 = x min, 1 = x max, 2 = y min, 3 = y max. Left end: roller
   // in x (id 1); bottom: roller in y (id 5); right end: loaded interface (id 2).
   for (const auto &cell : tria.active_cell_iterators())
@@ -67,7 +67,7 @@ TEST_CASE("Explicit bar under a step load settles on the static solution",
   // Settling time: amplitude ~ exp(-a t / 2) < 1e-9 needs t > 2 ln(1e9)/a;
   // twice that for modes below omega_1 (lateral modes of the bar).
   const unsigned int n_steps =
-    static_cast<unsigned int>(std::ceil(4 * std::log(1e9) / s.damping / dt));
+      static_cast<unsigned int>(std::ceil(4 * std::log(1e9) / s.damping / dt));
   double max_u = 0;
   for (unsigned int n = 0; n < n_steps; ++n)
     {
@@ -79,10 +79,10 @@ TEST_CASE("Explicit bar under a step load settles on the static solution",
   // eps_xx = (1 - nu^2) sigma_xx / E (exact in Q1).
   const double u_static = (1 - nu * nu) * F / H * L / E;
   const auto   u_end    = dyn.interface_displacements();
-  double       err = 0;
+  double       err      = 0;
   for (std::size_t i = 0; i < u_end.size(); ++i)
     {
-      err = std::max(err, std::abs(u_end[i][0] - u_static) / u_static);
+      err                    = std::max(err, std::abs(u_end[i][0] - u_static) / u_static);
       const double uy_static = -nu / (1 - nu) * (1 - nu * nu) * F / H / E * pts[i][1];
       err = std::max(err, std::abs(u_end[i][1] - uy_static) / u_static);
     }
@@ -110,7 +110,7 @@ TEST_CASE("Explicit ring under interface pressure settles on Lame", "[fem][expli
   test::ensure_mpi();
   dealii::parallel::distributed::Triangulation<2> tria(MPI_COMM_WORLD);
   fem::read_gmsh_mesh(tria, std::string(DEMFEM_SOURCE_DIR) + "/meshes/tunnel_dem_2d.msh");
-  const double b = 3.0, R = 30.0, p = 1e6;
+  const double          b = 3.0, R = 30.0, p = 1e6;
   fem::ExplicitSettings s;
   s.young_modulus = 1e9;
   s.poisson_ratio = 0.25;
@@ -134,17 +134,18 @@ TEST_CASE("Explicit ring under interface pressure settles on Lame", "[fem][expli
     forces[i] = p * 2 * b * std::sin(M_PI / n) * pts[i] / pts[i].norm();
   dyn.set_interface_forces(forces);
 
-  const double       dt      = 0.9 * dyn.critical_time_step();
-  const unsigned int n_steps = static_cast<unsigned int>(4 * std::log(1e8) / s.damping / dt);
+  const double       dt = 0.9 * dyn.critical_time_step();
+  const unsigned int n_steps =
+      static_cast<unsigned int>(4 * std::log(1e8) / s.damping / dt);
   for (unsigned int k = 0; k < n_steps; ++k)
     dyn.step(dt);
 
-  const double B        = p / (2 * (lambda + mu) / (R * R) + 2 * mu / (b * b));
-  const double u_lame   = B * (1 / b - b / (R * R));
-  double       err      = 0;
-  const auto   u        = dyn.interface_displacements();
-  const auto   v        = dyn.interface_velocities();
-  double       v_max    = 0;
+  const double B      = p / (2 * (lambda + mu) / (R * R) + 2 * mu / (b * b));
+  const double u_lame = B * (1 / b - b / (R * R));
+  double       err    = 0;
+  const auto   u      = dyn.interface_displacements();
+  const auto   v      = dyn.interface_velocities();
+  double       v_max  = 0;
   for (std::size_t i = 0; i < u.size(); ++i)
     {
       const double ur = u[i] * pts[i] / pts[i].norm();

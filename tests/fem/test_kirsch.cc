@@ -14,13 +14,12 @@ using dealii::Tensor;
 
 namespace
 {
-  fem::ElasticSettings
-  base_settings(double sxx, double syy)
+  fem::ElasticSettings base_settings(double sxx, double syy)
   {
     fem::ElasticSettings s;
-    s.sxx = sxx;
-    s.syy = syy;
-    s.szz = 0.5 * (sxx + syy);
+    s.sxx          = sxx;
+    s.syy          = syy;
+    s.szz          = 0.5 * (sxx + syy);
     s.write_output = false;
     s.verbose      = false;
     return s;
@@ -31,18 +30,17 @@ namespace
     double max_rel_u = 0, max_rel_hoop = 0;
   };
 
-  WallErrors
-  wall_errors(const std::vector<fem::WallVertex> &wall, const test::Kirsch &k)
+  WallErrors wall_errors(const std::vector<fem::WallVertex> &wall, const test::Kirsch &k)
   {
     WallErrors e;
     for (const auto &w : wall)
       {
-        const auto   ue   = k.displacement(w.x[0], w.x[1]);
-        const double du   = std::hypot(w.u[0] - ue[0], w.u[1] - ue[1]);
-        e.max_rel_u       = std::max(e.max_rel_u, du / ue.norm());
-        const double th   = std::atan2(w.x[1], w.x[0]);
-        const double r    = std::hypot(w.x[0], w.x[1]);
-        const double tx   = -w.x[1] / r, ty = w.x[0] / r;
+        const auto   ue = k.displacement(w.x[0], w.x[1]);
+        const double du = std::hypot(w.u[0] - ue[0], w.u[1] - ue[1]);
+        e.max_rel_u     = std::max(e.max_rel_u, du / ue.norm());
+        const double th = std::atan2(w.x[1], w.x[0]);
+        const double r  = std::hypot(w.x[0], w.x[1]);
+        const double tx = -w.x[1] / r, ty = w.x[0] / r;
         const double hoop = tx * tx * w.stress[0][0] + ty * ty * w.stress[1][1] +
                             2 * tx * ty * w.stress[0][1];
         const double he = k.wall_hoop_stress(th);
@@ -51,8 +49,7 @@ namespace
     return e;
   }
 
-  dealii::SymmetricTensor<2, 2>
-  in_situ_2d(double sxx, double syy)
+  dealii::SymmetricTensor<2, 2> in_situ_2d(double sxx, double syy)
   {
     dealii::SymmetricTensor<2, 2> t;
     t[0][0] = sxx;
@@ -61,8 +58,7 @@ namespace
   }
 
   // Far-field traction change of the infinite medium: (sigma_K - sigma0).n.
-  void
-  use_exact_far_field(fem::ElasticProblem<2> &problem, const test::Kirsch &k)
+  void use_exact_far_field(fem::ElasticProblem<2> &problem, const test::Kirsch &k)
   {
     const auto sigma0 = in_situ_2d(k.S1, k.S2);
     problem.set_far_field_traction([k, sigma0](const Point<2> &p, const Tensor<1, 2> &n) {
@@ -70,21 +66,21 @@ namespace
     });
   }
 
-  WallErrors
-  kirsch_run(fem::ElasticSettings s, bool exact_far_field, const char *label)
+  WallErrors kirsch_run(fem::ElasticSettings s, bool exact_far_field, const char *label)
   {
-    const test::Kirsch k{s.radius, s.sxx, s.syy, s.young_modulus, s.poisson_ratio};
+    const test::Kirsch     k{s.radius, s.sxx, s.syy, s.young_modulus, s.poisson_ratio};
     fem::ElasticProblem<2> problem(s, MPI_COMM_WORLD);
     if (exact_far_field)
       use_exact_far_field(problem, k);
     problem.run(); // write_output = false: no files
     const auto wall = problem.wall_results();
     const auto e    = wall_errors(wall, k);
-    std::cout << "Kirsch " << label << " K=" << s.syy / s.sxx << ": R = " << s.outer_radius
-              << ", " << problem.n_cells() << " cells, " << problem.n_dofs() << " dofs, "
-              << wall.size() << " wall vertices, max rel error u " << e.max_rel_u
-              << ", hoop " << e.max_rel_hoop << ", CG iterations "
-              << problem.solver_iterations() << std::endl;
+    std::cout << "Kirsch " << label << " K=" << s.syy / s.sxx
+              << ": R = " << s.outer_radius << ", " << problem.n_cells() << " cells, "
+              << problem.n_dofs() << " dofs, " << wall.size()
+              << " wall vertices, max rel error u " << e.max_rel_u << ", hoop "
+              << e.max_rel_hoop << ", CG iterations " << problem.solver_iterations()
+              << std::endl;
     CHECK(wall.size() == s.cells_around << s.refinements);
     return e;
   }
@@ -102,7 +98,8 @@ TEST_CASE("Kirsch plane strain on the default mesh (degree 2)", "[fem][kirsch]")
   test::ensure_mpi();
   for (const auto &[sxx, syy] : {std::pair{-45e6, -45e6}, std::pair{-30e6, -60e6}})
     {
-      const auto e = kirsch_run(base_settings(sxx, syy), true, "default mesh, exact far field");
+      const auto e =
+          kirsch_run(base_settings(sxx, syy), true, "default mesh, exact far field");
       CHECK(e.max_rel_u < 0.005);
       CHECK(e.max_rel_hoop < 0.02);
     }
@@ -136,7 +133,7 @@ TEST_CASE("Kirsch plane strain with the physical far field at R = 60a", "[fem][k
 TEST_CASE("Kirsch L2 error converges at rate p+1", "[fem][kirsch][convergence]")
 {
   test::ensure_mpi();
-  const double       sxx = -30e6, syy = -60e6;
+  const double sxx = -30e6, syy = -60e6;
   for (const unsigned int degree : {1u, 2u})
     {
       std::vector<double> errors;
@@ -147,7 +144,7 @@ TEST_CASE("Kirsch L2 error converges at rate p+1", "[fem][kirsch][convergence]")
           s.cells_around = 16;
           s.degree       = degree;
           s.refinements  = ref;
-          const test::Kirsch k{s.radius, sxx, syy, s.young_modulus, s.poisson_ratio};
+          const test::Kirsch     k{s.radius, sxx, syy, s.young_modulus, s.poisson_ratio};
           fem::ElasticProblem<2> problem(s, MPI_COMM_WORLD);
           use_exact_far_field(problem, k);
           problem.run();
@@ -210,11 +207,11 @@ TEST_CASE("3D slab with u_z = 0 reproduces plane strain", "[fem][slab]")
 TEST_CASE("Uniform stress patch test is exact", "[fem][patch]")
 {
   test::ensure_mpi();
-  auto s = base_settings(-30e6, -60e6);
-  s.szz = -45e6;
-  s.sxy = 12e6;
-  s.sxz = -7e6;
-  s.syz = 4e6;
+  auto s         = base_settings(-30e6, -60e6);
+  s.szz          = -45e6;
+  s.sxy          = 12e6;
+  s.sxz          = -7e6;
+  s.syz          = 4e6;
   s.cells_around = 16;
   s.outer_radius = 10.0;
   s.solver       = "direct";

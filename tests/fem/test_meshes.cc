@@ -19,28 +19,25 @@ using namespace demfem;
 
 namespace
 {
-  std::string
-  mesh_path(const std::string &name)
+  std::string mesh_path(const std::string &name)
   {
     return std::string(DEMFEM_SOURCE_DIR) + "/meshes/" + name;
   }
 
   template <int dim>
-  std::set<dealii::types::boundary_id>
-  ids_of(const std::string &name)
+  std::set<dealii::types::boundary_id> ids_of(const std::string &name)
   {
     dealii::Triangulation<dim> tria;
     fem::read_gmsh_mesh(tria, mesh_path(name));
     return fem::coarse_boundary_ids(tria);
   }
 
-  fem::ElasticSettings
-  quiet(double sxx, double syy)
+  fem::ElasticSettings quiet(double sxx, double syy)
   {
     fem::ElasticSettings s;
-    s.sxx = sxx;
-    s.syy = syy;
-    s.szz = 0.5 * (sxx + syy);
+    s.sxx          = sxx;
+    s.syy          = syy;
+    s.szz          = 0.5 * (sxx + syy);
     s.write_output = false;
     s.verbose      = false;
     return s;
@@ -54,8 +51,8 @@ TEST_CASE("Committed Gmsh meshes carry the documented boundary ids", "[fem][mesh
   CHECK(ids_of<2>("tunnel_dem_2d.msh") == S{1, 2});
   CHECK(ids_of<3>("tunnel_slab_3d.msh") == S{1, 3, 4});
   CHECK(ids_of<3>("tunnel_face_3d.msh") == S{1, 3, 4});
-  for (const char *f : {"tunnel_2d.msh", "tunnel_dem_2d.msh", "tunnel_slab_3d.msh",
-                        "tunnel_face_3d.msh"})
+  for (const char *f :
+       {"tunnel_2d.msh", "tunnel_dem_2d.msh", "tunnel_slab_3d.msh", "tunnel_face_3d.msh"})
     CHECK(std::filesystem::file_size(mesh_path(f)) < 5'000'000);
 }
 
@@ -70,9 +67,9 @@ TEST_CASE("tunnel_2d.msh and tunnel_slab_3d.msh against Kirsch", "[fem][meshes][
   s.mesh = mesh_path("tunnel_2d.msh");
   const test::Kirsch k{s.radius, s.sxx, s.syy, s.young_modulus, s.poisson_ratio};
   dealii::SymmetricTensor<2, 2> sigma0;
-  sigma0[0][0] = s.sxx;
-  sigma0[1][1] = s.syy;
-  const auto exact_far_field = [k, sigma0](const dealii::Point<2> &p,
+  sigma0[0][0]               = s.sxx;
+  sigma0[1][1]               = s.syy;
+  const auto exact_far_field = [k, sigma0](const dealii::Point<2>     &p,
                                            const dealii::Tensor<1, 2> &n) {
     return dealii::Tensor<1, 2>((k.stress(p[0], p[1]) - sigma0) * n);
   };
@@ -85,8 +82,8 @@ TEST_CASE("tunnel_2d.msh and tunnel_slab_3d.msh against Kirsch", "[fem][meshes][
       const auto   ue = k.displacement(w.x[0], w.x[1]);
       const double r  = std::hypot(w.x[0], w.x[1]);
       const double tx = -w.x[1] / r, ty = w.x[0] / r;
-      const double hoop =
-        tx * tx * w.stress[0][0] + ty * ty * w.stress[1][1] + 2 * tx * ty * w.stress[0][1];
+      const double hoop = tx * tx * w.stress[0][0] + ty * ty * w.stress[1][1] +
+                          2 * tx * ty * w.stress[0][1];
       const double he = k.wall_hoop_stress(std::atan2(w.x[1], w.x[0]));
       eu = std::max(eu, std::hypot(w.u[0] - ue[0], w.u[1] - ue[1]) / ue.norm());
       eh = std::max(eh, std::abs(hoop - he) / std::abs(he));
@@ -170,7 +167,7 @@ TEST_CASE("Excavation stages write a VTK series", "[fem][output]")
   s.excavation_stages = 4;
   s.write_output      = true;
   s.output_directory =
-    (std::filesystem::temp_directory_path() / "demfem_test_fem_stages").string();
+      (std::filesystem::temp_directory_path() / "demfem_test_fem_stages").string();
   std::filesystem::remove_all(s.output_directory);
   {
     fem::ElasticProblem<2> p(s, MPI_COMM_WORLD);
