@@ -528,7 +528,14 @@ namespace demfem::dem
           if (remove[G.end1[k]] || (!G.is_wall[k] && remove[G.end2[k]]))
             erase(ContactRef{static_cast<int>(g), k});
         }
-    const auto map = particles.remove_if(remove);
+    remap_contacts(particles.remove_if(remove));
+    need_rebuild_   = true;
+    baseline_valid_ = false;
+  }
+
+  template <int dim>
+  void Model<dim>::remap_contacts(const std::vector<std::int64_t> &map)
+  {
     index_.clear();
     for (std::size_t g = 0; g < groups_.size(); ++g)
       {
@@ -541,8 +548,42 @@ namespace demfem::dem
             index_[key(G.end1[k], G.end2[k], G.is_wall[k])] = ContactRef{static_cast<int>(g), k};
           }
       }
-    need_rebuild_   = true;
-    baseline_valid_ = false;
+  }
+
+  template <int dim>
+  void Model<dim>::reorder_by_cell()
+  {
+    const std::size_t N = particles.size();
+    if (N < 2)
+      return;
+    // Cells of one largest diameter, visited in Morton (Z) order.
+    Vec<dim> lo = particles.x[0];
+    for (const auto &x : particles.x)
+      lo = lo.cwiseMin(x);
+    const double h = 2 * particles.max_radius();
+    auto morton = [&](const Vec<dim> &x) {
+      std::uint64_t code = 0;
+      std::uint32_t c[3] = {0, 0, 0};
+      for (int d = 0; d < dim; ++d)
+        c[d] = static_cast<std::uint32_t>(std::min((x[d] - lo[d]) / h, 1048575.0));
+      for (int bit = 0; bit < 21; ++bit)
+        for (int d = 0; d < dim; ++d)
+          code |= static_cast<std::uint64_t>((c[d] >> bit) & 1u) << (dim * bit + d);
+      return code;
+    };
+    std::vector<std::uint64_t> code(N);
+    for (std::size_t i = 0; i < N; ++i)
+      code[i] = morton(particles.x[i]);
+    std::vector<std::uint32_t> order(N);
+    for (std::size_t i = 0; i < N; ++i)
+      order[i] = static_cast<std::uint32_t>(i);
+    std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return code[a] < code[b]; });
+    std::vector<std::int64_t> map(N);
+    for (std::size_t k = 0; k < N; ++k)
+      map[order[k]] = static_cast<std::int64_t>(k);
+    particles.permute(order);
+    remap_contacts(map);
+    need_rebuild_ = true;
   }
 
   template class Model<2>;

@@ -121,6 +121,12 @@ namespace demfem::dem
     /// changing the model by hand (radii, stiffnesses, prescribed overlaps).
     void reset_energy_baseline() { baseline_valid_ = false; }
 
+    /// Reorders particles along a space-filling order of grid cells so that
+    /// neighbours are close in memory (fewer cache misses in the contact
+    /// loop). Indices change; particle ids do not. Opt-in: call it after
+    /// setup when no particle indices are held outside the model.
+    void reorder_by_cell();
+
     /// Removes particles (contacts to them are deleted first).
     void remove_particles(const std::vector<char> &remove);
     /// Forces the next step to rebuild the contact set.
@@ -136,9 +142,15 @@ namespace demfem::dem
     bool        rebuild_needed() const;
     std::uint64_t key(std::uint32_t i, std::uint32_t j, bool wall) const
     {
+      // Ball pairs are keyed independently of which end is piece 1, so a
+      // renumbering (reorder_by_cell) never flips a contact's orientation.
+      if (!wall && i > j)
+        std::swap(i, j);
       return (static_cast<std::uint64_t>(i) << 32) | j | (wall ? (1ull << 63) : 0ull);
     }
     void erase(const ContactRef &c);
+    /// Renumbers contact ends with old->new particle map and rebuilds index_.
+    void remap_contacts(const std::vector<std::int64_t> &map);
 
     std::vector<std::unique_ptr<ContactGroupBase<dim>>> groups_;
     std::unordered_map<std::uint64_t, ContactRef>       index_;

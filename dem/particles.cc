@@ -65,6 +65,19 @@ namespace demfem::dem
   }
 
   template <int dim>
+  void Particles<dim>::permute(const std::vector<std::uint32_t> &order)
+  {
+    auto apply = [&](auto &a) {
+      auto b = a;
+      for (std::size_t k = 0; k < order.size(); ++k)
+        b[k] = a[order[k]];
+      a.swap(b);
+    };
+    apply(x), apply(x0), apply(v), apply(w), apply(f), apply(m), apply(f_ext), apply(m_ext);
+    apply(radius), apply(mass), apply(inertia), apply(fixity), apply(group), apply(id);
+  }
+
+  template <int dim>
   double Particles<dim>::max_radius() const
   {
     return radius.empty() ? 0.0 : *std::max_element(radius.begin(), radius.end());

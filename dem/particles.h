@@ -45,6 +45,9 @@ namespace demfem::dem
     /// returns the old->new index map (-1 for removed).
     std::vector<std::int64_t> remove_if(const std::vector<char> &remove);
 
+    /// Reorders the particles: new index k holds old particle order[k].
+    void permute(const std::vector<std::uint32_t> &order);
+
     double max_radius() const;
     double min_radius() const;
 
