@@ -83,7 +83,7 @@ namespace demfem::fem
     displacement = owned;
 
     LinearAlgebra::distributed::Vector<double> stress;
-    stress.reinit(vertex_stress, true);
+    stress.reinit(vertex_stress);
     for (const auto &cell : stress_dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         for (const unsigned int v : cell->vertex_indices())
@@ -134,8 +134,10 @@ namespace demfem::fem
   {
     std::vector<double>    flat;
     std::set<unsigned int> seen;
+    // Ghost cells too: a wall vertex may be owned by this rank while both
+    // wall faces touching it belong to cells of another rank.
     for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
+      if (!cell->is_artificial())
         for (const unsigned int f : cell->face_indices())
           if (cell->face(f)->at_boundary() &&
               cell->face(f)->boundary_id() == boundary_id::tunnel_wall)

@@ -102,10 +102,12 @@ namespace demfem::fem
     mass.compress(VectorOperation::add);
 
     // Zero-displacement dofs (owned ones; each rank updates only its own).
+    // Ghost cells are searched too: an owned dof may lie only on boundary
+    // faces of cells owned by another rank.
     std::set<types::global_dof_index>    fixed;
     std::vector<types::global_dof_index> face_dofs(fe.n_dofs_per_face());
     for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
+      if (!cell->is_artificial())
         for (const auto &face : cell->face_iterators())
           if (face->at_boundary())
             for (const auto &[id, comps] : settings.fixed)
@@ -126,7 +128,7 @@ namespace demfem::fem
     iface_dofs.clear();
     std::set<unsigned int> seen;
     for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
+      if (!cell->is_artificial()) // see the ghost-cell note above
         for (const auto &face : cell->face_iterators())
           if (face->at_boundary() && face->boundary_id() == boundary_id::interface)
             for (const unsigned int vtx : face->vertex_indices())
