@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 namespace demfem::fem
 {
@@ -27,10 +28,10 @@ namespace demfem::fem
   void generate_tunnel_mesh(Triangulation<dim> &tria, const GeneratedMeshSettings &s)
   {
     AssertThrow(s.radius > 0, ExcMessage("Tunnel/radius must be > 0"));
-    AssertThrow(s.outer_radius > s.radius,
-                ExcMessage("Continuum/outer radius (" + std::to_string(s.outer_radius) +
-                           ") must be larger than Tunnel/radius (" +
-                           std::to_string(s.radius) + ")"));
+    std::ostringstream msg;
+    msg << "Continuum/outer radius (" << s.outer_radius
+        << ") must be larger than Tunnel/radius (" << s.radius << ")";
+    AssertThrow(s.outer_radius > s.radius, ExcMessage(msg.str()));
     AssertThrow(s.cells_around >= 8, ExcMessage("need >= 8 cells around"));
 
     const unsigned int n_t = s.cells_around;
