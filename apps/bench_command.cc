@@ -51,16 +51,16 @@ namespace
   struct BenchResult
   {
     std::size_t n_particles = 0, n_contacts = 0, n_flatjoints = 0;
-    double      setup_s = 0, wall_s = 0, cpu_s = 0, timestep = 0, unbalanced = 0, kinetic = 0;
-    int         elements = 0;
+    double setup_s = 0, wall_s = 0, cpu_s = 0, timestep = 0, unbalanced = 0, kinetic = 0;
+    int    elements = 0;
   };
 
-  constexpr double r0       = 1e-3;  // mean grain radius [m]
-  constexpr double density  = 2650;  // [kg/m^3]
-  constexpr double emod     = 50e9;  // E* [Pa]
-  constexpr double kratio   = 2.0;   // kappa*
-  constexpr double rate     = 0.1;   // axial strain rate [1/s]
-  constexpr double max_gap  = 0.1;   // installation gap / r0
+  constexpr double r0      = 1e-3; // mean grain radius [m]
+  constexpr double density = 2650; // [kg/m^3]
+  constexpr double emod    = 50e9; // E* [Pa]
+  constexpr double kratio  = 2.0;  // kappa*
+  constexpr double rate    = 0.1;  // axial strain rate [1/s]
+  constexpr double max_gap = 0.1;  // installation gap / r0
 
   void print_usage(std::ostream &out)
   {
@@ -82,12 +82,12 @@ namespace
   {
     if (value == nullptr)
       throw std::invalid_argument("option " + opt + " needs a value (" + allowed + ")");
-    char      *end = nullptr;
-    errno          = 0;
+    char *end         = nullptr;
+    errno             = 0;
     const long long v = std::strtoll(value, &end, 10);
     if (end == value || *end != '\0' || errno != 0 || v < lo || v > hi)
-      throw std::invalid_argument("invalid value '" + std::string(value) + "' for option " +
-                                  opt + " (allowed: " + allowed + ")");
+      throw std::invalid_argument("invalid value '" + std::string(value) +
+                                  "' for option " + opt + " (allowed: " + allowed + ")");
     return v;
   }
 
@@ -108,16 +108,20 @@ namespace
         else if (opt == "--dim")
           o.dim = static_cast<int>(parse_int(opt, value, 2, 3, "2 or 3")), ++a;
         else if (opt == "--n")
-          o.n = parse_int(opt, value, 8, 100000000, "an integer 8 <= N <= 100000000"), ++a;
+          o.n = parse_int(opt, value, 8, 100000000, "an integer 8 <= N <= 100000000"),
+          ++a;
         else if (opt == "--steps")
-          o.steps = parse_int(opt, value, 1, 1000000000, "an integer 1 <= S <= 1000000000"), ++a;
+          o.steps =
+              parse_int(opt, value, 1, 1000000000, "an integer 1 <= S <= 1000000000"),
+          ++a;
         else if (opt == "--threads")
-          o.threads = static_cast<int>(parse_int(opt, value, 1, 1024, "an integer 1 <= T <= 1024")),
+          o.threads = static_cast<int>(
+              parse_int(opt, value, 1, 1024, "an integer 1 <= T <= 1024")),
           ++a;
         else
-          throw std::invalid_argument(
-              "unknown option '" + opt +
-              "' (allowed: dem, --dim 2|3, --n N, --steps S, --threads T, --json, --help)");
+          throw std::invalid_argument("unknown option '" + opt +
+                                      "' (allowed: dem, --dim 2|3, --n N, --steps S, "
+                                      "--threads T, --json, --help)");
       }
     return o;
   }
@@ -147,7 +151,8 @@ namespace
     if constexpr (dim == 2)
       {
         // Hexagonal: rows a*sqrt(3)/2 apart, odd rows shifted by a/2.
-        const std::int64_t nx = std::max<std::int64_t>(2, std::llround(std::sqrt(double(n))));
+        const std::int64_t nx =
+            std::max<std::int64_t>(2, std::llround(std::sqrt(double(n))));
         for (std::int64_t row = 0; static_cast<std::int64_t>(x.size()) < n; ++row)
           for (std::int64_t i = 0; i < nx && static_cast<std::int64_t>(x.size()) < n; ++i)
             x.emplace_back((i + 0.5 * (row % 2)) * a, row * a * std::sqrt(3.0) / 2);
@@ -156,13 +161,14 @@ namespace
       {
         // Face-centred cubic: cubic cell c = a sqrt(2) with 4 sites; nxy cells
         // across, whole cell layers split into their two atomic planes.
-        const double       c   = a * std::sqrt(2.0);
-        const std::int64_t nxy = std::max<std::int64_t>(1, std::llround(std::cbrt(n / 4.0)));
-        const double       plane[2][2][2] = {{{0, 0}, {0.5, 0.5}}, {{0.5, 0}, {0, 0.5}}};
+        const double       c = a * std::sqrt(2.0);
+        const std::int64_t nxy =
+            std::max<std::int64_t>(1, std::llround(std::cbrt(n / 4.0)));
+        const double plane[2][2][2] = {{{0, 0}, {0.5, 0.5}}, {{0.5, 0}, {0, 0.5}}};
         for (std::int64_t layer = 0; static_cast<std::int64_t>(x.size()) < n; ++layer)
           {
-            const int half = layer % 2;
-            const std::int64_t kz = layer / 2;
+            const int          half = layer % 2;
+            const std::int64_t kz   = layer / 2;
             for (std::int64_t j = 0; j < nxy; ++j)
               for (std::int64_t i = 0; i < nxy; ++i)
                 for (int s = 0; s < 2 && static_cast<std::int64_t>(x.size()) < n; ++s)
@@ -176,7 +182,7 @@ namespace
   template <int dim>
   BenchResult run_dem(const BenchOptions &o)
   {
-    using clock = std::chrono::steady_clock;
+    using clock   = std::chrono::steady_clock;
     const auto t0 = clock::now();
     Model<dim> model;
     model.local_damping = 0.7;
@@ -206,7 +212,7 @@ namespace
           P.fixity[i] = fix_all;
         else if (P.x[i][dim - 1] > hi - layer)
           {
-            P.fixity[i]       = fix_all;
+            P.fixity[i]     = fix_all;
             P.v[i][dim - 1] = -rate * height;
           }
       }
@@ -217,18 +223,18 @@ namespace
     ref.R1 = ref.R2 = r0; // L = 2 r0 (memo Eq. 40) for the whole group
     const auto def  = FlatJointLaw<dim>::deformability(emod, kratio, ref);
     typename FlatJointLaw<dim>::Params fj;
-    fj.Nr     = 2;
-    fj.Nal    = 8;
-    fj.rmul   = 1.0;
-    fj.gap0   = 0.0;
-    fj.kn     = def.kn;
-    fj.ks     = def.ks;
-    fj.fric   = 0.5;
-    fj.ten    = 1e20;
-    fj.coh    = 1e20;
-    fj.fa     = 0.0;
-    fj.bonded = true;
-    const auto lin = LinearLaw<dim>::deformability(emod, kratio, 0.5, ref);
+    fj.Nr            = 2;
+    fj.Nal           = 8;
+    fj.rmul          = 1.0;
+    fj.gap0          = 0.0;
+    fj.kn            = def.kn;
+    fj.ks            = def.ks;
+    fj.fric          = 0.5;
+    fj.ten           = 1e20;
+    fj.coh           = 1e20;
+    fj.fa            = 0.0;
+    fj.bonded        = true;
+    const auto lin   = LinearLaw<dim>::deformability(emod, kratio, 0.5, ref);
     const int  g_lin = model.template add_law<LinearLaw<dim>>(lin, "bench linear");
     const int  g_fj  = model.template add_law<FlatJointLaw<dim>>(fj, "bench flatjoint");
     model.set_default_law(g_lin, -1);
@@ -273,34 +279,36 @@ namespace
     char         buf[2048];
     if (o.json)
       {
-        std::snprintf(buf, sizeof buf,
-                      "{\"benchmark\": \"dem\", \"law\": \"flatjoint\", \"dim\": %d, "
-                      "\"n_particles\": %zu, \"n_contacts\": %zu, \"n_flatjoints\": %zu, "
-                      "\"elements_per_contact\": %d, \"threads\": %d, \"steps\": %lld, "
-                      "\"setup_s\": %.6g, \"wall_s\": %.6g, \"cpu_s\": %.6g, \"timestep\": %.6g, "
-                      "\"particle_steps_per_s\": %.6g, \"contact_updates_per_s\": %.6g, "
-                      "\"particle_steps_per_s_per_thread\": %.6g, "
-                      "\"unbalanced_ratio\": %.6g, \"kinetic_energy\": %.6g}\n",
-                      o.dim, r.n_particles, r.n_contacts, r.n_flatjoints, r.elements,
-                      o.threads, static_cast<long long>(o.steps), r.setup_s, r.wall_s,
-                      r.cpu_s, r.timestep, ps, cs, ps / o.threads, r.unbalanced, r.kinetic);
+        std::snprintf(
+            buf, sizeof buf,
+            "{\"benchmark\": \"dem\", \"law\": \"flatjoint\", \"dim\": %d, "
+            "\"n_particles\": %zu, \"n_contacts\": %zu, \"n_flatjoints\": %zu, "
+            "\"elements_per_contact\": %d, \"threads\": %d, \"steps\": %lld, "
+            "\"setup_s\": %.6g, \"wall_s\": %.6g, \"cpu_s\": %.6g, \"timestep\": %.6g, "
+            "\"particle_steps_per_s\": %.6g, \"contact_updates_per_s\": %.6g, "
+            "\"particle_steps_per_s_per_thread\": %.6g, "
+            "\"unbalanced_ratio\": %.6g, \"kinetic_energy\": %.6g}\n",
+            o.dim, r.n_particles, r.n_contacts, r.n_flatjoints, r.elements, o.threads,
+            static_cast<long long>(o.steps), r.setup_s, r.wall_s, r.cpu_s, r.timestep, ps,
+            cs, ps / o.threads, r.unbalanced, r.kinetic);
         std::cout << buf;
         return;
       }
-    std::snprintf(buf, sizeof buf,
-                  "demfem bench dem: %dD flat-joint assembly under constant-strain compression\n"
-                  "  particles            %zu\n"
-                  "  contacts             %zu (%zu flat joints, %d elements each)\n"
-                  "  threads              %d\n"
-                  "  steps                %lld (time step %.4g s)\n"
-                  "  setup                %.3f s (not timed)\n"
-                  "  stepping wall time   %.3f s (CPU time %.3f s)\n"
-                  "  particle steps / s   %.4g (%.4g per thread)\n"
-                  "  contact updates / s  %.4g\n"
-                  "  unbalanced ratio     %.3g at the end\n",
-                  o.dim, r.n_particles, r.n_contacts, r.n_flatjoints, r.elements, o.threads,
-                  static_cast<long long>(o.steps), r.timestep, r.setup_s, r.wall_s, r.cpu_s,
-                  ps, ps / o.threads, cs, r.unbalanced);
+    std::snprintf(
+        buf, sizeof buf,
+        "demfem bench dem: %dD flat-joint assembly under constant-strain compression\n"
+        "  particles            %zu\n"
+        "  contacts             %zu (%zu flat joints, %d elements each)\n"
+        "  threads              %d\n"
+        "  steps                %lld (time step %.4g s)\n"
+        "  setup                %.3f s (not timed)\n"
+        "  stepping wall time   %.3f s (CPU time %.3f s)\n"
+        "  particle steps / s   %.4g (%.4g per thread)\n"
+        "  contact updates / s  %.4g\n"
+        "  unbalanced ratio     %.3g at the end\n",
+        o.dim, r.n_particles, r.n_contacts, r.n_flatjoints, r.elements, o.threads,
+        static_cast<long long>(o.steps), r.timestep, r.setup_s, r.wall_s, r.cpu_s, ps,
+        ps / o.threads, cs, r.unbalanced);
     std::cout << buf;
   }
 } // namespace

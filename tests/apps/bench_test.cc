@@ -20,9 +20,9 @@ namespace
   /// Runs the demfem executable with `args` (stderr merged into the output).
   RunResult run_demfem(const std::string &args)
   {
-    RunResult   r;
+    RunResult         r;
     const std::string cmd = std::string("\"") + DEMFEM_EXE + "\" " + args + " 2>&1";
-    FILE       *f = popen(cmd.c_str(), "r");
+    FILE             *f   = popen(cmd.c_str(), "r");
     REQUIRE(f != nullptr);
     char buf[4096];
     while (std::fgets(buf, sizeof buf, f))
@@ -45,12 +45,13 @@ namespace
 
 TEST_CASE("bench dem --json reports the run of a dense bonded assembly", "[bench]")
 {
-  const RunResult r = run_demfem("bench dem --dim 2 --n 500 --steps 20 --threads 1 --json");
+  const RunResult r =
+      run_demfem("bench dem --dim 2 --n 500 --steps 20 --threads 1 --json");
   INFO(r.out);
   REQUIRE(r.status == 0);
-  for (const char *key : {"dim", "n_particles", "n_contacts", "threads", "steps", "wall_s",
-                          "particle_steps_per_s", "contact_updates_per_s", "setup_s",
-                          "timestep"})
+  for (const char *key :
+       {"dim", "n_particles", "n_contacts", "threads", "steps", "wall_s",
+        "particle_steps_per_s", "contact_updates_per_s", "setup_s", "timestep"})
     {
       INFO(key);
       CHECK(std::isfinite(json_number(r.out, key)));
