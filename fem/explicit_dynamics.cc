@@ -217,6 +217,18 @@ namespace demfem::fem
   }
 
   template <int dim>
+  Tensor<1, dim> ExplicitDynamics<dim>::interface_force_sum() const
+  {
+    Tensor<1, dim> sum;
+    for (const auto &d : iface_dofs)
+      for (unsigned int c = 0; c < dim; ++c)
+        sum[c] += f_ext(d[c]);
+    for (unsigned int c = 0; c < dim; ++c)
+      sum[c] = Utilities::MPI::sum(sum[c], comm);
+    return sum;
+  }
+
+  template <int dim>
   double ExplicitDynamics<dim>::kinetic_energy() const
   {
     double e = 0;

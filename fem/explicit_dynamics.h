@@ -72,6 +72,11 @@ namespace demfem::fem
     /** Velocities at the latest half step t - dt/2. */
     std::vector<dealii::Tensor<1, dim>> interface_velocities() const;
 
+    /** Sum over the interface vertices of the nodal forces currently held
+     *  in the external force vector (all ranks): what the continuum is
+     *  actually loaded with, for the coupling's force-balance check. */
+    dealii::Tensor<1, dim> interface_force_sum() const;
+
     double                                       kinetic_energy() const;
     double                                       time() const { return current_time; }
     const dealii::TrilinosWrappers::MPI::Vector &displacement() const { return u; }

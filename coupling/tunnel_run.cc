@@ -1,0 +1,372 @@
+#include "coupling/tunnel_run.h"
+
+#include <deal.II/numerics/data_out.h>
+
+#include "dem/vtk_output.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace demfem::coupling
+{
+  using dem::Vec;
+
+  void TunnelParams::validate(const std::string &w) const
+  {
+    const double inf = HUGE_VAL;
+    region.validate(w);
+    dem::check_range(w, "Tunnel/radius", tunnel_radius, 0, inf, true);
+    if (tunnel_radius + 3 * region.d_hi > region.radius)
+      throw dem::InputError(w + ": Tunnel/radius (" + std::to_string(tunnel_radius) +
+                            " m) must be smaller than DEM region/radius (" +
+                            std::to_string(region.radius) +
+                            " m) by at least three of the largest grains (" +
+                            std::to_string(3 * region.d_hi) + " m)");
+    if (!(continuum.outer_radius > 2 * region.radius))
+      throw dem::InputError(w + ": DEM region/radius (" + std::to_string(region.radius) +
+                            " m) must be smaller than half of Continuum/outer radius (" +
+                            std::to_string(continuum.outer_radius) + " m)");
+    dem::check_range(w, "Continuum/young modulus", continuum.young_modulus, 0, inf, true);
+    dem::check_range(w, "Continuum/poisson ratio", continuum.poisson_ratio, -1, 0.5, true, true);
+    dem::check_range(w, "Tunnel/excavation stages", stages, 1, 1000);
+    dem::check_range(w, "Coupling/subcycles", coupling.subcycles, 1, 1000);
+    dem::check_range(w, "Coupling/timestep safety", coupling.safety, 0, 100, true);
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        if (!std::isfinite(sigma0(i, j)))
+          throw dem::InputError(w + ": Tunnel/in situ stress must be finite");
+  }
+
+  namespace
+  {
+    std::string num(double x)
+    {
+      if (!std::isfinite(x))
+        return "null";
+      std::ostringstream s;
+      s << std::setprecision(10) << x;
+      return s.str();
+    }
+
+    std::string frame_name(const std::string &series, int frame, const char *ext)
+    {
+      std::ostringstream s;
+      s << series << "_" << std::setw(4) << std::setfill('0') << frame << ext;
+      return s.str();
+    }
+
+    struct Runner
+    {
+      const TunnelParams &p;
+      std::ostream       &out;
+      WallFacetModel      m;
+      std::string         dir;
+      std::ofstream       history;
+      int                 frame = 0;
+      std::vector<std::pair<double, std::vector<std::string>>> frames;
+      std::vector<Vec<2>> ref; // positions by id at excavation start
+      bool                excavated = false;
+      std::string         phase     = "build";
+      std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+      std::int64_t        budget = 0; // expected total steps for the ETA
+
+      Runner(const TunnelParams &pp, std::ostream &o)
+          : p(pp)
+          , out(o)
+          , m(pp.region, pp.continuum, pp.coupling, MPI_COMM_WORLD)
+          , dir(pp.output_directory)
+      {}
+
+      std::size_t cracks(int mode) const
+      {
+        std::size_t n = 0;
+        for (const auto &c : m.dem.cracks)
+          n += (mode < 0 || c.mode == mode);
+        return n;
+      }
+
+      // Mean inward radial displacement of the grains within one mean
+      // diameter of the wall since excavation started; count in n.
+      double convergence(std::size_t *n = nullptr,
+                         std::vector<std::array<double, 4>> *rows = nullptr) const
+      {
+        if (!excavated)
+          return 0;
+        const auto  &P = m.dem.particles;
+        const double a = p.tunnel_radius, d = p.region.mean_diameter();
+        double       s = 0;
+        std::size_t  c = 0;
+        for (std::size_t i = 0; i < P.size(); ++i)
+          {
+            const Vec<2> &X = ref[P.id[i]];
+            const double  r = X.norm();
+            if (r < a + d)
+              {
+                const Vec<2> u = P.x[i] - X;
+                s -= u.dot(X / r);
+                ++c;
+                if (rows)
+                  rows->push_back({X[0], X[1], u[0], u[1]});
+              }
+          }
+        if (n)
+          *n = c;
+        return c ? s / c : 0.0;
+      }
+
+      double damage_depth() const
+      {
+        double d = 0;
+        for (const auto &c : m.dem.cracks)
+          d = std::max(d, c.position.norm() - p.tunnel_radius);
+        return d;
+      }
+
+      void write_frame()
+      {
+        if (!p.write_vtk)
+          return;
+        const double t    = m.dem.time();
+        const auto   pf   = frame_name("particles", frame, ".vtp");
+        const auto   bf   = frame_name("bonds", frame, ".vtp");
+        const auto   cf   = frame_name("cracks", frame, ".vtp");
+        const auto   uf   = frame_name("continuum", frame, ".vtu");
+        dem::vtkout::write_particles(dir + "/" + pf, m.dem);
+        dem::vtkout::write_contacts(dir + "/" + bf, m.dem);
+        dem::vtkout::write_cracks(dir + "/" + cf, m.dem.cracks);
+        {
+          dealii::DataOut<2> data_out;
+          data_out.attach_dof_handler(m.continuum().get_dof_handler());
+          std::vector<dealii::DataComponentInterpretation::DataComponentInterpretation> ci(
+              2, dealii::DataComponentInterpretation::component_is_part_of_vector);
+          dealii::Vector<double> u(m.continuum().displacement());
+          data_out.add_data_vector(u, std::vector<std::string>(2, "displacement"),
+                                   dealii::DataOut<2>::type_dof_data, ci);
+          data_out.build_patches();
+          std::ostringstream text;
+          data_out.write_vtu(text);
+          dem::vtkout::write_text_atomically(dir + "/" + uf, text.str());
+        }
+        frames.push_back({t, {pf, bf, cf, uf}});
+        ++frame;
+        // One .pvd per series and a combined one (parts of a time step).
+        const char *series[] = {"particles", "bonds", "cracks", "continuum"};
+        for (int s = 0; s < 4; ++s)
+          {
+            std::ostringstream x;
+            x << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n"
+                 "<Collection>\n";
+            for (const auto &f : frames)
+              x << "<DataSet timestep=\"" << std::setprecision(17) << f.first
+                << "\" part=\"0\" file=\"" << f.second[s] << "\"/>\n";
+            x << "</Collection>\n</VTKFile>\n";
+            dem::vtkout::write_text_atomically(dir + "/" + series[s] + ".pvd", x.str());
+          }
+        std::ostringstream x;
+        x << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n"
+             "<Collection>\n";
+        for (const auto &f : frames)
+          for (int s = 0; s < 4; ++s)
+            x << "<DataSet timestep=\"" << std::setprecision(17) << f.first << "\" part=\""
+              << s << "\" file=\"" << f.second[s] << "\"/>\n";
+        x << "</Collection>\n</VTKFile>\n";
+        dem::vtkout::write_text_atomically(dir + "/tunnel.pvd", x.str());
+      }
+
+      void record()
+      {
+        const auto  &D   = m.dem;
+        const double ur  = D.unbalanced_ratio();
+        const double kef = m.continuum_kinetic_energy();
+        const auto   F   = D.walls.wall_force(m.ring_wall());
+        history << D.step_count() << "," << num(D.time()) << "," << phase << ","
+                << num(m.get_load_factor()) << "," << num(ur) << "," << num(D.kinetic_energy())
+                << "," << num(D.strain_energy()) << "," << num(kef) << "," << cracks(-1) << ","
+                << cracks(0) << "," << cracks(1) << "," << num(m.imbalance_last()) << ","
+                << num(convergence()) << "," << num(F[0]) << "," << num(F[1]) << "\n";
+      }
+
+      void progress_line(double ur)
+      {
+        const double el =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const auto   n   = m.dem.step_count();
+        const double eta = n > 0 ? el / n * std::max<std::int64_t>(0, budget - n) : 0;
+        out << "[" << phase << "] step " << n << "  t = " << std::setprecision(4)
+            << m.dem.time() << " s  ratio = " << ur << "  cracks = " << cracks(-1)
+            << "  ETA <= " << std::setprecision(3) << eta << " s" << std::endl;
+      }
+
+      // Cycles until equilibrium (DEM ratio below tolerance and the
+      // continuum's kinetic energy down to 1e-4 of its peak in this phase)
+      // or `limit` steps; `load` sets the load factor per step.
+      template <class Load>
+      void cycle(std::int64_t min_steps, std::int64_t limit, Load load)
+      {
+        double ke_peak = 0;
+        for (std::int64_t n = 1; n <= limit; ++n)
+          {
+            load(n);
+            m.step();
+            const auto s = m.dem.step_count();
+            if (s % p.history_interval == 0)
+              record();
+            if (p.vtk_interval > 0 && s % p.vtk_interval == 0)
+              write_frame();
+            if (n % 100 == 0)
+              {
+                const double ke = m.continuum_kinetic_energy();
+                ke_peak         = std::max(ke_peak, ke);
+                const double ur = m.dem.unbalanced_ratio();
+                if (!std::isfinite(ur) || !std::isfinite(ke))
+                  throw dem::InstabilityError(
+                      "non-finite unbalanced force or continuum energy at step " +
+                      std::to_string(s) + ": the run diverged (time step too large?)");
+                if (n % 2000 == 0)
+                  progress_line(ur);
+                if (n >= min_steps && ur < p.ratio_tolerance && ke <= 1e-4 * ke_peak)
+                  break;
+              }
+          }
+        progress_line(m.dem.unbalanced_ratio());
+      }
+
+      void excavate()
+      {
+        auto        &P = m.dem.particles;
+        const double a = p.tunnel_radius;
+        ref.assign(P.size() ? *std::max_element(P.id.begin(), P.id.end()) + 1 : 0,
+                   Vec<2>::Zero());
+        for (std::size_t i = 0; i < P.size(); ++i)
+          ref[P.id[i]] = P.x[i];
+        std::vector<char> rm(P.size(), 0);
+        for (std::size_t i = 0; i < P.size(); ++i)
+          rm[i] = P.x[i].norm() < a;
+        // Forces the removed grains exerted on the remaining ones, by id.
+        std::vector<Vec<2>> fex(ref.size(), Vec<2>::Zero());
+        for (int g = 0; g < m.dem.n_groups(); ++g)
+          {
+            const auto &grp = m.dem.group(g);
+            for (std::size_t k = 0; k < grp.size(); ++k)
+              if (!grp.is_wall[k])
+                {
+                  const auto i = grp.end1[k], j = grp.end2[k];
+                  if (rm[i] && !rm[j])
+                    fex[P.id[j]] += grp.force[k];
+                  else if (rm[j] && !rm[i])
+                    fex[P.id[i]] -= grp.force[k];
+                }
+          }
+        m.dem.remove_particles(rm);
+        m.dem.reset_energy_baseline();
+        excavated = true;
+        for (int s = 1; s <= p.stages; ++s)
+          {
+            phase            = "excavation " + std::to_string(s) + "/" + std::to_string(p.stages);
+            const double rem = 1.0 - double(s) / p.stages;
+            for (std::size_t i = 0; i < P.size(); ++i)
+              P.f_ext[i] = rem * fex[P.id[i]];
+            m.dem.reset_energy_baseline();
+            cycle(200, p.phase_step_limit, [](std::int64_t) {});
+            write_frame();
+          }
+      }
+
+      TunnelResult run()
+      {
+        TunnelResult r;
+        std::filesystem::create_directories(dir);
+        out << "demfem tunnel: building the DEM region and the continuum" << std::endl;
+        m.build(&out);
+        m.set_insitu(p.sigma0);
+        r.n_fem_dofs = m.n_fem_dofs();
+        r.mean_grain_diameter = p.region.mean_diameter();
+        budget = p.ramp_steps + p.phase_step_limit * (1 + p.stages) / 4;
+        history.open(dir + "/history.csv");
+        history << "step,time,phase,load_factor,unbalanced_ratio,dem_kinetic_energy,"
+                   "dem_strain_energy,continuum_kinetic_energy,cracks,cracks_tensile,"
+                   "cracks_shear,interface_force_imbalance,wall_convergence_mean,"
+                   "ring_force_x,ring_force_y\n";
+        write_frame();
+        try
+          {
+            phase = "in-situ";
+            cycle(p.ramp_steps, p.ramp_steps + p.phase_step_limit, [&](std::int64_t n) {
+              m.set_load_factor(std::min(1.0, double(n) / p.ramp_steps));
+            });
+            r.region_stress_before = region_stress(m.dem, Vec<2>::Zero(), 0.5 * p.region.radius);
+            write_frame();
+            excavate();
+            phase = "equilibrium";
+            cycle(0, p.phase_step_limit, [](std::int64_t) {});
+          }
+        catch (const dem::InstabilityError &e)
+          {
+            r.diverged  = true;
+            r.diagnosis = e.what();
+            out << "demfem tunnel: DIVERGED in phase '" << phase << "': " << e.what()
+                << std::endl;
+          }
+        if (!r.diverged)
+          write_frame();
+        history.close();
+
+        r.n_particles   = m.dem.particles.size();
+        r.n_contacts    = m.dem.n_contacts();
+        r.steps         = m.dem.step_count();
+        r.cracks_total  = cracks(-1);
+        r.cracks_tensile = cracks(0);
+        r.cracks_shear  = cracks(1);
+        r.damage_zone_depth = damage_depth();
+        r.interface_force_imbalance_max = m.imbalance_max();
+        std::vector<std::array<double, 4>> rows;
+        r.wall_convergence_mean = convergence(&r.n_wall_particles, &rows);
+        r.wall_time_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (!r.diverged)
+          {
+            std::ostringstream w;
+            w << "x,y,z,ux,uy,uz\n" << std::setprecision(12);
+            for (const auto &q : rows)
+              w << q[0] << "," << q[1] << ",0," << q[2] << "," << q[3] << ",0\n";
+            dem::vtkout::write_text_atomically(dir + "/wall_displacement.csv", w.str());
+          }
+        std::ostringstream s;
+        s << "{\n  \"status\": \"" << (r.diverged ? "diverged" : "ok") << "\",\n";
+        if (r.diverged)
+          {
+            std::string d;
+            for (char c : r.diagnosis)
+              d += (c == '"' || c == '\\') ? '\'' : c;
+            s << "  \"diagnosis\": \"" << d << "\",\n";
+          }
+        s << "  \"variant\": \"wall-facets\",\n  \"scheme\": \"explicit\",\n"
+          << "  \"n_particles\": " << r.n_particles << ",\n  \"n_contacts\": " << r.n_contacts
+          << ",\n  \"n_fem_dofs\": " << r.n_fem_dofs << ",\n  \"steps\": " << r.steps
+          << ",\n  \"timestep_s\": " << num(m.dt()) << ",\n  \"wall_time_s\": "
+          << num(r.wall_time_s) << ",\n  \"cracks_total\": " << r.cracks_total
+          << ",\n  \"cracks_tensile\": " << r.cracks_tensile << ",\n  \"cracks_shear\": "
+          << r.cracks_shear << ",\n  \"damage_zone_depth\": " << num(r.damage_zone_depth)
+          << ",\n  \"wall_convergence_mean\": " << num(r.wall_convergence_mean)
+          << ",\n  \"wall_particles\": " << r.n_wall_particles
+          << ",\n  \"interface_force_imbalance_max\": "
+          << num(r.interface_force_imbalance_max) << ",\n  \"region_stress_before_excavation\": ["
+          << num(r.region_stress_before(0, 0)) << ", " << num(r.region_stress_before(1, 1))
+          << ", " << num(r.region_stress_before(0, 1)) << "]\n}\n";
+        dem::vtkout::write_text_atomically(dir + "/summary.json", s.str());
+        return r;
+      }
+    };
+  } // namespace
+
+  TunnelResult run_tunnel(const TunnelParams &p, std::ostream &progress)
+  {
+    p.validate("tunnel parameters");
+    Runner runner(p, progress);
+    return runner.run();
+  }
+} // namespace demfem::coupling

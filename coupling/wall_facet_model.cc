@@ -1,0 +1,224 @@
+#include "coupling/wall_facet_model.h"
+
+#include <deal.II/base/utilities.h>
+#include <deal.II/grid/tria.h>
+
+#include "fem/mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+namespace demfem::coupling
+{
+  using dem::Vec;
+
+  WallFacetModel::WallFacetModel(const RegionParams &region, const ContinuumParams &continuum,
+                                 const CouplingParams &coupling, MPI_Comm comm)
+      : rp(region)
+      , cp(continuum)
+      , kp(coupling)
+      , tria(comm)
+  {
+    rp.validate("DEM region");
+    const double inf = HUGE_VAL;
+    dem::check_range("Continuum", "young modulus", cp.young_modulus, 0, inf, true);
+    dem::check_range("Continuum", "poisson ratio", cp.poisson_ratio, -1, 0.5, true, true);
+    dem::check_range("Continuum", "outer radius", cp.outer_radius, 2 * rp.radius, inf, true);
+    dem::check_range("Coupling", "subcycles", kp.subcycles, 1, 1000);
+    dem::check_range("Coupling", "timestep safety", kp.safety, 0, 100, true);
+    if (dealii::Utilities::MPI::n_mpi_processes(comm) != 1)
+      throw dem::InputError("the wall-facet coupling runs on one MPI rank (run without mpirun)");
+  }
+
+  WallFacetModel::~WallFacetModel() = default;
+
+  void WallFacetModel::build(std::ostream *progress)
+  {
+    // Continuum annulus b <= r <= R, inner circle = interface (id 2).
+    fem::GeneratedMeshSettings ms;
+    ms.radius       = rp.radius;
+    ms.outer_radius = cp.outer_radius;
+    unsigned int n  = cp.cells_around;
+    if (n == 0) // facets about two mean grain diameters long, multiple of 8
+      n = std::max(32u, 8 * static_cast<unsigned int>(std::ceil(
+                                2 * M_PI * rp.radius / (2 * rp.mean_diameter()) / 8)));
+    ms.cells_around = n;
+    fem::generate_tunnel_mesh(tria, ms);
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary() && face->boundary_id() == fem::boundary_id::tunnel_wall)
+          face->set_boundary_id(fem::boundary_id::interface);
+
+    fem::ExplicitSettings es;
+    es.young_modulus = cp.young_modulus;
+    es.poisson_ratio = cp.poisson_ratio;
+    es.density       = cp.density;
+    es.mass_scaling  = cp.mass_scaling;
+    es.degree        = 1; // facet vertices = nodes (straight chords)
+    if (cp.damping >= 0)
+      es.damping = cp.damping;
+    else
+      {
+        // Critical damping of the slowest mode, estimated as a quarter shear
+        // wave over the annulus: omega_1 ~ (pi/2) c_s / (R - b).
+        const double G  = cp.young_modulus / (2 * (1 + cp.poisson_ratio));
+        const double cs = std::sqrt(G / (cp.density * cp.mass_scaling));
+        es.damping      = 2 * 0.5 * M_PI * cs / (cp.outer_radius - rp.radius);
+      }
+    es.fixed = {{fem::boundary_id::far_field, {true, true, true}}};
+    fem_     = std::make_unique<fem::ExplicitDynamics<2>>(tria, es);
+    fem_->setup();
+
+    // Ring of facets over the interface vertices, in angular order.
+    const auto &pts = fem_->interface_vertices();
+    std::vector<std::size_t> order(pts.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](auto a, auto b) {
+      return std::atan2(pts[a][1], pts[a][0]) < std::atan2(pts[b][1], pts[b][0]);
+    });
+    wall_id = dem.walls.add_wall("interface");
+    ring_vertex.assign(pts.size(), -1);
+    X0.resize(pts.size());
+    for (std::size_t k = 0; k < pts.size(); ++k)
+      {
+        X0[k]          = Vec<2>(pts[k][0], pts[k][1]);
+        ring_vertex[k] = -1;
+      }
+    for (auto k : order)
+      ring_vertex[k] = dem.walls.add_vertex(X0[k]);
+    for (std::size_t a = 0; a < order.size(); ++a)
+      dem.walls.add_facet(wall_id, {ring_vertex[order[a]],
+                                    ring_vertex[order[(a + 1) % order.size()]]});
+    accum.assign(pts.size(), Vec<2>::Zero());
+
+    groups = build_disk_region(dem, rp, progress);
+
+    fem_crit = fem_->critical_time_step();
+    dem_crit = dem.critical_timestep();
+    dt_      = kp.safety * std::min(dem_crit, fem_crit / kp.subcycles);
+    // A safety above 1 is allowed so that divergence can be shown to be
+    // caught; the DEM's own refusal of a supercritical step would hide it.
+    dem.check_timestep = kp.safety <= 1;
+    dem.set_timestep(dt_);
+    dem.reset_energy_baseline();
+    if (progress)
+      *progress << "coupling: " << n << " interface facets, " << n_fem_dofs()
+                << " continuum dofs, dt = " << dt_ << " s (DEM critical " << dem_crit
+                << " s, continuum critical " << fem_crit << " s, continuum damping "
+                << es.damping << " 1/s)\n";
+  }
+
+  void WallFacetModel::set_insitu(const Eigen::Matrix2d &s0)
+  {
+    sigma0 = s0;
+    preload_unit.assign(X0.size(), Vec<2>::Zero());
+    // Index of each wall vertex in FEM order.
+    std::vector<std::size_t> fem_of(dem.walls.vertex.size());
+    for (std::size_t k = 0; k < ring_vertex.size(); ++k)
+      fem_of[ring_vertex[k]] = k;
+    for (const auto &f : dem.walls.facet)
+      {
+        const std::size_t a = fem_of[f[0]], b = fem_of[f[1]];
+        const Vec<2>      t = X0[b] - X0[a];
+        Vec<2>            nrm(t[1], -t[0]);
+        nrm /= nrm.norm();
+        if (nrm.dot(X0[a] + X0[b]) > 0) // continuum's outward normal: to the centre
+          nrm = -nrm;
+        const Vec<2> F = -0.5 * t.norm() * (s0 * nrm);
+        preload_unit[a] += F;
+        preload_unit[b] += F;
+      }
+  }
+
+  void WallFacetModel::fem_step()
+  {
+    const std::size_t n = X0.size();
+    if (preload_unit.empty())
+      preload_unit.assign(n, Vec<2>::Zero());
+    std::vector<dealii::Tensor<1, 2>> f(n);
+    Vec<2>                            pre = Vec<2>::Zero();
+    const double                      inv = n_accum > 0 ? 1.0 / n_accum : 0.0;
+    for (std::size_t k = 0; k < n; ++k)
+      {
+        const Vec<2> F = inv * accum[k] + load_factor * preload_unit[k];
+        pre += load_factor * preload_unit[k];
+        f[k][0] = F[0];
+        f[k][1] = F[1];
+      }
+    fem_->set_interface_forces(f);
+    // Force balance: what the continuum holds minus the preload must equal
+    // the mean of the forces the grains exerted on the ring (contact sums).
+    const auto   held = fem_->interface_force_sum();
+    const Vec<2> dem_sum = inv * accum_contacts;
+    const double diff = std::hypot(held[0] - pre[0] - dem_sum[0], held[1] - pre[1] - dem_sum[1]);
+    imb_last          = accum_abs > 0 ? diff / (inv * accum_abs) : 0.0;
+    imb_max           = std::max(imb_max, imb_last);
+
+    fem_->step(kp.subcycles * dt_);
+
+    // Divergence of the continuum: non-finite or exponentially growing
+    // kinetic energy (same criterion as the DEM engine).
+    const double ke = fem_->kinetic_energy();
+    fem_growth      = (ke > 1.5 * last_fem_ke && ke > 0) ? fem_growth + 1 : 0;
+    last_fem_ke     = ke;
+    if (!std::isfinite(ke) || fem_growth >= 15)
+      {
+        std::ostringstream msg;
+        msg << "the continuum diverged at step " << n_steps << " (kinetic energy " << ke
+            << " J, growing for " << fem_growth << " steps): continuum step "
+            << kp.subcycles * dt_ << " s vs its critical step " << fem_crit
+            << " s; likely cause: Coupling/timestep safety (" << kp.safety
+            << ") or Coupling/subcycles too large, or a stiffness contrast between the "
+               "grains and the continuum";
+        throw dem::InstabilityError(msg.str());
+      }
+    const auto u = fem_->interface_displacements();
+    const auto v = fem_->interface_velocities();
+    for (std::size_t k = 0; k < n; ++k)
+      {
+        // Positions re-synchronized (round-off only), then the vertices move
+        // with v_{n+k/2} over the next k DEM steps.
+        dem.walls.vertex[ring_vertex[k]]          = X0[k] + Vec<2>(u[k][0], u[k][1]);
+        dem.walls.vertex_velocity[ring_vertex[k]] = Vec<2>(v[k][0], v[k][1]);
+        accum[k].setZero();
+      }
+    accum_contacts.setZero();
+    accum_abs = 0;
+    n_accum   = 0;
+  }
+
+  void WallFacetModel::step()
+  {
+    if (n_steps % kp.subcycles == 0)
+      fem_step();
+    dem.step();
+    ++n_steps;
+    for (std::size_t k = 0; k < X0.size(); ++k)
+      {
+        accum[k] += dem.walls.vertex_force[ring_vertex[k]];
+        accum_abs += dem.walls.vertex_force[ring_vertex[k]].norm();
+      }
+    // DEM side of the balance, independent of the vertex distribution: the
+    // forces on the wall ends of the ring contacts.
+    for (int g = 0; g < dem.n_groups(); ++g)
+      {
+        const auto &grp = dem.group(g);
+        for (std::size_t k = 0; k < grp.size(); ++k)
+          if (grp.is_wall[k] && dem.walls.facet_wall[grp.end2[k]] == wall_id)
+            accum_contacts += grp.force[k];
+      }
+    ++n_accum;
+  }
+
+  double WallFacetModel::continuum_kinetic_energy() const
+  {
+    return fem_->kinetic_energy();
+  }
+
+  std::size_t WallFacetModel::n_fem_dofs() const
+  {
+    return fem_->get_dof_handler().n_dofs();
+  }
+} // namespace demfem::coupling
