@@ -54,6 +54,9 @@ namespace demfem::dem
     virtual double           total_strain_energy() const                    = 0;
     double                  *state(std::size_t k) { return &state_[k * stride()]; }
     const double            *state(std::size_t k) const { return &state_[k * stride()]; }
+    /// The whole law-state block (size() * stride() doubles), for checkpoints.
+    std::vector<double>       &state_data() { return state_; }
+    const std::vector<double> &state_data() const { return state_; }
 
     std::size_t size() const { return end1.size(); }
 

@@ -44,6 +44,9 @@ namespace demfem::dem
   };
 
   template <int dim>
+  struct ModelCheckpoint; // dem/checkpoint.cc: saves and restores the private state
+
+  template <int dim>
   class Model
   {
   public:
@@ -135,6 +138,7 @@ namespace demfem::dem
     void detect_contacts();
 
   private:
+    friend struct ModelCheckpoint<dim>;
     void        compute_forces();
     void        suppress_duplicate_wall_contacts(ContactGroupBase<dim> &g);
     std::vector<std::size_t> wall_scratch_;

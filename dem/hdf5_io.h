@@ -1,0 +1,316 @@
+#pragma once
+// Thin RAII layer over the HDF5 C API used by the DEM checkpoints
+// (dem/checkpoint.cc): datasets of fixed-size rows, scalars, string lists,
+// and atomic file replacement (DESIGN §8: write a new name, fsync, rename
+// over the old file, keep the previous one). Internal to dem/: it includes
+// hdf5.h (OpenMPI flavour, see dem/CMakeLists.txt).
+#include "dem/types.h"
+
+#include <fcntl.h>
+#include <hdf5.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace demfem::dem::hdf5io
+{
+  /// Where errors go: writing errors are I/O failures (runtime_error),
+  /// reading errors are bad input (InputError); both name the file.
+  struct Ctx
+  {
+    std::string       file;
+    bool              reading;
+    [[noreturn]] void fail(const std::string &what) const
+    {
+      const std::string msg = "checkpoint " + file + ": " + what;
+      if (reading)
+        throw InputError(msg);
+      throw std::runtime_error(msg);
+    }
+  };
+
+  /// Owns one HDF5 identifier.
+  class Handle
+  {
+  public:
+    Handle(hid_t id, herr_t (*close)(hid_t))
+        : id_(id)
+        , close_(close)
+    {
+    }
+    Handle(Handle &&o) noexcept
+        : id_(o.id_)
+        , close_(o.close_)
+    {
+      o.id_ = -1;
+    }
+    Handle(const Handle &)            = delete;
+    Handle &operator=(const Handle &) = delete;
+    ~Handle()
+    {
+      if (id_ >= 0)
+        close_(id_);
+    }
+           operator hid_t() const { return id_; }
+    bool   valid() const { return id_ >= 0; }
+    herr_t close()
+    {
+      const herr_t r = id_ >= 0 ? close_(id_) : 0;
+      id_            = -1;
+      return r;
+    }
+
+  private:
+    hid_t id_;
+    herr_t (*close_)(hid_t);
+  };
+
+  /// HDF5 prints its error stack to stderr by default; we report errors
+  /// ourselves, naming the file and the dataset.
+  struct QuietHdf5
+  {
+    H5E_auto2_t func = nullptr;
+    void       *data = nullptr;
+    QuietHdf5()
+    {
+      H5Eget_auto2(H5E_DEFAULT, &func, &data);
+      H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    }
+    ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, func, data); }
+  };
+
+  template <class T>
+  hid_t h5type()
+  {
+    if constexpr (std::is_same_v<T, double>)
+      return H5T_NATIVE_DOUBLE;
+    else if constexpr (std::is_same_v<T, int>)
+      return H5T_NATIVE_INT;
+    else if constexpr (std::is_same_v<T, std::uint32_t>)
+      return H5T_NATIVE_UINT32;
+    else if constexpr (std::is_same_v<T, std::int64_t>)
+      return H5T_NATIVE_INT64;
+    else if constexpr (std::is_same_v<T, std::uint8_t>)
+      return H5T_NATIVE_UINT8;
+    else
+      {
+        static_assert(std::is_same_v<T, char>, "unsupported checkpoint element type");
+        return H5T_NATIVE_CHAR;
+      }
+  }
+
+  inline Handle make_group(const Ctx &c, hid_t loc, const std::string &name)
+  {
+    Handle g(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+             H5Gclose);
+    if (!g.valid())
+      c.fail("cannot create group '" + name + "'");
+    return g;
+  }
+
+  inline Handle open_group(const Ctx &c, hid_t loc, const std::string &name)
+  {
+    Handle g(H5Gopen2(loc, name.c_str(), H5P_DEFAULT), H5Gclose);
+    if (!g.valid())
+      c.fail("missing group '" + name + "'");
+    return g;
+  }
+
+  /// Writes rows x cols values of T (1D dataset when cols == 1).
+  template <class T>
+  void write_data(const Ctx &c, hid_t loc, const std::string &name, const void *data,
+                  std::size_t rows, std::size_t cols)
+  {
+    const hsize_t dims[2] = {rows, cols};
+    Handle        space(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), H5Sclose);
+    Handle set(H5Dcreate2(loc, name.c_str(), h5type<T>(), space, H5P_DEFAULT, H5P_DEFAULT,
+                          H5P_DEFAULT),
+               H5Dclose);
+    if (!space.valid() || !set.valid())
+      c.fail("cannot create dataset '" + name + "'");
+    if (rows * cols > 0 &&
+        H5Dwrite(set, h5type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
+      c.fail("cannot write dataset '" + name + "'");
+  }
+
+  /// Reads a dataset written by write_data into `out` (rows * cols values
+  /// of T, stored as E); checks the shape; returns the number of rows.
+  template <class T, class E>
+  std::size_t read_data(const Ctx &c, hid_t loc, const std::string &name,
+                        std::vector<E> &out, std::size_t cols)
+  {
+    static_assert(sizeof(E) % sizeof(T) == 0, "element is not made of T");
+    const std::size_t per = sizeof(E) / sizeof(T); // values per element
+    Handle            set(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose);
+    if (!set.valid())
+      c.fail("missing dataset '" + name + "'");
+    Handle    space(H5Dget_space(set), H5Sclose);
+    hsize_t   dims[2] = {0, 1};
+    const int rank    = H5Sget_simple_extent_ndims(space);
+    if (rank != (cols == 1 ? 1 : 2) ||
+        H5Sget_simple_extent_dims(space, dims, nullptr) < 0 || dims[1] != cols ||
+        (dims[0] * cols) % per != 0)
+      {
+        std::ostringstream msg;
+        msg << "dataset '" << name << "' has the wrong shape (expected " << cols
+            << " value(s) per row)";
+        c.fail(msg.str());
+      }
+    out.resize(dims[0] * cols / per);
+    if (!out.empty() &&
+        H5Dread(set, h5type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+      c.fail("cannot read dataset '" + name + "'");
+    return dims[0];
+  }
+
+  /// Rows of fixed-size elements (Eigen vectors, arrays, ContactForce) as
+  /// rows x (sizeof(E) / sizeof(T)) datasets.
+  template <class T, class E>
+  void write_rows(const Ctx &c, hid_t loc, const std::string &name,
+                  const std::vector<E> &v)
+  {
+    static_assert(sizeof(E) % sizeof(T) == 0, "element is not made of T");
+    write_data<T>(c, loc, name, v.data(), v.size(), sizeof(E) / sizeof(T));
+  }
+
+  template <class T, class E>
+  void read_rows(const Ctx &c, hid_t loc, const std::string &name, std::vector<E> &v,
+                 std::size_t expected_rows)
+  {
+    read_data<T>(c, loc, name, v, sizeof(E) / sizeof(T));
+    if (v.size() != expected_rows)
+      c.fail("dataset '" + name + "' has " + std::to_string(v.size()) +
+             " rows, expected " + std::to_string(expected_rows));
+  }
+
+  template <class T>
+  void write_scalar(const Ctx &c, hid_t loc, const std::string &name, T value)
+  {
+    write_data<T>(c, loc, name, &value, 1, 1);
+  }
+
+  template <class T>
+  T read_scalar(const Ctx &c, hid_t loc, const std::string &name)
+  {
+    std::vector<T> v;
+    read_data<T>(c, loc, name, v, 1);
+    if (v.size() != 1)
+      c.fail("dataset '" + name + "' is not a scalar");
+    return v[0];
+  }
+
+  inline Handle string_type()
+  {
+    Handle t(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(t, H5T_VARIABLE);
+    H5Tset_cset(t, H5T_CSET_UTF8);
+    return t;
+  }
+
+  inline void write_strings(const Ctx &c, hid_t loc, const std::string &name,
+                            const std::vector<std::string> &s)
+  {
+    std::vector<const char *> p;
+    for (const auto &x : s)
+      p.push_back(x.c_str());
+    const hsize_t n    = s.size();
+    Handle        type = string_type();
+    Handle        space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+    Handle        set(
+               H5Dcreate2(loc, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+               H5Dclose);
+    if (!set.valid() ||
+        (n > 0 && H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, p.data()) < 0))
+      c.fail("cannot write dataset '" + name + "'");
+  }
+
+  inline std::vector<std::string> read_strings(const Ctx &c, hid_t loc,
+                                               const std::string &name)
+  {
+    Handle set(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose);
+    if (!set.valid())
+      c.fail("missing dataset '" + name + "'");
+    Handle  type = string_type();
+    Handle  space(H5Dget_space(set), H5Sclose);
+    hsize_t n = 0;
+    if (H5Sget_simple_extent_ndims(space) != 1 ||
+        H5Sget_simple_extent_dims(space, &n, nullptr) < 0)
+      c.fail("dataset '" + name + "' is not a list of strings");
+    std::vector<char *> p(n, nullptr);
+    if (n > 0 && H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, p.data()) < 0)
+      c.fail("cannot read dataset '" + name + "' as strings");
+    std::vector<std::string> out;
+    for (char *s : p)
+      out.emplace_back(s ? s : "");
+    if (n > 0)
+      H5Dvlen_reclaim(type, space, H5P_DEFAULT, p.data());
+    return out;
+  }
+
+  // ----------------------------------------------------------------------
+  // Atomic file replacement (DESIGN §8).
+
+  inline void fsync_path(const std::string &p, bool directory, const Ctx &c)
+  {
+    const int fd = ::open(p.c_str(), directory ? O_RDONLY | O_DIRECTORY : O_RDONLY);
+    if (fd < 0)
+      c.fail("cannot open " + p + " to sync it: " + std::strerror(errno));
+    const int r = ::fsync(fd), e = errno;
+    ::close(fd);
+    if (r != 0 && !directory) // some file systems cannot sync directories
+      c.fail("fsync of " + p + " failed: " + std::strerror(e));
+  }
+
+  inline std::string directory_of(const std::string &path)
+  {
+    const auto slash = path.find_last_of('/');
+    return slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+  }
+
+  inline void write_atomically(const std::string                             &path,
+                               const std::function<void(hid_t, const Ctx &)> &body)
+  {
+    const Ctx         c{path, false};
+    const std::string tmp = path + ".tmp", prev = path + ".prev";
+    try
+      {
+        QuietHdf5 quiet;
+        Handle    file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+                       H5Fclose);
+        if (!file.valid())
+          c.fail("cannot create " + tmp + " (directory missing or not writable?)");
+        body(file, c);
+        if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0 || file.close() < 0)
+          c.fail("cannot flush and close " + tmp);
+        fsync_path(tmp, false, c);
+      }
+    catch (...)
+      {
+        ::unlink(tmp.c_str()); // never a directory: unlink leaves those alone
+        throw;
+      }
+    // Keep the previous checkpoint as .prev: a hard link keeps `path`
+    // valid at every instant; file systems without links get a rename.
+    struct stat st;
+    if (::stat(path.c_str(), &st) == 0)
+      {
+        if (::unlink(prev.c_str()) != 0 && errno != ENOENT)
+          c.fail("cannot remove the old " + prev + ": " + std::strerror(errno));
+        if (::link(path.c_str(), prev.c_str()) != 0 &&
+            ::rename(path.c_str(), prev.c_str()) != 0)
+          c.fail("cannot keep the previous checkpoint as " + prev + ": " +
+                 std::strerror(errno));
+      }
+    if (::rename(tmp.c_str(), path.c_str()) != 0)
+      c.fail("cannot rename " + tmp + " to " + path + ": " + std::strerror(errno));
+    fsync_path(directory_of(path), true, c);
+  }
+} // namespace demfem::dem::hdf5io
