@@ -20,6 +20,7 @@ namespace
      demfem::apps::run_contact_test,
      "two-grain flat-joint / parallel-bond test (flat-joint memo 2.1)"},
     {"fem", demfem::apps::run_fem, "continuum-only run (e.g. Kirsch hole)"},
+    {"tunnel", demfem::apps::run_tunnel, "coupled DEM-continuum tunnel excavation run"},
     {"bench", demfem::apps::run_bench, "performance benchmarks"},
   };
 
