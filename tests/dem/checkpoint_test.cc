@@ -307,4 +307,13 @@ TEST_CASE("restart with other contact-law parameters is refused", "[checkpoint]"
   CHECK_THROWS_WITH(read_checkpoint(wrong_dim, file, nullptr),
                     Catch::Contains("2D model"));
   CHECK_THROWS_AS(read_checkpoint(m, dir / "none.h5", nullptr), InputError);
+
+  // A damaged (truncated) file is bad input and changes nothing.
+  const std::string data = slurp(file);
+  std::ofstream(dir / "cut.h5", std::ios::binary).write(data.data(), data.size() / 2);
+  Model<2> fresh;
+  build(fresh, 2e5);
+  CHECK_THROWS_AS(read_checkpoint(fresh, dir / "cut.h5", nullptr), InputError);
+  CHECK(fresh.step_count() == 0);
+  CHECK(fresh.particles.x == x_before);
 }
