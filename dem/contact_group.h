@@ -10,6 +10,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -50,6 +51,11 @@ namespace demfem::dem
     virtual ContactStiffness stiffness(std::size_t k, const Particles<dim> &p) const = 0;
     virtual double           strain_energy(std::size_t k) const             = 0;
     virtual double           slip_energy(std::size_t k) const               = 0;
+    /// Adds each active contact's translational stiffness max(kn, ks) to
+    /// kt[particle] and its rotational stiffness max(kb, kt) + ks |arm|^2 to
+    /// kr[particle] (memo §1.12; input of Model::critical_timestep).
+    virtual void accumulate_stiffness(const Particles<dim> &p, std::vector<double> &kt,
+                                      std::vector<double> &kr) const = 0;
     /// Sum of the strain energy of all contacts of the group.
     virtual double           total_strain_energy() const                    = 0;
     double                  *state(std::size_t k) { return &state_[k * stride()]; }
@@ -117,6 +123,27 @@ namespace demfem::dem
     double strain_energy(std::size_t k) const override
     {
       return Law::strain_energy(params, this->state(k));
+    }
+    void accumulate_stiffness(const Particles<dim> &p, std::vector<double> &kt,
+                              std::vector<double> &kr) const override
+    {
+      for (std::size_t k = 0; k < this->size(); ++k)
+        {
+          if (!active(k))
+            continue;
+          const ContactStiffness s   = stiffness(k, p);
+          const double           ktr = std::max(s.kn, s.ks);
+          const double           kro = std::max(s.kb, s.kt);
+          const std::uint32_t    i   = this->end1[k];
+          kt[i] += ktr;
+          kr[i] += kro + s.ks * (this->xc[k] - p.x[i]).squaredNorm();
+          if (!this->is_wall[k])
+            {
+              const std::uint32_t j = this->end2[k];
+              kt[j] += ktr;
+              kr[j] += kro + s.ks * (this->xc[k] - p.x[j]).squaredNorm();
+            }
+        }
     }
     double total_strain_energy() const override
     {

@@ -108,22 +108,7 @@ namespace demfem::dem
     const std::size_t   N = particles.size();
     std::vector<double> kt(N, 0.0), kr(N, 0.0);
     for (const auto &g : groups_)
-      for (std::size_t k = 0; k < g->size(); ++k)
-        {
-          if (!g->active(k))
-            continue;
-          const ContactStiffness s   = g->stiffness(k, particles);
-          const double           ktr = std::max(s.kn, s.ks);
-          const double           kro = std::max(s.kb, s.kt);
-          auto add = [&](std::uint32_t p) {
-            const double arm2 = (g->xc[k] - particles.x[p]).squaredNorm();
-            kt[p] += ktr;
-            kr[p] += kro + s.ks * arm2;
-          };
-          add(g->end1[k]);
-          if (!g->is_wall[k])
-            add(g->end2[k]);
-        }
+      g->accumulate_stiffness(particles, kt, kr);
     double dt = std::numeric_limits<double>::infinity();
     for (std::size_t p = 0; p < N; ++p)
       {
@@ -397,7 +382,14 @@ namespace demfem::dem
     // constant load grows as t^2 (ratio < 1.5 after 4 steps), a wave front
     // spreading through a 3D assembly as ~n^3 (ratio < 1.5 after ~7 steps).
     if (!baseline_valid_ || step_ % 10 == 0)
-      check_energy_balance();
+      {
+        check_energy_balance();
+        // Contacts stiffen and appear between detection passes: keep the
+        // automatic step at safety x critical.
+        if (auto_dt_)
+          if (const double crit = critical_timestep(); std::isfinite(crit))
+            dt_ = safety_factor * crit;
+      }
     const double ke = kinetic_energy();
     growth_steps_   = (ke > 1.5 * last_ke_ && ke > 0) ? growth_steps_ + 1 : 0;
     last_ke_        = ke;
