@@ -28,12 +28,13 @@ namespace demfem::dem
     std::vector<int> bond_groups;
 
     // Packing record.
-    double       packing_pressure  = 0; ///< wall-based mean pressure at the end of packing
+    double       packing_pressure = 0; ///< wall-based mean pressure at the end of packing
     double       packing_region_pressure = 0; ///< measurement-region mean pressure
-    double       packing_max_force = 0; ///< max |F| at the end of packing
-    double       packing_ratio     = 0; ///< ratio-average at the end of packing
-    std::int64_t packing_steps     = 0;
-    double       fj_rmul_min = 0, fj_rmul_max = 0; ///< radius multipliers after the validity check
+    double       packing_max_force       = 0; ///< max |F| at the end of packing
+    double       packing_ratio           = 0; ///< ratio-average at the end of packing
+    std::int64_t packing_steps           = 0;
+    double       fj_rmul_min             = 0,
+           fj_rmul_max = 0; ///< radius multipliers after the validity check
 
     double porosity() const { return dem::porosity(model, vessel.volume(model.walls)); }
     std::size_t n_grains() const { return model.particles.size(); }
@@ -44,8 +45,8 @@ namespace demfem::dem
   /// built) and std::runtime_error if packing fails within the step limit.
   template <int dim>
   Specimen<dim> build_specimen(const MaterialParams &p, const VesselParams &v,
-                               std::ostream *progress = nullptr,
-                               const std::string &where = "material");
+                               std::ostream      *progress = nullptr,
+                               const std::string &where    = "material");
 
   /// Expected number of grains for p and v (cloud porosity, mean grain volume).
   template <int dim>

@@ -37,13 +37,13 @@ namespace demfem::dem
   struct MaterialParams
   {
     // ---- common (fistPkg Table 1) -----------------------------------------
-    std::string            type = "flatjointed"; ///< linear|contactbonded|parallelbonded|flatjointed
-    std::vector<SizePiece> sizes;                 ///< grain-size distribution
-    double                 diameter_multiplier = 1;    ///< D_mult (shifts the distribution)
-    double                 density             = 2650; ///< grain (or bulk) density [kg/m^3]
-    bool                   bulk_density        = false; ///< density is the bulk density (C_p = 1)
-    double                 local_damping       = 0.7;
-    std::uint64_t          seed                = 10000; ///< pk_seed (affects packing)
+    std::string type = "flatjointed"; ///< linear|contactbonded|parallelbonded|flatjointed
+    std::vector<SizePiece> sizes;     ///< grain-size distribution
+    double                 diameter_multiplier = 1; ///< D_mult (shifts the distribution)
+    double                 density = 2650;          ///< grain (or bulk) density [kg/m^3]
+    bool          bulk_density     = false; ///< density is the bulk density (C_p = 1)
+    double        local_damping    = 0.7;
+    std::uint64_t seed             = 10000; ///< pk_seed (affects packing)
 
     // ---- linear material group (Table 2; lnm_*), also new contacts --------
     double lnm_emod = 0; ///< E* [Pa]
@@ -87,9 +87,9 @@ namespace demfem::dem
     double       P_tol          = 1e-2; ///< pressure tolerance eps_P
     double       ratio_limit    = 8e-3; ///< equilibrium-ratio limit (ft_eq)
     std::int64_t step_limit     = 2000000; ///< step limit (ft_eq)
-    double       cloud_porosity = -1;   ///< n_c; < 0: Table 7 default by method and dim
-    double       fric_CA        = 0;    ///< friction during confinement (boundary contraction)
-    double       v_limit        = 0;    ///< servo velocity limit [m/s]; 0: automatic
+    double       cloud_porosity = -1; ///< n_c; < 0: Table 7 default by method and dim
+    double       fric_CA = 0; ///< friction during confinement (boundary contraction)
+    double       v_limit = 0; ///< servo velocity limit [m/s]; 0: automatic
 
     bool is_bonded() const { return type != "linear"; }
     /// Throws InputError naming the key, `where` (file) and the allowed range.
@@ -103,12 +103,12 @@ namespace demfem::dem
   {
   public:
     explicit Random(std::uint64_t seed);
-    double uniform();                       ///< [0, 1)
-    double uniform(double lo, double hi);   ///< [lo, hi)
-    double normal();                        ///< standard normal (Box-Muller)
+    double uniform();                     ///< [0, 1)
+    double uniform(double lo, double hi); ///< [lo, hi)
+    double normal();                      ///< standard normal (Box-Muller)
     /// Normal(mean, sd) truncated to > 0 (redrawn); sd = 0 gives mean.
-    double positive_normal(const Distribution &d);
-    std::uint64_t index(std::uint64_t n);   ///< uniform in [0, n)
+    double        positive_normal(const Distribution &d);
+    std::uint64_t index(std::uint64_t n); ///< uniform in [0, n)
 
   private:
     std::mt19937_64 gen_;

@@ -19,7 +19,8 @@ namespace demfem::dem
   /// the region (l = x2 - x1, F the force on piece 2) and, when
   /// `include_walls`, ball-wall contacts (l = x_c - x_ball, F on the wall).
   template <int dim>
-  Tensor<dim> region_stress(const Model<dim> &m, const Region<dim> &r, bool include_walls = false);
+  Tensor<dim> region_stress(const Model<dim> &m, const Region<dim> &r,
+                            bool include_walls = false);
 
   /// Same over every contact of the model, divided by volume V (e.g. the
   /// vessel volume): the assembly-average (Love-Weber) stress.
@@ -54,25 +55,26 @@ namespace demfem::dem
   /// Microstructural counts (fistPkg §3.1).
   struct ContactCounts
   {
-    std::size_t grains = 0;            ///< particles
+    std::size_t grains             = 0; ///< particles
     std::size_t active_grain_grain = 0; ///< active ball-ball contacts
     std::size_t active_grain_wall  = 0;
-    double      coordination = 0;       ///< 2 * active ball-ball / grains
-    std::size_t bonds        = 0;       ///< intact cb/pb bonds + flat joints with >= 1 bonded element
-    double      bond_coordination = 0;  ///< 2 * bonds / grains
-    std::size_t fj = 0;                 ///< flat-joint contacts
+    double      coordination       = 0; ///< 2 * active ball-ball / grains
+    std::size_t bonds = 0; ///< intact cb/pb bonds + flat joints with >= 1 bonded element
+    double      bond_coordination = 0; ///< 2 * bonds / grains
+    std::size_t fj                = 0; ///< flat-joint contacts
     std::size_t fj_elements = 0, fj_bonded_elements = 0;
-    std::size_t fj_bonded = 0;          ///< all elements bonded
-    std::size_t fj_gapped = 0;          ///< no element bonded, g_s > 0
-    std::size_t fj_slit   = 0;          ///< no element bonded, g_s <= 0
+    std::size_t fj_bonded = 0; ///< all elements bonded
+    std::size_t fj_gapped = 0; ///< no element bonded, g_s > 0
+    std::size_t fj_slit   = 0; ///< no element bonded, g_s <= 0
   };
   template <int dim>
   ContactCounts contact_counts(const Model<dim> &m);
 
   /// Fabric tensor of the active ball-ball contact normals,
   /// Phi = (1/N) sum n (x) n (trace 1); isotropic: eigenvalues all 1/dim.
+  /// With a region: only contacts located in it (away from wall effects).
   template <int dim>
-  Tensor<dim> fabric_tensor(const Model<dim> &m);
+  Tensor<dim> fabric_tensor(const Model<dim> &m, const Region<dim> *region = nullptr);
 
   /// Largest |contact force| over all contacts (for force-free checks).
   template <int dim>

@@ -10,8 +10,8 @@ namespace demfem::dem
 {
   struct ServoParams
   {
-    double alpha   = 0.5; ///< gain factor (Table 9, alpha in (0, 1))
-    double v_limit = 0;   ///< velocity limit [m/s] (> 0)
+    double alpha   = 0.5;  ///< gain factor (Table 9, alpha in (0, 1))
+    double v_limit = 0;    ///< velocity limit [m/s] (> 0)
     double tol     = 1e-2; ///< equilibrium-pressure tolerance eps_P
   };
 
@@ -34,8 +34,8 @@ namespace demfem::dem
     void stop(Model<dim> &m) const; ///< zero wall velocities
 
   private:
-    Vessel<dim>        vessel_; // a copy: ids only, positions live in the walls
-    ServoParams        p_;
+    Vessel<dim>             vessel_; // a copy: ids only, positions live in the walls
+    ServoParams             p_;
     std::array<bool, dim>   on_;
     std::array<double, dim> target_, velocity_;
   };

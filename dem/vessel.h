@@ -14,15 +14,15 @@ namespace demfem::dem
 {
   struct VesselParams
   {
-    std::string shape  = "box"; ///< "box" | "cylinder" (3D)
-    double      H      = 0;     ///< height (axial) [m]
-    double      W      = 0;     ///< width (x); cylinder: diameter [m]
-    double      D      = 1;     ///< depth (y, 3D box); 2D: unit thickness
-    double      expand = 1.2;   ///< expansion factor (>= 1)
-    double      inset_l = 0.8;  ///< measurement regions span inset_l * max dimension
-    double      inset_d = 0.8;  ///< region diameter = inset_d * min dimension
-    double      emod   = 0;     ///< E* of the grain-wall contacts [Pa]; 0: lnm_emod
-    int         segments = 24;  ///< cylinder: facets around the circumference
+    std::string shape    = "box"; ///< "box" | "cylinder" (3D)
+    double      H        = 0;     ///< height (axial) [m]
+    double      W        = 0;     ///< width (x); cylinder: diameter [m]
+    double      D        = 1;     ///< depth (y, 3D box); 2D: unit thickness
+    double      expand   = 1.2;   ///< expansion factor (>= 1)
+    double      inset_l  = 0.8;   ///< measurement regions span inset_l * max dimension
+    double      inset_d  = 0.8;   ///< region diameter = inset_d * min dimension
+    double      emod     = 0;     ///< E* of the grain-wall contacts [Pa]; 0: lnm_emod
+    int         segments = 24;    ///< cylinder: facets around the circumference
 
     void validate(const std::string &where, int dim) const;
   };
@@ -49,10 +49,10 @@ namespace demfem::dem
     std::array<int, dim> lo_vertex, hi_vertex;
     std::vector<int>     side_vertices;
     Vec<dim>             center = Vec<dim>::Zero(); ///< vessel centre (origin at genesis)
-    std::array<double, dim> initial_length; ///< lengths at creation
+    std::array<double, dim>    initial_length;      ///< lengths at creation
     std::array<Region<dim>, 3> regions; ///< three regions along the axial direction
 
-    bool   cylinder() const { return side >= 0; }
+    bool cylinder() const { return side >= 0; }
     /// Current inner length along axis a (cylinder lateral: diameter).
     double length(const Walls<dim> &w, int a) const;
     double radius(const Walls<dim> &w) const; ///< cylinder radius
@@ -82,5 +82,6 @@ namespace demfem::dem
 
   /// Adds the vessel's walls to `walls` (centred at the origin).
   template <int dim>
-  Vessel<dim> make_vessel(Walls<dim> &walls, const VesselParams &p, const std::string &where = "vessel");
+  Vessel<dim> make_vessel(Walls<dim> &walls, const VesselParams &p,
+                          const std::string &where = "vessel");
 } // namespace demfem::dem
