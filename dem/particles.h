@@ -48,6 +48,11 @@ namespace demfem::dem
     /// Reorders the particles: new index k holds old particle order[k].
     void permute(const std::vector<std::uint32_t> &order);
 
+    /// Id the next added particle receives (saved by checkpoints so that
+    /// ids stay unique across a restart).
+    std::int64_t next_particle_id() const { return next_id; }
+    void         set_next_particle_id(std::int64_t n) { next_id = n; }
+
     double max_radius() const;
     double min_radius() const;
 
