@@ -183,6 +183,7 @@ namespace demfem::dem
       {
         Handle g = make_group(c, file, "model");
         write_scalar<std::int64_t>(c, g, "step", m.step_);
+        write_scalar<std::int64_t>(c, g, "next_particle_id", m.particles.next_particle_id());
         write_scalar<double>(c, g, "time", m.time_);
         write_scalar<double>(c, g, "timestep", m.dt_);
         write_scalar<std::uint8_t>(c, g, "auto_timestep", m.auto_dt_);
@@ -461,6 +462,7 @@ namespace demfem::dem
       }
       Handle     g            = open_group(c, file, "model");
       const auto step         = read_scalar<std::int64_t>(c, g, "step");
+      const auto next_id      = read_scalar<std::int64_t>(c, g, "next_particle_id");
       const auto time         = read_scalar<double>(c, g, "time");
       const auto dt           = read_scalar<double>(c, g, "timestep");
       const bool auto_dt      = read_scalar<std::uint8_t>(c, g, "auto_timestep");
@@ -512,6 +514,7 @@ namespace demfem::dem
       m.index_         = std::move(index);
       m.cracks         = std::move(cracks);
       m.step_          = step;
+      m.particles.set_next_particle_id(next_id);
       m.time_          = time;
       m.dt_            = dt;
       m.auto_dt_       = auto_dt;
