@@ -2,6 +2,7 @@
 // §5.2, §5.4-5.7).
 #include "dem/lab_tests.h"
 
+#include "dem/linear_law.h"
 #include "dem/measurement.h"
 
 #include <algorithm>
@@ -22,6 +23,7 @@ namespace demfem::dem
     check_range(where, "equilibrium ratio limit", ratio_limit, 0, 1, true, false);
     check_range(where, "seating step limit", double(seat_step_limit), 0, inf);
     check_range(where, "grip thickness", grip_thickness, 0, 0.5, true, true);
+    check_range(where, "platen friction", platen_friction, 0, inf);
     check_range(where, "fit window low", fit_lo, 0, 1, false, true);
     check_range(where, "fit window high", fit_hi, fit_lo, 1, true, false);
     check_range(where, "crack initiation fraction", crack_initiation_fraction, 0, 1, true,
@@ -232,9 +234,16 @@ namespace demfem::dem
             top    = std::max(top, m_.particles.x[i][ax] + m_.particles.radius[i]);
             bottom = std::min(bottom, m_.particles.x[i][ax] - m_.particles.radius[i]);
           }
+        // The platens are symmetric about the vessel centre: centre the disk
+        // between them (a rigid shift), then close them onto it.
+        const double shift = c[ax] - 0.5 * (top + bottom);
+        for (std::size_t i = 0; i < m_.particles.size(); ++i)
+          m_.particles.x[i][ax] += shift;
         const double L = s_.vessel.length(m_.walls, ax);
         s_.vessel.translate_outward(m_.walls, ax, 0.5 * ((top - bottom) - L));
         r_.R = 0.5 * (top - bottom);
+        if (p_.platen_friction > 0)
+          platen_friction();
         m_.invalidate_contacts();
         m_.reset_energy_baseline();
         equilibrate(nullptr);
@@ -242,6 +251,27 @@ namespace demfem::dem
         v_  = 0.5 * p_.strain_rate * L0_; // Table 11: v = eps_rate g0 / 2
         start_loading();
         s_.vessel.set_velocity(m_.walls, ax, -v_);
+      }
+
+      // Grain-platen contacts: the grain-wall linear law with friction.
+      void platen_friction()
+      {
+        using Group = ContactGroup<dim, LinearLaw<dim>>;
+        const auto *wg = dynamic_cast<const Group *>(&m_.group(s_.wall_group));
+        if (!wg)
+          throw InputError("lab test: platen friction needs a linear grain-wall law");
+        typename LinearLaw<dim>::Params lp = wg->params;
+        lp.friction                        = p_.platen_friction;
+        const int g = m_.template add_law<LinearLaw<dim>>(lp, "platen friction");
+        std::vector<ContactRef> walls;
+        for (int k = 0; k < m_.n_groups(); ++k)
+          for (std::size_t c = 0; c < m_.group(k).size(); ++c)
+            if (m_.group(k).is_wall[c])
+              walls.push_back({k, c});
+        // Reassign from the back so the indices of the rest stay valid.
+        for (auto it = walls.rbegin(); it != walls.rend(); ++it)
+          m_.reassign(*it, g);
+        m_.set_default_law(s_.linear_group, g);
       }
 
       void setup_tension()
@@ -395,7 +425,13 @@ namespace demfem::dem
               }
             // Post-peak end (Table 10-12 load factor): only once the material
             // has started to break, so start-up noise cannot end the test.
-            if (cracks > 0 && peak > 0 && h.load < p_.load_fraction * peak)
+            // The mean of the last three rows filters platen chatter.
+            const std::size_t nh = r_.history.size();
+            const double      recent =
+                nh < 3 ? h.load
+                       : (r_.history[nh - 1].load + r_.history[nh - 2].load +
+                          r_.history[nh - 3].load) / 3;
+            if (cracks > 0 && peak > 0 && recent < p_.load_fraction * peak)
               {
                 r_.ended_by = "post-peak";
                 break;

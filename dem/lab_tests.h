@@ -74,6 +74,10 @@ namespace demfem::dem
     double       ratio_limit = 1e-4; ///< ft_eq ratio limit for seating
     std::int64_t seat_step_limit = 100000;
     double grip_thickness = 0.1;  ///< direct tension: t_g / H
+    /// Brazilian platen friction. fistPkg §5.6 uses frictionless platens;
+    /// a small 2D disk between frictionless platens can slide out sideways
+    /// (neutral equilibrium), so a friction coefficient may be given.
+    double platen_friction = 0;
     /// Window of the modulus fit, as fractions of the peak load (loading
     /// branch before the peak): E and nu are least-squares slopes in it.
     double fit_lo = 0.1, fit_hi = 0.5;
