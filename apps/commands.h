@@ -7,4 +7,5 @@ namespace demfem::apps
   int run_bench(int argc, char **argv);
   int run_fem(int argc, char **argv);
   int run_tunnel(int argc, char **argv);
+  int run_calibrate(int argc, char **argv);
 } // namespace demfem::apps

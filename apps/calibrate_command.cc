@@ -1,0 +1,515 @@
+// `demfem calibrate FILE.prm`: material genesis (fistPkg §4) + laboratory
+// tests (§5.4-5.7) -> material.json with the measured properties (E, nu for
+// the continuum, DESIGN §7). Every input is validated before the output
+// directory is created, so a bad input writes nothing.
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/parameter_handler.h>
+
+#include "apps/calibrate.h"
+#include "apps/commands.h"
+#include "dem/lab_tests.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace demfem::apps
+{
+  namespace
+  {
+    using namespace dealii;
+    namespace fs = std::filesystem;
+
+    const char *usage =
+        "usage: demfem calibrate FILE.prm [--set \"Section/key=value\"]... "
+        "[--print-parameters] [--help]\n"
+        "\n"
+        "Builds a bonded-particle material (fistPkg §4: packing, finalization), runs\n"
+        "the laboratory tests listed in Tests/tests (ucs, triaxial, uniaxial strain,\n"
+        "brazilian, direct tension; each on a fresh specimen of the same seed) and\n"
+        "writes to Problem/output directory: material.json (microparameters and\n"
+        "measured properties with units; E, nu are the continuum's pair: 3D, or 2D\n"
+        "plane strain), summary.json, history_<test>.csv, <test>_stress_strain.svg,\n"
+        "VTK of the specimen and of each test at peak and at the end (.pvd).\n";
+
+    // Test names of Tests/tests and what they run.
+    const std::vector<TestSpec> known_tests = {
+      {"ucs", dem::TestKind::compression, dem::CompressionType::unconfined},
+      {"triaxial", dem::TestKind::compression, dem::CompressionType::confined},
+      {"uniaxial strain", dem::TestKind::compression, dem::CompressionType::uniaxial_strain},
+      {"brazilian", dem::TestKind::brazilian, dem::CompressionType::unconfined},
+      {"direct tension", dem::TestKind::direct_tension, dem::CompressionType::unconfined}};
+
+    void dist(ParameterHandler &prm, const std::string &name, const std::string &mean,
+              const std::string &doc)
+    {
+      prm.declare_entry(name + " mean", mean, Patterns::Double(), doc + " mean (>= 0)");
+      prm.declare_entry(name + " sd", "0", Patterns::Double(), doc + " standard deviation (>= 0)");
+    }
+
+    void declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Problem");
+      prm.declare_entry("dimension", "2", Patterns::Integer(2, 3), "2 (disks) or 3 (spheres)");
+      prm.declare_entry("output directory", "out/calibrate", Patterns::Anything(),
+                        "Created after validation; files in it are replaced");
+      prm.declare_entry("vtk", "true", Patterns::Bool(), "Write VTK of specimen and tests");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Material");
+      prm.declare_entry("type", "flatjointed",
+                        Patterns::Selection("linear|contactbonded|parallelbonded|flatjointed"),
+                        "Material type (fistPkg Tables 2-5)");
+      prm.declare_entry("size distribution", "uniform 1.6e-3 2.4e-3 1",
+                        Patterns::Anything(),
+                        "Grain diameters [m] (fistPkg Table 1), pieces separated by ';': "
+                        "'uniform D_lo D_hi fraction' or 'gaussian mean sd D_lo D_hi fraction' "
+                        "(D_hi = 0: no upper cut); volume fractions sum to 1");
+      prm.declare_entry("diameter multiplier", "1", Patterns::Double(), "D_mult (> 0)");
+      prm.declare_entry("number of grains", "0", Patterns::Double(),
+                        "> 0: sets the diameter multiplier so about this many grains fill "
+                        "the vessel; 0: use the diameter multiplier");
+      prm.declare_entry("density", "2650", Patterns::Double(), "Grain density [kg/m^3] (> 0)");
+      prm.declare_entry("bulk density", "false", Patterns::Bool(),
+                        "density is the bulk density");
+      prm.declare_entry("local damping", "0.7", Patterns::Double(), "[0, 1)");
+      prm.declare_entry("seed", "10000", Patterns::Integer(0), "Random seed (packing)");
+      prm.declare_entry("linear effective modulus", "0", Patterns::Double(),
+                        "lnm_emod E* [Pa] of the linear group (new contacts, packing)");
+      prm.declare_entry("linear stiffness ratio", "1.5", Patterns::Double(), "lnm_krat");
+      prm.declare_entry("linear friction", "0.4", Patterns::Double(), "lnm_fric");
+      prm.declare_entry("effective modulus", "0", Patterns::Double(),
+                        "E* [Pa] of the bonded contacts");
+      prm.declare_entry("stiffness ratio", "1.5", Patterns::Double(), "kappa*");
+      prm.declare_entry("friction", "0.4", Patterns::Double(), "mu of the bonded group");
+      prm.declare_entry("installation gap", "0", Patterns::Double(), "g_i [m] (>= 0)");
+      prm.enter_subsection("Contact bond");
+      dist(prm, "tensile strength", "0", "Tensile strength [Pa]");
+      dist(prm, "shear strength", "0", "Shear strength [Pa]");
+      prm.leave_subsection();
+      prm.enter_subsection("Parallel bond");
+      prm.declare_entry("radius multiplier", "1", Patterns::Double(), "pb_rmul");
+      prm.declare_entry("bond effective modulus", "0", Patterns::Double(), "pb_bemod [Pa]");
+      prm.declare_entry("bond stiffness ratio", "1", Patterns::Double(), "pb_bkrat");
+      prm.declare_entry("moment contribution factor", "0", Patterns::Double(), "pb_mcf");
+      dist(prm, "tensile strength", "0", "Tensile strength [Pa]");
+      dist(prm, "cohesion", "0", "Cohesion [Pa]");
+      prm.declare_entry("friction angle", "0", Patterns::Double(), "[deg]");
+      prm.leave_subsection();
+      prm.enter_subsection("Flat joint");
+      prm.declare_entry("bonded fraction", "1", Patterns::Double(), "phi_B");
+      prm.declare_entry("gapped fraction", "0", Patterns::Double(),
+                        "phi_G (slit fraction = 1 - phi_B - phi_G)");
+      dist(prm, "gap", "0", "Initial surface gap of gapped joints [m]");
+      prm.declare_entry("radial elements", "2", Patterns::Integer(1), "N_r (2D: elements)");
+      prm.declare_entry("circumferential elements", "4", Patterns::Integer(3), "N_alpha (3D)");
+      prm.declare_entry("radius multiplier code", "0", Patterns::Integer(0, 2),
+                        "0 fixed, 1 valid non-uniform, 2 valid uniform (fistPkg §2.6.2)");
+      prm.declare_entry("radius multiplier", "1", Patterns::Double(), "lambda");
+      dist(prm, "tensile strength", "0", "Tensile strength [Pa]");
+      dist(prm, "cohesion", "0", "Cohesion [Pa]");
+      prm.declare_entry("friction angle", "0", Patterns::Double(), "[deg]");
+      prm.leave_subsection();
+      prm.leave_subsection();
+
+      prm.enter_subsection("Vessel");
+      prm.declare_entry("shape", "box", Patterns::Selection("box|cylinder"), "cylinder: 3D only");
+      prm.declare_entry("height", "0.1", Patterns::Double(), "H (axial) [m]");
+      prm.declare_entry("width", "0.05", Patterns::Double(), "W (x; cylinder diameter) [m]");
+      prm.declare_entry("depth", "0.05", Patterns::Double(), "D (y, 3D box) [m]");
+      prm.declare_entry("expansion factor", "1.2", Patterns::Double(), ">= 1");
+      prm.declare_entry("wall effective modulus", "0", Patterns::Double(),
+                        "E* of grain-wall contacts [Pa]; 0: linear effective modulus");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Packing");
+      prm.declare_entry("method", "grain-scaling",
+                        Patterns::Selection("grain-scaling|boundary-contraction"), "fistPkg §4.2.1");
+      prm.declare_entry("material pressure", "1e6", Patterns::Double(),
+                        "P_m [Pa] (compression positive)");
+      prm.declare_entry("pressure tolerance", "0.01", Patterns::Double(), "eps_P");
+      prm.declare_entry("ratio limit", "8e-3", Patterns::Double(), "ft_eq ratio limit");
+      prm.declare_entry("step limit", "2000000", Patterns::Integer(1), "ft_eq step limit");
+      prm.declare_entry("cloud porosity", "-1", Patterns::Double(), "n_c; < 0: Table 7 default");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Tests");
+      prm.declare_entry("tests", "ucs, brazilian, direct tension",
+                        Patterns::List(Patterns::Selection(
+                            "ucs|triaxial|uniaxial strain|brazilian|direct tension"),
+                                       1),
+                        "Tests to run, each on a fresh specimen");
+      prm.declare_entry("strain rate", "0.1", Patterns::Double(), "Axial strain rate [1/s] (> 0)");
+      prm.declare_entry("confining pressure", "10e6", Patterns::Double(),
+                        "P_c [Pa] of the triaxial / uniaxial-strain tests (>= 0)");
+      prm.declare_entry("load fraction", "0.7", Patterns::Double(),
+                        "Test ends when the load falls below this fraction of its peak (0, 1)");
+      prm.declare_entry("strain limit", "0.02", Patterns::Double(), "|axial strain| limit (0, 1]");
+      prm.declare_entry("step limit", "400000", Patterns::Integer(1), "Loading steps limit");
+      prm.declare_entry("history interval", "50", Patterns::Integer(1), "Steps per history row");
+      prm.declare_entry("grip thickness", "0.1", Patterns::Double(), "t_g / H (direct tension)");
+      prm.declare_entry("platen friction", "0.5", Patterns::Double(),
+                        "Brazilian platen friction (fistPkg: frictionless; a small 2D disk "
+                        "between frictionless platens can slide out sideways) (>= 0)");
+      prm.declare_entry("fit window low", "0.1", Patterns::Double(), "E/nu fit from this fraction");
+      prm.declare_entry("fit window high", "0.5", Patterns::Double(), "... to this fraction of peak");
+      prm.declare_entry("crack initiation fraction", "0.01", Patterns::Double(),
+                        "Crack initiation when cracks reach this fraction of those at peak");
+      prm.declare_entry("seating ratio limit", "1e-4", Patterns::Double(), "ft_eq ratio of seating");
+      prm.declare_entry("seating step limit", "20000", Patterns::Integer(0), "");
+      prm.declare_entry("loading rate check", "false", Patterns::Bool(),
+                        "Repeat each test at half the strain rate and report the change of peak "
+                        "strength (fistPkg §5.4)");
+      prm.leave_subsection();
+    }
+
+    // "Section/sub/key=value" -> prm.set inside the sections.
+    void apply_override(ParameterHandler &prm, const std::string &arg)
+    {
+      const auto eq = arg.find('=');
+      AssertThrow(eq != std::string::npos && eq > 0,
+                  ExcMessage("--set expects \"Section/key=value\", got \"" + arg + "\""));
+      const std::string        path = arg.substr(0, eq), value = arg.substr(eq + 1);
+      std::vector<std::string> parts;
+      std::stringstream        ss(path);
+      for (std::string p; std::getline(ss, p, '/');)
+        parts.push_back(p);
+      AssertThrow(parts.size() >= 2,
+                  ExcMessage("--set \"" + arg + "\": the key needs its section, e.g. "
+                             "\"Material/seed=2\""));
+      std::size_t entered = 0;
+      try
+        {
+          for (; entered + 1 < parts.size(); ++entered)
+            prm.enter_subsection(parts[entered]);
+          prm.set(parts.back(), value);
+        }
+      catch (...)
+        {
+          for (std::size_t i = 0; i < entered; ++i)
+            prm.leave_subsection();
+          throw;
+        }
+      for (std::size_t i = 0; i < entered; ++i)
+        prm.leave_subsection();
+    }
+
+    std::string exception_text(const std::exception &e)
+    {
+      if (const auto *d = dynamic_cast<const ExceptionBase *>(&e))
+        {
+          std::ostringstream s;
+          d->print_info(s);
+          std::string t = s.str();
+          const auto  b = t.find_first_not_of(" \n\t");
+          const auto  l = t.find_last_not_of(" \n\t");
+          return b == std::string::npos ? d->get_exc_name() : t.substr(b, l - b + 1);
+        }
+      return e.what();
+    }
+
+    using Settings = CalibrateSettings;
+
+    // Physical checks that patterns cannot express name the key, the file
+    // and the allowed range (DESIGN §8).
+    void check(const std::string &where, const std::string &key, double v, double lo, double hi,
+               bool lo_open = false, bool hi_open = false)
+    {
+      dem::check_range(where, key, v, lo, hi, lo_open, hi_open);
+    }
+
+    dem::Distribution read_dist(ParameterHandler &prm, const std::string &where,
+                                const std::string &section, const std::string &name)
+    {
+      dem::Distribution d{prm.get_double(name + " mean"), prm.get_double(name + " sd")};
+      check(where, section + name + " mean", d.mean, 0, HUGE_VAL);
+      check(where, section + name + " sd", d.sd, 0, HUGE_VAL);
+      return d;
+    }
+
+    std::vector<dem::SizePiece> parse_sizes(const std::string &text, const std::string &where)
+    {
+      const std::string           key = "Material/size distribution";
+      std::vector<dem::SizePiece> pieces;
+      std::stringstream           all(text);
+      double                      sum = 0;
+      for (std::string item; std::getline(all, item, ';');)
+        {
+          std::stringstream s(item);
+          std::string       kind;
+          s >> kind;
+          if (kind.empty())
+            continue;
+          dem::SizePiece p;
+          std::vector<double> v;
+          for (double x; s >> x;)
+            v.push_back(x);
+          const bool bad_tail = !s.eof();
+          if (kind == "uniform" && v.size() == 3 && !bad_tail)
+            p.d_lo = v[0], p.d_hi = v[1], p.volume_fraction = v[2];
+          else if (kind == "gaussian" && v.size() == 5 && !bad_tail)
+            {
+              p.gaussian = true;
+              p.mean = v[0], p.sd = v[1], p.d_lo = v[2], p.d_hi = v[3], p.volume_fraction = v[4];
+            }
+          else
+            throw dem::InputError(
+                where + ": " + key + ": cannot read piece '" + item +
+                "' (allowed: 'uniform D_lo D_hi fraction' or 'gaussian mean sd D_lo D_hi "
+                "fraction', pieces separated by ';')");
+          if (p.gaussian)
+            {
+              check(where, key + " (gaussian mean)", p.mean, 0, HUGE_VAL, true);
+              check(where, key + " (gaussian sd)", p.sd, 0, HUGE_VAL);
+              check(where, key + " (D_lo)", p.d_lo, 0, HUGE_VAL);
+              if (p.d_hi != 0)
+                check(where, key + " (D_hi)", p.d_hi, p.d_lo, HUGE_VAL, true);
+            }
+          else
+            {
+              check(where, key + " (D_lo)", p.d_lo, 0, HUGE_VAL, true);
+              check(where, key + " (D_hi)", p.d_hi, p.d_lo, HUGE_VAL);
+            }
+          check(where, key + " (volume fraction)", p.volume_fraction, 0, 1, true);
+          sum += p.volume_fraction;
+          pieces.push_back(p);
+        }
+      if (pieces.empty())
+        throw dem::InputError(where + ": " + key + ": no size piece given");
+      if (std::abs(sum - 1) > 1e-9)
+        {
+          std::ostringstream m;
+          m << where << ": " << key << ": volume fractions sum to " << sum
+            << "; they must sum to 1";
+          throw dem::InputError(m.str());
+        }
+      return pieces;
+    }
+
+    Settings read_settings(ParameterHandler &prm, const std::string &where)
+    {
+      Settings s;
+      s.where = where;
+      prm.enter_subsection("Problem");
+      s.dim = prm.get_integer("dimension");
+      s.out = prm.get("output directory");
+      s.vtk = prm.get_bool("vtk");
+      prm.leave_subsection();
+      if (s.out.empty())
+        throw dem::InputError(where + ": Problem/output directory must not be empty");
+
+      auto &m = s.mat;
+      prm.enter_subsection("Material");
+      m.type                = prm.get("type");
+      m.sizes               = parse_sizes(prm.get("size distribution"), where);
+      m.diameter_multiplier = prm.get_double("diameter multiplier");
+      check(where, "Material/diameter multiplier", m.diameter_multiplier, 0, HUGE_VAL, true);
+      s.n_grains = prm.get_double("number of grains");
+      check(where, "Material/number of grains", s.n_grains, 0, 1e8);
+      m.density = prm.get_double("density");
+      check(where, "Material/density", m.density, 0, HUGE_VAL, true);
+      m.bulk_density  = prm.get_bool("bulk density");
+      m.local_damping = prm.get_double("local damping");
+      check(where, "Material/local damping", m.local_damping, 0, 1, false, true);
+      m.seed     = prm.get_integer("seed");
+      m.lnm_emod = prm.get_double("linear effective modulus");
+      m.lnm_krat = prm.get_double("linear stiffness ratio");
+      m.lnm_fric = prm.get_double("linear friction");
+      m.emod     = prm.get_double("effective modulus");
+      m.krat     = prm.get_double("stiffness ratio");
+      m.fric     = prm.get_double("friction");
+      m.igap     = prm.get_double("installation gap");
+      check(where, "Material/linear effective modulus", m.lnm_emod, 0, HUGE_VAL, true);
+      check(where, "Material/linear stiffness ratio", m.lnm_krat, 0, HUGE_VAL, true);
+      check(where, "Material/linear friction", m.lnm_fric, 0, HUGE_VAL);
+      if (m.is_bonded())
+        {
+          check(where, "Material/effective modulus", m.emod, 0, HUGE_VAL, true);
+          check(where, "Material/stiffness ratio", m.krat, 0, HUGE_VAL, true);
+        }
+      check(where, "Material/friction", m.fric, 0, HUGE_VAL);
+      check(where, "Material/installation gap", m.igap, 0, HUGE_VAL);
+      prm.enter_subsection("Contact bond");
+      m.cb_tens   = read_dist(prm, where, "Material/Contact bond/", "tensile strength");
+      m.cb_shears = read_dist(prm, where, "Material/Contact bond/", "shear strength");
+      prm.leave_subsection();
+      prm.enter_subsection("Parallel bond");
+      const std::string pb = "Material/Parallel bond/";
+      m.pb_rmul  = prm.get_double("radius multiplier");
+      m.pb_bemod = prm.get_double("bond effective modulus");
+      m.pb_bkrat = prm.get_double("bond stiffness ratio");
+      m.pb_mcf   = prm.get_double("moment contribution factor");
+      m.pb_ten   = read_dist(prm, where, pb, "tensile strength");
+      m.pb_coh   = read_dist(prm, where, pb, "cohesion");
+      m.pb_fa    = prm.get_double("friction angle");
+      check(where, pb + "radius multiplier", m.pb_rmul, 0, HUGE_VAL, true);
+      check(where, pb + "moment contribution factor", m.pb_mcf, 0, 1);
+      check(where, pb + "friction angle", m.pb_fa, 0, 90, false, true);
+      prm.leave_subsection();
+      prm.enter_subsection("Flat joint");
+      const std::string fj = "Material/Flat joint/";
+      m.fj_B         = prm.get_double("bonded fraction");
+      m.fj_G         = prm.get_double("gapped fraction");
+      m.fj_gap       = read_dist(prm, where, fj, "gap");
+      m.fj_Nr        = prm.get_integer("radial elements");
+      m.fj_Nal       = prm.get_integer("circumferential elements");
+      m.fj_rmul_code = prm.get_integer("radius multiplier code");
+      m.fj_rmul      = prm.get_double("radius multiplier");
+      m.fj_ten       = read_dist(prm, where, fj, "tensile strength");
+      m.fj_coh       = read_dist(prm, where, fj, "cohesion");
+      m.fj_fa        = prm.get_double("friction angle");
+      check(where, fj + "bonded fraction", m.fj_B, 0, 1);
+      check(where, fj + "gapped fraction", m.fj_G, 0, 1 - m.fj_B);
+      check(where, fj + "radius multiplier", m.fj_rmul, 0, 1, true);
+      check(where, fj + "friction angle", m.fj_fa, 0, 90, false, true);
+      prm.leave_subsection();
+      prm.leave_subsection();
+
+      auto &v = s.vessel;
+      prm.enter_subsection("Vessel");
+      v.shape  = prm.get("shape");
+      v.H      = prm.get_double("height");
+      v.W      = prm.get_double("width");
+      v.D      = s.dim == 3 ? prm.get_double("depth") : 1.0;
+      v.expand = prm.get_double("expansion factor");
+      v.emod   = prm.get_double("wall effective modulus");
+      check(where, "Vessel/height", v.H, 0, HUGE_VAL, true);
+      check(where, "Vessel/width", v.W, 0, HUGE_VAL, true);
+      check(where, "Vessel/depth", v.D, 0, HUGE_VAL, true);
+      check(where, "Vessel/expansion factor", v.expand, 1, HUGE_VAL);
+      check(where, "Vessel/wall effective modulus", v.emod, 0, HUGE_VAL);
+      if (s.dim == 2 && v.shape == "cylinder")
+        throw dem::InputError(where + ": Vessel/shape: 'cylinder' needs Problem/dimension = 3 "
+                                      "(allowed in 2D: box)");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Packing");
+      m.packing        = prm.get("method");
+      m.Pm             = prm.get_double("material pressure");
+      m.P_tol          = prm.get_double("pressure tolerance");
+      m.ratio_limit    = prm.get_double("ratio limit");
+      m.step_limit     = prm.get_integer("step limit");
+      m.cloud_porosity = prm.get_double("cloud porosity");
+      check(where, "Packing/material pressure", m.Pm, 0, HUGE_VAL);
+      check(where, "Packing/pressure tolerance", m.P_tol, 0, 1, true);
+      check(where, "Packing/ratio limit", m.ratio_limit, 0, 1, true);
+      if (m.cloud_porosity >= 0)
+        check(where, "Packing/cloud porosity", m.cloud_porosity, 0, 1, true, true);
+      prm.leave_subsection();
+
+      auto &l = s.lab;
+      prm.enter_subsection("Tests");
+      for (const auto &name : Utilities::split_string_list(prm.get("tests")))
+        for (const auto &t : known_tests)
+          if (t.name == name)
+            s.tests.push_back(t);
+      l.strain_rate      = prm.get_double("strain rate");
+      l.Pc               = prm.get_double("confining pressure");
+      l.load_fraction    = prm.get_double("load fraction");
+      l.strain_limit     = prm.get_double("strain limit");
+      l.step_limit       = prm.get_integer("step limit");
+      l.history_interval = prm.get_integer("history interval");
+      l.grip_thickness   = prm.get_double("grip thickness");
+      l.platen_friction  = prm.get_double("platen friction");
+      l.fit_lo           = prm.get_double("fit window low");
+      l.fit_hi           = prm.get_double("fit window high");
+      l.crack_initiation_fraction = prm.get_double("crack initiation fraction");
+      l.ratio_limit      = prm.get_double("seating ratio limit");
+      l.seat_step_limit  = prm.get_integer("seating step limit");
+      s.rate_check       = prm.get_bool("loading rate check");
+      const std::string t = "Tests/";
+      check(where, t + "strain rate", l.strain_rate, 0, HUGE_VAL, true);
+      check(where, t + "confining pressure", l.Pc, 0, HUGE_VAL);
+      check(where, t + "load fraction", l.load_fraction, 0, 1, true, true);
+      check(where, t + "strain limit", l.strain_limit, 0, 1, true);
+      check(where, t + "grip thickness", l.grip_thickness, 0, 0.5, true, true);
+      check(where, t + "platen friction", l.platen_friction, 0, HUGE_VAL);
+      check(where, t + "fit window low", l.fit_lo, 0, 1, false, true);
+      check(where, t + "fit window high", l.fit_hi, l.fit_lo, 1, true);
+      check(where, t + "crack initiation fraction", l.crack_initiation_fraction, 0, 1, true);
+      check(where, t + "seating ratio limit", l.ratio_limit, 0, 1, true);
+      prm.leave_subsection();
+
+      // The library's own checks (same ranges; any remaining combination).
+      m.validate(where, s.dim);
+      v.validate(where, s.dim);
+      l.validate(where, s.dim);
+      return s;
+    }
+  } // namespace
+
+  int run_calibrate(int argc, char **argv)
+  {
+    try
+      {
+        std::string              file;
+        std::vector<std::string> overrides;
+        bool                     print = false;
+        for (int i = 1; i < argc; ++i)
+          {
+            const std::string a = argv[i];
+            if (a == "--help" || a == "-h")
+              {
+                std::cout << usage;
+                return 0;
+              }
+            else if (a == "--print-parameters")
+              print = true;
+            else if (a == "--set")
+              {
+                AssertThrow(i + 1 < argc, ExcMessage("--set needs an argument"));
+                overrides.emplace_back(argv[++i]);
+              }
+            else if (a.rfind("--set=", 0) == 0)
+              overrides.push_back(a.substr(6));
+            else if (a.rfind("-", 0) == 0)
+              {
+                AssertThrow(false, ExcMessage("unknown option '" + a + "' (see --help)"));
+              }
+            else
+              {
+                AssertThrow(file.empty(), ExcMessage("more than one parameter file given"));
+                file = a;
+              }
+          }
+        ParameterHandler prm;
+        declare_parameters(prm);
+        if (!file.empty())
+          {
+            AssertThrow(fs::is_regular_file(file),
+                        ExcMessage("parameter file '" + file + "' does not exist"));
+            prm.parse_input(file);
+          }
+        else
+          {
+            AssertThrow(print, ExcMessage(std::string("no parameter file given\n") + usage));
+          }
+        for (const auto &o : overrides)
+          try
+            {
+              apply_override(prm, o);
+            }
+          catch (const std::exception &e)
+            {
+              AssertThrow(false, ExcMessage("--set \"" + o + "\": " + exception_text(e)));
+            }
+        if (print)
+          {
+            prm.print_parameters(std::cout, ParameterHandler::Text);
+            return 0;
+          }
+        const Settings s = read_settings(prm, file);
+        return s.dim == 2 ? run_calibration<2>(s) : run_calibration<3>(s);
+      }
+    catch (const std::exception &e)
+      {
+        std::cerr << "demfem calibrate: error: " << exception_text(e) << std::endl;
+        return 1;
+      }
+  }
+} // namespace demfem::apps

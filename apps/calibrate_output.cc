@@ -1,0 +1,160 @@
+// Output helpers of `demfem calibrate` (see calibrate_output.h).
+#include "apps/calibrate_output.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace demfem::apps
+{
+  namespace
+  {
+    std::string quote(const std::string &s)
+    {
+      std::string o = "\"";
+      for (char c : s)
+        {
+          if (c == '"' || c == '\\')
+            o += '\\';
+          if (c == '\n')
+            {
+              o += "\\n";
+              continue;
+            }
+          o += c;
+        }
+      return o + "\"";
+    }
+
+    std::string number(double v)
+    {
+      if (!std::isfinite(v))
+        return "null";
+      std::ostringstream s;
+      s << std::setprecision(17) << v;
+      return s.str();
+    }
+
+    std::string xml(const std::string &s)
+    {
+      std::string o;
+      for (char c : s)
+        if (c == '<')
+          o += "&lt;";
+        else if (c == '>')
+          o += "&gt;";
+        else if (c == '&')
+          o += "&amp;";
+        else
+          o += c;
+      return o;
+    }
+
+    // "Nice" tick step (1, 2, 5 x 10^k) giving about n intervals.
+    double tick_step(double range, int n)
+    {
+      if (!(range > 0))
+        return 1;
+      const double raw = range / n, p = std::pow(10.0, std::floor(std::log10(raw)));
+      for (double m : {1.0, 2.0, 5.0, 10.0})
+        if (m * p >= raw)
+          return m * p;
+      return 10 * p;
+    }
+  } // namespace
+
+  Json &Json::num(const std::string &key, double v)
+  {
+    items_.emplace_back(key, number(v));
+    is_obj_.push_back(false);
+    return *this;
+  }
+  Json &Json::str(const std::string &key, const std::string &v)
+  {
+    items_.emplace_back(key, quote(v));
+    is_obj_.push_back(false);
+    return *this;
+  }
+  Json &Json::obj(const std::string &key, const Json &v)
+  {
+    items_.emplace_back(key, std::to_string(objs_.size()));
+    is_obj_.push_back(true);
+    objs_.push_back(v);
+    return *this;
+  }
+  std::string Json::text(int indent) const
+  {
+    const std::string pad(indent + 2, ' ');
+    std::string       o = "{\n";
+    for (std::size_t i = 0; i < items_.size(); ++i)
+      {
+        o += pad + quote(items_[i].first) + ": ";
+        o += is_obj_[i] ? objs_[std::stoul(items_[i].second)].text(indent + 2) : items_[i].second;
+        o += i + 1 < items_.size() ? ",\n" : "\n";
+      }
+    return o + std::string(indent, ' ') + "}";
+  }
+
+  std::string history_csv(const std::vector<dem::HistoryRow> &h)
+  {
+    std::ostringstream s;
+    s << "step,time_s,axial_strain,lateral_strain,gauge_axial_strain,volumetric_strain,"
+         "axial_stress_Pa,region_axial_stress_Pa,region_lateral_stress_Pa,axial_force_N,"
+         "load,cracks_tension,cracks_shear\n";
+    s << std::setprecision(10);
+    for (const auto &r : h)
+      s << r.step << ',' << r.time << ',' << r.axial_strain << ',' << r.lateral_strain << ','
+        << r.gauge_axial_strain << ',' << r.volumetric_strain << ',' << r.axial_stress << ','
+        << r.region_axial_stress << ',' << r.region_lateral_stress << ',' << r.axial_force
+        << ',' << r.load << ',' << r.cracks_tension << ',' << r.cracks_shear << '\n';
+    return s.str();
+  }
+
+  std::string svg_plot(const std::string &title, const std::string &xlabel,
+                       const std::string &ylabel, const std::vector<double> &x,
+                       const std::vector<double> &y)
+  {
+    const double W = 640, Hh = 440, l = 80, r = 20, t = 40, b = 60;
+    double       x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+    for (std::size_t i = 0; i < x.size() && i < y.size(); ++i)
+      if (std::isfinite(x[i]) && std::isfinite(y[i]))
+        x0 = std::min(x0, x[i]), x1 = std::max(x1, x[i]), y0 = std::min(y0, y[i]),
+        y1 = std::max(y1, y[i]);
+    const double dx = tick_step(x1 - x0, 6), dy = tick_step(y1 - y0, 6);
+    x0 = std::floor(x0 / dx) * dx, x1 = std::ceil(x1 / dx) * dx;
+    y0 = std::floor(y0 / dy) * dy, y1 = std::ceil(y1 / dy) * dy;
+    if (x1 <= x0)
+      x1 = x0 + 1;
+    if (y1 <= y0)
+      y1 = y0 + 1;
+    auto X = [&](double v) { return l + (v - x0) / (x1 - x0) * (W - l - r); };
+    auto Y = [&](double v) { return Hh - b - (v - y0) / (y1 - y0) * (Hh - t - b); };
+    std::ostringstream s;
+    s << std::setprecision(6);
+    s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << Hh
+      << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+      << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+      << "<text x=\"" << W / 2 << "\" y=\"24\" text-anchor=\"middle\" font-size=\"15\">"
+      << xml(title) << "</text>\n";
+    for (double v = x0; v <= x1 + 0.5 * dx; v += dx)
+      s << "<line x1=\"" << X(v) << "\" y1=\"" << t << "\" x2=\"" << X(v) << "\" y2=\""
+        << Hh - b << "\" stroke=\"#ddd\"/>\n<text x=\"" << X(v) << "\" y=\"" << Hh - b + 16
+        << "\" text-anchor=\"middle\">" << (std::abs(v) < 1e-12 * dx ? 0.0 : v) << "</text>\n";
+    for (double v = y0; v <= y1 + 0.5 * dy; v += dy)
+      s << "<line x1=\"" << l << "\" y1=\"" << Y(v) << "\" x2=\"" << W - r << "\" y2=\""
+        << Y(v) << "\" stroke=\"#ddd\"/>\n<text x=\"" << l - 6 << "\" y=\"" << Y(v) + 4
+        << "\" text-anchor=\"end\">" << (std::abs(v) < 1e-12 * dy ? 0.0 : v) << "</text>\n";
+    s << "<rect x=\"" << l << "\" y=\"" << t << "\" width=\"" << W - l - r << "\" height=\""
+      << Hh - t - b << "\" fill=\"none\" stroke=\"black\"/>\n";
+    s << "<polyline fill=\"none\" stroke=\"#c00\" stroke-width=\"1.5\" points=\"";
+    for (std::size_t i = 0; i < x.size() && i < y.size(); ++i)
+      if (std::isfinite(x[i]) && std::isfinite(y[i]))
+        s << X(x[i]) << ',' << Y(y[i]) << ' ';
+    s << "\"/>\n<text x=\"" << (l + W - r) / 2 << "\" y=\"" << Hh - 18
+      << "\" text-anchor=\"middle\">" << xml(xlabel) << "</text>\n"
+      << "<text transform=\"translate(20," << (t + Hh - b) / 2
+      << ") rotate(-90)\" text-anchor=\"middle\">" << xml(ylabel) << "</text>\n</svg>\n";
+    return s.str();
+  }
+} // namespace demfem::apps

@@ -1,0 +1,339 @@
+// The run of `demfem calibrate`: genesis, tests, material.json (see
+// calibrate.h). Each test runs on a fresh specimen of the same seed (same
+// packing, fistPkg §4.2), so the tests do not see each other's damage.
+#include "apps/calibrate.h"
+#include "apps/calibrate_output.h"
+#include "dem/measurement.h"
+#include "dem/vtk_output.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <memory>
+#include <iostream>
+#include <sstream>
+
+namespace demfem::apps
+{
+  namespace
+  {
+    namespace fs = std::filesystem;
+    using Clock  = std::chrono::steady_clock;
+
+    double seconds_since(Clock::time_point t0)
+    {
+      return std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+
+    std::string file_name(const std::string &test)
+    {
+      std::string s = test;
+      for (auto &c : s)
+        if (c == ' ')
+          c = '_';
+      return s;
+    }
+
+    // Progress line on stderr (phase, step, stress, cracks, ETA), at most
+    // every 0.5 s on a terminal and every 5 s into a file.
+    class Progress
+    {
+    public:
+      explicit Progress(std::string test)
+        : test_(std::move(test))
+        , tty_(isatty(2))
+      {}
+      void operator()(const dem::LabProgress &g)
+      {
+        const double t = seconds_since(t0_);
+        if (t - last_ < (tty_ ? 0.5 : 5.0))
+          return;
+        last_ = t;
+        std::ostringstream s;
+        s.precision(4);
+        s << "[" << test_ << "] " << g.phase << " step " << g.step << "  stress "
+          << g.stress / 1e6 << " MPa  strain " << g.strain << "  cracks " << g.cracks;
+        if (g.fraction_done > 0.01)
+          s << "  ETA " << std::lround(t * (1 - g.fraction_done) / g.fraction_done) << " s";
+        std::cerr << (tty_ ? "\r" : "") << s.str() << (tty_ ? "\033[K" : "\n") << std::flush;
+      }
+      ~Progress()
+      {
+        if (tty_ && last_ > 0)
+          std::cerr << "\n";
+      }
+
+    private:
+      std::string       test_;
+      bool              tty_;
+      Clock::time_point t0_   = Clock::now();
+      double            last_ = 0;
+    };
+
+    Json microparameters(const dem::MaterialParams &m, const dem::VesselParams &v)
+    {
+      Json j;
+      j.str("type", m.type);
+      Json sizes;
+      for (std::size_t i = 0; i < m.sizes.size(); ++i)
+        {
+          const auto &p = m.sizes[i];
+          Json        q;
+          q.str("kind", p.gaussian ? "gaussian" : "uniform")
+              .num("D_lo_m", p.d_lo)
+              .num("D_hi_m", p.d_hi)
+              .num("mean_m", p.mean)
+              .num("sd_m", p.sd)
+              .num("volume_fraction", p.volume_fraction);
+          sizes.obj("piece_" + std::to_string(i), q);
+        }
+      j.obj("size_distribution", sizes);
+      j.num("diameter_multiplier", m.diameter_multiplier)
+          .num("density_kg_m3", m.density)
+          .num("bulk_density", m.bulk_density)
+          .num("local_damping", m.local_damping)
+          .num("seed", double(m.seed))
+          .num("lnm_emod_Pa", m.lnm_emod)
+          .num("lnm_krat", m.lnm_krat)
+          .num("lnm_fric", m.lnm_fric)
+          .num("emod_Pa", m.emod)
+          .num("krat", m.krat)
+          .num("fric", m.fric)
+          .num("igap_m", m.igap);
+      if (m.type == "contactbonded")
+        j.num("cb_tens_mean_Pa", m.cb_tens.mean)
+            .num("cb_tens_sd_Pa", m.cb_tens.sd)
+            .num("cb_shears_mean_Pa", m.cb_shears.mean)
+            .num("cb_shears_sd_Pa", m.cb_shears.sd);
+      if (m.type == "parallelbonded")
+        j.num("pb_rmul", m.pb_rmul)
+            .num("pb_bemod_Pa", m.pb_bemod)
+            .num("pb_bkrat", m.pb_bkrat)
+            .num("pb_mcf", m.pb_mcf)
+            .num("pb_ten_mean_Pa", m.pb_ten.mean)
+            .num("pb_ten_sd_Pa", m.pb_ten.sd)
+            .num("pb_coh_mean_Pa", m.pb_coh.mean)
+            .num("pb_coh_sd_Pa", m.pb_coh.sd)
+            .num("pb_fa_deg", m.pb_fa);
+      if (m.type == "flatjointed")
+        j.num("fj_B", m.fj_B)
+            .num("fj_G", m.fj_G)
+            .num("fj_S", 1 - m.fj_B - m.fj_G)
+            .num("fj_gap_mean_m", m.fj_gap.mean)
+            .num("fj_gap_sd_m", m.fj_gap.sd)
+            .num("fj_Nr", m.fj_Nr)
+            .num("fj_Nal", m.fj_Nal)
+            .num("fj_rmul_code", m.fj_rmul_code)
+            .num("fj_rmul", m.fj_rmul)
+            .num("fj_ten_mean_Pa", m.fj_ten.mean)
+            .num("fj_ten_sd_Pa", m.fj_ten.sd)
+            .num("fj_coh_mean_Pa", m.fj_coh.mean)
+            .num("fj_coh_sd_Pa", m.fj_coh.sd)
+            .num("fj_fa_deg", m.fj_fa);
+      j.str("packing", m.packing)
+          .num("Pm_Pa", m.Pm)
+          .num("P_tol", m.P_tol)
+          .num("ratio_limit", m.ratio_limit)
+          .num("cloud_porosity", m.cloud_porosity)
+          .str("vessel_shape", v.shape)
+          .num("vessel_H_m", v.H)
+          .num("vessel_W_m", v.W)
+          .num("vessel_D_m", v.D)
+          .num("vessel_wall_emod_Pa", v.emod);
+      return j;
+    }
+
+    template <int dim>
+    void write_snapshot(const std::string &dir, const std::string &base,
+                        const dem::Specimen<dim> &sp, bool contacts)
+    {
+      dem::vtkout::write_particles(dir + "/" + base + "_particles.vtp", sp.model);
+      dem::vtkout::write_cracks(dir + "/" + base + "_cracks.vtp", sp.model.cracks);
+      if (contacts)
+        dem::vtkout::write_contacts(dir + "/" + base + "_contacts.vtp", sp.model);
+    }
+
+    Json result_json(const dem::LabTestResult &r, int dim)
+    {
+      Json j;
+      j.str("kind", dem::test_kind_name(r.kind))
+          .str("ended_by", r.ended_by)
+          .num("seating_steps", double(r.seating_steps))
+          .num("loading_steps", double(r.loading_steps))
+          .num("peak_Pa", r.peak)
+          .num("peak_strain", r.peak_strain)
+          .num("crack_initiation_Pa", r.crack_initiation)
+          .num("cracks_tension_at_peak", double(r.cracks_tension_peak))
+          .num("cracks_shear_at_peak", double(r.cracks_shear_peak))
+          .num("cracks_tension_at_end", double(r.cracks_tension))
+          .num("cracks_shear_at_end", double(r.cracks_shear));
+      if (r.kind == dem::TestKind::compression)
+        {
+          j.num("E_Pa", r.E).num("nu", r.nu).num("E_platen_strain_Pa", r.E_wall);
+          if (dim == 2)
+            j.num("E_plane_stress_Pa", r.E_ps).num("nu_plane_stress", r.nu_ps);
+        }
+      if (r.kind == dem::TestKind::brazilian)
+        j.num("peak_force_N", r.peak_force).num("disk_radius_m", r.R).num("thickness_m", r.t);
+      return j;
+    }
+  } // namespace
+
+  template <int dim>
+  int run_calibration(const CalibrateSettings &s0)
+  {
+    const auto        t_start = Clock::now();
+    CalibrateSettings s       = s0;
+    if (s.n_grains > 0)
+      dem::set_grain_count<dim>(s.mat, s.vessel, s.n_grains);
+    fs::create_directories(s.out);
+    const std::string vtk_dir = s.out + "/vtk";
+    if (s.vtk)
+      fs::create_directories(vtk_dir);
+
+    auto build = [&]() {
+      return dem::build_specimen<dim>(s.mat, s.vessel, &std::cerr, s.where);
+    };
+    std::cerr << "demfem calibrate: genesis (" << dim << "D, " << s.mat.type << ")\n";
+    const auto t_gen = Clock::now();
+    auto       first = std::make_unique<dem::Specimen<dim>>(build());
+    const double genesis_s = seconds_since(t_gen);
+    const double porosity  = first->porosity();
+    const double n_grains  = double(first->n_grains());
+    const auto   counts    = dem::contact_counts(first->model);
+    if (s.vtk)
+      write_snapshot(vtk_dir, "specimen", *first, true);
+    std::cerr << "demfem calibrate: " << n_grains << " grains, porosity " << porosity
+              << ", genesis " << genesis_s << " s\n";
+
+    Json                                   tests_json;
+    std::map<std::string, dem::LabTestResult> results;
+    for (std::size_t k = 0; k < s.tests.size(); ++k)
+      {
+        const auto &t    = s.tests[k];
+        const auto  name = file_name(t.name);
+        auto        sp   = first ? std::move(first) : std::make_unique<dem::Specimen<dim>>(build());
+        dem::LabTestParams lp = s.lab;
+        lp.kind               = t.kind;
+        lp.ctype              = t.ctype;
+        if (t.ctype == dem::CompressionType::unconfined)
+          lp.Pc = 0;
+        Progress                progress(t.name);
+        dem::LabCallbacks<dim>  cb;
+        double                  t_peak = 0, t_end = 0;
+        cb.progress = [&](const dem::LabProgress &g) { progress(g); };
+        if (s.vtk)
+          cb.snapshot = [&](const dem::Specimen<dim> &spec, const std::string &label) {
+            (label == "peak" ? t_peak : t_end) = spec.model.time();
+            write_snapshot(vtk_dir, name + "_" + label, spec, label == "end");
+          };
+        const auto t_test = Clock::now();
+        auto       r      = dem::run_lab_test(*sp, lp, cb);
+        const double test_s = seconds_since(t_test);
+        if (s.vtk)
+          for (const char *what : {"particles", "cracks"})
+            {
+              dem::vtkout::Collection pvd(vtk_dir + "/" + name + "_" + what + ".pvd");
+              pvd.add(t_peak, vtk_dir + "/" + name + "_peak_" + what + ".vtp");
+              pvd.add(t_end, vtk_dir + "/" + name + "_end_" + what + ".vtp");
+            }
+        dem::vtkout::write_text_atomically(s.out + "/history_" + name + ".csv",
+                                           history_csv(r.history));
+        // Stress-strain curve, compression positive for the compression and
+        // Brazilian tests, tension positive for direct tension.
+        const double        sign = t.kind == dem::TestKind::direct_tension ? 1 : -1;
+        std::vector<double> x, y;
+        for (const auto &h : r.history)
+          x.push_back(100 * sign * h.axial_strain), y.push_back(sign * h.axial_stress / 1e6);
+        const std::string ylabel = t.kind == dem::TestKind::brazilian
+                                       ? "F / (pi R t)  [MPa]  (Eq. 24)"
+                                       : "axial stress (platen/grip)  [MPa]";
+        dem::vtkout::write_text_atomically(
+            s.out + "/" + name + "_stress_strain.svg",
+            svg_plot(t.name + " (" + std::to_string(dim) + "D, " +
+                         std::to_string(std::size_t(n_grains)) + " grains)",
+                     "axial strain [%]", ylabel, x, y));
+        Json j = result_json(r, dim);
+        j.num("run_time_s", test_s).num("strain_rate_1_s", lp.strain_rate).num("Pc_Pa", lp.Pc);
+        std::cerr << "demfem calibrate: " << t.name << ": peak " << r.peak / 1e6 << " MPa ("
+                  << r.ended_by << ", " << r.loading_steps << " steps, " << test_s << " s)\n";
+        if (s.rate_check)
+          {
+            auto               sp2 = std::make_unique<dem::Specimen<dim>>(build());
+            dem::LabTestParams l2  = lp;
+            l2.strain_rate *= 0.5;
+            l2.step_limit *= 2;
+            Progress               progress2(t.name + " @ half rate");
+            dem::LabCallbacks<dim> cb2;
+            cb2.progress = [&](const dem::LabProgress &g) { progress2(g); };
+            const auto r2  = dem::run_lab_test(*sp2, l2, cb2);
+            const double d = (r2.peak - r.peak) / r.peak;
+            j.num("peak_half_rate_Pa", r2.peak).num("peak_relative_change_half_rate", d);
+            std::cerr << "demfem calibrate: " << t.name << " at half rate: peak "
+                      << r2.peak / 1e6 << " MPa, relative change " << d << "\n";
+          }
+        tests_json.obj(name, j);
+        results[t.name] = std::move(r);
+      }
+
+    // material.json: the continuum's E, nu from the unconfined test (else
+    // the triaxial one); strengths from their tests; null when not run.
+    const double nan  = std::numeric_limits<double>::quiet_NaN();
+    auto         get  = [&](const std::string &n) -> const dem::LabTestResult * {
+      auto it = results.find(n);
+      return it == results.end() ? nullptr : &it->second;
+    };
+    const dem::LabTestResult *el = get("ucs") ? get("ucs") : get("triaxial");
+    Json mat;
+    mat.num("dim", dim)
+        .num("n_grains", n_grains)
+        .num("porosity", porosity)
+        .num("E", el ? el->E : nan)
+        .num("nu", el ? el->nu : nan)
+        .num("E_plane_stress", el && dim == 2 ? el->E_ps : nan)
+        .num("nu_plane_stress", el && dim == 2 ? el->nu_ps : nan)
+        .num("ucs", get("ucs") ? get("ucs")->peak : nan)
+        .num("triaxial_strength", get("triaxial") ? get("triaxial")->peak : nan)
+        .num("confining_pressure", s.lab.Pc)
+        .num("bts", get("brazilian") ? get("brazilian")->peak : nan)
+        .num("direct_tension", get("direct tension") ? get("direct tension")->peak : nan)
+        .num("crack_initiation", el ? el->crack_initiation : nan);
+    Json units;
+    units.str("E", "Pa").str("nu", "1").str("E_plane_stress", "Pa").str("nu_plane_stress", "1")
+        .str("ucs", "Pa").str("triaxial_strength", "Pa").str("confining_pressure", "Pa")
+        .str("bts", "Pa").str("direct_tension", "Pa").str("crack_initiation", "Pa")
+        .str("porosity", "1").str("n_grains", "1");
+    mat.obj("units", units);
+    mat.str("elastic_constants",
+            dim == 2 ? "E, nu: plane-strain pair for the continuum (DESIGN 7: nu = nu'/(1+nu'), "
+                       "E = E'(1-nu^2)) from the plane-stress fit E', nu' (fistPkg Eq. 19)"
+                     : "E, nu: fistPkg Eq. 18");
+    mat.str("fit_window", "secant least squares between " + std::to_string(s.lab.fit_lo) +
+                              " and " + std::to_string(s.lab.fit_hi) + " of the peak deviator");
+    mat.obj("microparameters", microparameters(s.mat, s.vessel));
+    dem::vtkout::write_text_atomically(s.out + "/material.json", mat.text() + "\n");
+
+    Json sum;
+    sum.str("command", "calibrate")
+        .str("parameter_file", s.where)
+        .num("dim", dim)
+        .num("n_grains", n_grains)
+        .num("porosity", porosity)
+        .num("coordination", counts.coordination)
+        .num("bond_coordination", counts.bond_coordination)
+        .num("genesis_s", genesis_s)
+        .num("wall_time_s", seconds_since(t_start));
+    sum.obj("tests", tests_json);
+    dem::vtkout::write_text_atomically(s.out + "/summary.json", sum.text() + "\n");
+    std::cerr << "demfem calibrate: wrote " << s.out << "/material.json ("
+              << seconds_since(t_start) << " s)\n";
+    return 0;
+  }
+
+  template int run_calibration<2>(const CalibrateSettings &);
+  template int run_calibration<3>(const CalibrateSettings &);
+} // namespace demfem::apps
