@@ -1,0 +1,158 @@
+// `demfem calibrate`: a tiny flat-jointed material runs end to end and
+// writes material.json with every contract key (issue 3, DESIGN §6-7); bad
+// parameter files fail with a message naming the key, and write nothing.
+#include "run_command.h"
+
+#include <catch2/catch.hpp>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using demfem::testing::json_numbers;
+using demfem::testing::run_demfem;
+
+namespace
+{
+  fs::path work_dir()
+  {
+    static const fs::path d =
+        fs::temp_directory_path() / ("demfem_calibrate_test_" + std::to_string(getpid()));
+    fs::create_directories(d);
+    return d;
+  }
+
+  // About 150 grains, weak bonds and a fast rate so that all three tests
+  // reach their peak within a few thousand steps.
+  std::string tiny_prm(const fs::path &out, const std::string &material_extra = "")
+  {
+    std::ostringstream s;
+    s << "subsection Problem\n  set dimension = 2\n  set output directory = " << out.string()
+      << "\n  set vtk = true\nend\n"
+      << "subsection Material\n  set type = flatjointed\n"
+         "  set size distribution = uniform 1.0e-3 1.6e-3 1\n"
+         "  set number of grains = 150\n"
+         "  set linear effective modulus = 40e9\n  set effective modulus = 40e9\n"
+         "  set stiffness ratio = 2\n  set friction = 0.6\n"
+      << material_extra
+      << "  subsection Flat joint\n    set tensile strength mean = 4e6\n"
+         "    set cohesion mean = 40e6\n    set friction angle = 30\n  end\nend\n"
+         "subsection Vessel\n  set height = 0.03\n  set width = 0.015\nend\n"
+         "subsection Packing\n  set material pressure = 1e5\nend\n"
+         "subsection Tests\n  set tests = ucs, brazilian, direct tension\n"
+         "  set strain rate = 2\n  set strain limit = 0.01\n  set history interval = 20\n"
+         "end\n";
+    return s.str();
+  }
+
+  fs::path write(const std::string &name, const std::string &text)
+  {
+    const fs::path p = work_dir() / name;
+    std::ofstream(p) << text;
+    return p;
+  }
+
+  std::string read(const fs::path &p)
+  {
+    std::ifstream     f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  }
+} // namespace
+
+TEST_CASE("calibrate: tiny 2D material end to end", "[calibrate]")
+{
+  const fs::path out = work_dir() / "tiny_out";
+  fs::remove_all(out);
+  const fs::path prm = write("tiny.prm", tiny_prm(out));
+  const auto     r   = run_demfem("calibrate " + prm.string());
+  INFO(r.out);
+  REQUIRE(r.exit_code == 0);
+  const std::string text = read(out / "material.json");
+  const auto        v    = json_numbers(text);
+  for (const char *k : {"E", "nu", "E_plane_stress", "nu_plane_stress", "ucs", "bts",
+                        "direct_tension", "crack_initiation", "porosity", "n_grains", "dim"})
+    {
+      INFO("key " << k);
+      REQUIRE(v.count(k) == 1);
+      CHECK(std::isfinite(v.at(k)));
+    }
+  CHECK(v.at("dim") == 2);
+  // DESIGN §7: the continuum pair is the plane-strain map of the fit.
+  const double nps = v.at("nu_plane_stress");
+  CHECK(v.at("nu") == Approx(nps / (1 + nps)).epsilon(1e-12));
+  CHECK(v.at("E") == Approx(v.at("E_plane_stress") * (1 - v.at("nu") * v.at("nu"))).epsilon(1e-12));
+  // Strengths are positive and ordered as for rock: UCS > BTS, crack
+  // initiation below the peak.
+  CHECK(v.at("ucs") > v.at("bts"));
+  CHECK(v.at("bts") > 0);
+  CHECK(v.at("direct_tension") > 0);
+  CHECK(v.at("crack_initiation") > 0);
+  CHECK(v.at("crack_initiation") < v.at("ucs"));
+  CHECK(v.at("porosity") > 0.05);
+  CHECK(v.at("porosity") < 0.4);
+  for (const char *f : {"summary.json", "history_ucs.csv", "history_brazilian.csv",
+                        "history_direct_tension.csv", "ucs_stress_strain.svg",
+                        "vtk/ucs_particles.pvd", "vtk/ucs_peak_cracks.vtp",
+                        "vtk/specimen_particles.vtp"})
+    {
+      INFO("file " << f);
+      CHECK(fs::is_regular_file(out / f));
+    }
+  // Same seed -> same material.
+  const fs::path out2 = work_dir() / "tiny_out2";
+  fs::remove_all(out2);
+  const auto r2 = run_demfem("calibrate " + prm.string() + " --set \"Problem/output directory=" +
+                             out2.string() + "\" --set \"Tests/tests=ucs\"");
+  REQUIRE(r2.exit_code == 0);
+  const auto v2 = json_numbers(read(out2 / "material.json"));
+  CHECK(v2.at("n_grains") == v.at("n_grains"));
+  CHECK(v2.at("porosity") == v.at("porosity"));
+}
+
+TEST_CASE("calibrate: bad parameter files write nothing", "[calibrate]")
+{
+  struct Case
+  {
+    const char *name, *extra, *expect1, *expect2;
+  };
+  const Case cases[] = {
+      {"fractions", "  set size distribution = uniform 1e-3 2e-3 0.6; uniform 2e-3 3e-3 0.3\n",
+       "Material/size distribution", "sum to 1"},
+      {"negative", "  set size distribution = uniform -1e-3 2e-3 1\n",
+       "Material/size distribution (D_lo)", "allowed range"},
+      {"unknown", "  set colour = red\n", "colour", "bad"},
+      {"fj_fractions", "  subsection Flat joint\n    set bonded fraction = 0.8\n"
+                       "    set gapped fraction = 0.5\n  end\n",
+       "Material/Flat joint/gapped fraction", "allowed range"},
+  };
+  for (const auto &c : cases)
+    {
+      INFO("case " << c.name);
+      const fs::path out = work_dir() / (std::string("bad_") + c.name);
+      fs::remove_all(out);
+      const fs::path prm = write(std::string("bad_") + c.name + ".prm", tiny_prm(out, c.extra));
+      const auto     r   = run_demfem("calibrate " + prm.string());
+      INFO(r.out);
+      CHECK(r.exit_code != 0);
+      CHECK(r.out.find(c.expect1) != std::string::npos);
+      if (std::string(c.name) != "unknown")
+        {
+          CHECK(r.out.find(c.expect2) != std::string::npos);
+          CHECK(r.out.find(prm.string()) != std::string::npos); // names the file
+        }
+      CHECK_FALSE(fs::exists(out));
+    }
+  // --set with a value outside the physical range names the key too.
+  const fs::path out = work_dir() / "bad_set";
+  const fs::path prm = write("ok.prm", tiny_prm(out));
+  const auto     r   = run_demfem("calibrate " + prm.string() + " --set \"Vessel/height=-1\"");
+  CHECK(r.exit_code != 0);
+  CHECK(r.out.find("Vessel/height") != std::string::npos);
+  CHECK_FALSE(fs::exists(out));
+}
