@@ -72,7 +72,8 @@ namespace demfem::coupling
       bool                excavated = false;
       std::string         phase     = "build";
       std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
-      std::int64_t        budget = 0; // expected total steps for the ETA
+      std::int64_t        budget = 0; // expected coupled steps for the ETA (upper bound)
+      std::int64_t        step0  = 0; // steps of the packing
 
       Runner(const TunnelParams &pp, std::ostream &o)
           : p(pp)
@@ -194,7 +195,7 @@ namespace demfem::coupling
       {
         const double el =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        const auto   n   = m.dem.step_count();
+        const auto   n   = m.dem.step_count() - step0;
         const double eta = n > 0 ? el / n * std::max<std::int64_t>(0, budget - n) : 0;
         out << "[" << phase << "] step " << n << "  t = " << std::setprecision(4)
             << m.dem.time() << " s  ratio = " << ur << "  cracks = " << cracks(-1)
@@ -285,7 +286,8 @@ namespace demfem::coupling
         m.set_insitu(p.sigma0);
         r.n_fem_dofs = m.n_fem_dofs();
         r.mean_grain_diameter = p.region.mean_diameter();
-        budget = p.ramp_steps + p.phase_step_limit * (1 + p.stages) / 4;
+        budget = p.ramp_steps + p.phase_step_limit * (2 + p.stages);
+        step0  = m.dem.step_count();
         history.open(dir + "/history.csv");
         history << "step,time,phase,load_factor,unbalanced_ratio,dem_kinetic_energy,"
                    "dem_strain_energy,continuum_kinetic_energy,cracks,cracks_tensile,"

@@ -112,24 +112,11 @@ namespace demfem::coupling
 
   void WallFacetModel::set_insitu(const Eigen::Matrix2d &s0)
   {
+    // Plane-strain in-situ strain of the continuum: eps = ((1 + nu)/E)
+    // (sigma - nu tr(sigma) I) in plane.
     sigma0 = s0;
-    preload_unit.assign(X0.size(), Vec<2>::Zero());
-    // Index of each wall vertex in FEM order.
-    std::vector<std::size_t> fem_of(dem.walls.vertex.size());
-    for (std::size_t k = 0; k < ring_vertex.size(); ++k)
-      fem_of[ring_vertex[k]] = k;
-    for (const auto &f : dem.walls.facet)
-      {
-        const std::size_t a = fem_of[f[0]], b = fem_of[f[1]];
-        const Vec<2>      t = X0[b] - X0[a];
-        Vec<2>            nrm(t[1], -t[0]);
-        nrm /= nrm.norm();
-        if (nrm.dot(X0[a] + X0[b]) > 0) // continuum's outward normal: to the centre
-          nrm = -nrm;
-        const Vec<2> F = -0.5 * t.norm() * (s0 * nrm);
-        preload_unit[a] += F;
-        preload_unit[b] += F;
-      }
+    const double E = cp.young_modulus, nu = cp.poisson_ratio;
+    eps0 = (1 + nu) / E * (s0 - nu * s0.trace() * Eigen::Matrix2d::Identity());
   }
 
   void WallFacetModel::fem_step()
@@ -148,6 +135,22 @@ namespace demfem::coupling
         f[k][1] = F[1];
       }
     fem_->set_interface_forces(f);
+    // Far-field displacement ramp u = lambda eps0 x: the fixed dofs move with
+    // the load-factor increment over this continuum step.
+    const double dl = load_factor - applied_factor;
+    if (dl != 0 || far_moving)
+      {
+        const double          rate = dl / (kp.subcycles * dt_);
+        const Eigen::Matrix2d e    = rate * eps0;
+        fem_->set_fixed_velocity([e](const dealii::Point<2> &x) {
+          dealii::Tensor<1, 2> v;
+          v[0] = e(0, 0) * x[0] + e(0, 1) * x[1];
+          v[1] = e(1, 0) * x[0] + e(1, 1) * x[1];
+          return v;
+        });
+        far_moving     = dl != 0;
+        applied_factor = load_factor;
+      }
     // Force balance: what the continuum holds minus the preload must equal
     // the mean of the forces the grains exerted on the ring (contact sums).
     const auto   held = fem_->interface_force_sum();

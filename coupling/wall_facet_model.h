@@ -20,14 +20,12 @@
 // receives). Common time step dt = safety min(DEM critical, continuum
 // critical / k).
 //
-// In-situ stress. The continuum starts in the uniform stress sigma0 (times
-// a load factor for the ramp): its internal force gains int B^T sigma0,
-// which for a constant sigma0 is the traction sigma0 n on its boundary; the
-// far-field part is taken by the fixed dofs, the interface part is the
-// nodal preload -int N sigma0 n ds on the ring (n: outward normal of the
-// continuum, i.e. towards the region centre; exact for straight Q1 chords).
-// In equilibrium the region then carries sigma0. The fixed far field at R
-// differs from a traction far field by O((b/R)^2).
+// In-situ stress. The continuum starts unstressed; its far-field boundary
+// (fixed, r = R) is moved to u = lambda eps0 x, eps0 the plane-strain strain
+// of sigma0 in the continuum, with the load factor lambda ramped from 0 to 1.
+// A region whose constants match the continuum's then carries sigma0 exactly
+// (homogeneous field); the fixed far field differs from a traction far field
+// by O((a/R)^2) for the excavation.
 #include <deal.II/distributed/tria.h>
 
 #include "coupling/dem_region.h"
@@ -115,7 +113,9 @@ namespace demfem::coupling
     double last_fem_ke = 0;
     int    fem_growth  = 0;
     std::int64_t n_steps = 0;
-    Eigen::Matrix2d sigma0 = Eigen::Matrix2d::Zero();
+    Eigen::Matrix2d sigma0 = Eigen::Matrix2d::Zero(), eps0 = Eigen::Matrix2d::Zero();
+    double          applied_factor = 0;
+    bool            far_moving     = false;
     void   fem_step();
   };
 } // namespace demfem::coupling

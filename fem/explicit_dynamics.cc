@@ -9,6 +9,7 @@
 #include <deal.II/lac/sparsity_tools.h>
 
 #include <cmath>
+#include <map>
 #include <set>
 
 namespace demfem::fem
@@ -104,7 +105,7 @@ namespace demfem::fem
     // Zero-displacement dofs (owned ones; each rank updates only its own).
     // Ghost cells are searched too: an owned dof may lie only on boundary
     // faces of cells owned by another rank.
-    std::set<types::global_dof_index>    fixed;
+    std::map<types::global_dof_index, unsigned int> fixed;
     std::vector<types::global_dof_index> face_dofs(fe.n_dofs_per_face());
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (!cell->is_artificial())
@@ -118,10 +119,17 @@ namespace demfem::fem
                     {
                       const unsigned int c = fe.face_system_to_component_index(i).first;
                       if (c < comps.size() && comps[c] && owned.is_element(face_dofs[i]))
-                        fixed.insert(face_dofs[i]);
+                        fixed.emplace(face_dofs[i], c);
                     }
                 }
-    fixed_dofs.assign(fixed.begin(), fixed.end());
+    fixed_dofs.clear();
+    fixed_component.clear();
+    for (const auto &[dof, c] : fixed)
+      {
+        fixed_dofs.push_back(dof);
+        fixed_component.push_back(c);
+      }
+    fixed_velocity.clear();
 
     // Interface vertices owned by this rank.
     iface_points.clear();
@@ -189,8 +197,8 @@ namespace demfem::fem
         const double acc = (f_ext(i) - work(i)) / mass(i);
         v(i)             = (c1 * v(i) + dt * acc) * c2;
       }
-    for (const auto i : fixed_dofs)
-      v(i) = 0;
+    for (std::size_t k = 0; k < fixed_dofs.size(); ++k)
+      v(fixed_dofs[k]) = fixed_velocity.empty() ? 0.0 : fixed_velocity[k];
     v.compress(VectorOperation::insert);
     u.add(dt, v);
     current_time += dt;
@@ -214,6 +222,21 @@ namespace demfem::fem
       for (unsigned int c = 0; c < dim; ++c)
         r[k][c] = v(iface_dofs[k][c]);
     return r;
+  }
+
+  template <int dim>
+  void ExplicitDynamics<dim>::set_fixed_velocity(
+      const std::function<Tensor<1, dim>(const Point<dim> &)> &vel)
+  {
+    std::map<types::global_dof_index, Point<dim>> support;
+    DoFTools::map_dofs_to_support_points(mapping, dof_handler, support);
+    fixed_velocity.assign(fixed_dofs.size(), 0.0);
+    for (std::size_t k = 0; k < fixed_dofs.size(); ++k)
+      {
+        const auto it = support.find(fixed_dofs[k]);
+        AssertThrow(it != support.end(), ExcMessage("fixed dof without support point"));
+        fixed_velocity[k] = vel(it->second)[fixed_component[k]];
+      }
   }
 
   template <int dim>

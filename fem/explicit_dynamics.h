@@ -22,6 +22,7 @@
 
 #include "fem/mesh.h"
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -72,6 +73,13 @@ namespace demfem::fem
     /** Velocities at the latest half step t - dt/2. */
     std::vector<dealii::Tensor<1, dim>> interface_velocities() const;
 
+    /** Velocity of the zero-displacement dofs from now on: each constrained
+     *  dof moves with component c of v(x) at its support point (default
+     *  zero). Used to ramp a far-field displacement u = eps x (in-situ
+     *  loading of a coupled run). */
+    void set_fixed_velocity(
+        const std::function<dealii::Tensor<1, dim>(const dealii::Point<dim> &)> &v);
+
     /** Sum over the interface vertices of the nodal forces currently held
      *  in the external force vector (all ranks): what the continuum is
      *  actually loaded with, for the coupling's force-balance check. */
@@ -94,6 +102,8 @@ namespace demfem::fem
     dealii::TrilinosWrappers::SparseMatrix       stiffness;
     dealii::TrilinosWrappers::MPI::Vector        mass, u, v, f_ext, work;
     std::vector<dealii::types::global_dof_index> fixed_dofs; // owned only
+    std::vector<double>                          fixed_velocity; // same order
+    std::vector<unsigned int>                    fixed_component; // same order
 
     std::vector<dealii::Point<dim>>                               iface_points;
     std::vector<std::array<dealii::types::global_dof_index, dim>> iface_dofs;

@@ -1,0 +1,96 @@
+// `demfem tunnel` through the executable: divergence is detected and
+// reported (exit 2, diagnosis, no NaN written); bad input names the key,
+// exits 1 and writes nothing.
+#include <catch2/catch.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace
+{
+  struct Run
+  {
+    int         code = -1;
+    std::string text;
+  };
+
+  Run run(const std::string &args)
+  {
+    const std::string log = std::filesystem::temp_directory_path() / "demfem_tunnel_test.log";
+    const std::string cmd = std::string(DEMFEM_EXE) + " tunnel " + std::string(DEMFEM_SOURCE_DIR) +
+                            "/apps/examples/tunnel_2d.prm " + args + " > " + log + " 2>&1";
+    const int status = std::system(cmd.c_str());
+    Run       r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream     in(log);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    r.text = ss.str();
+    return r;
+  }
+
+  std::string read(const std::string &f)
+  {
+    std::ifstream     in(f);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+
+  // Small and fast variant of the example.
+  const std::string small = " --set \"DEM region/radius=1.0\" --set \"Tunnel/radius=0.4\" "
+                            "--set \"DEM region/grain diameter min=0.08\" "
+                            "--set \"DEM region/grain diameter max=0.12\" "
+                            "--set \"Continuum/outer radius=10\" --set \"Output/interval=0\" ";
+} // namespace
+
+TEST_CASE("tunnel: a time-step safety far above 1 is detected and reported", "[coupling][app]")
+{
+  const std::string dir = std::filesystem::temp_directory_path() / "demfem_tunnel_diverge";
+  std::filesystem::remove_all(dir);
+  const Run r = run(small + "--set \"Coupling/timestep safety=5\" --set \"Problem/output directory=" +
+                    dir + "\"");
+  INFO(r.text);
+  CHECK(r.code == 2);
+  CHECK(r.text.find("diverged") != std::string::npos);
+  CHECK(r.text.find("time step") != std::string::npos); // the diagnosis names the cause
+  const std::string summary = read(dir + "/summary.json");
+  CHECK(summary.find("\"status\": \"diverged\"") != std::string::npos);
+  for (const auto &f : std::filesystem::directory_iterator(dir))
+    {
+      const std::string t = read(f.path());
+      INFO(f.path());
+      CHECK(t.find("nan") == std::string::npos);
+      CHECK(t.find("inf,") == std::string::npos);
+    }
+}
+
+TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing", "[coupling][app]")
+{
+  const std::string dir = std::filesystem::temp_directory_path() / "demfem_tunnel_bad";
+  std::filesystem::remove_all(dir);
+  const std::string out = "--set \"Problem/output directory=" + dir + "\" ";
+  struct Case
+  {
+    std::string args, key;
+  } cases[] = {
+      {"--set \"DEM region/radius=20\"", "DEM region/radius"},       // larger than the domain
+      {"--set \"Tunnel/radius=2.4\"", "Tunnel/radius"},              // tunnel larger than region
+      {"--set \"DEM region/material file=/no/such.json\"", "DEM region/material file"},
+      {"--set \"Problem/dimension=3\"", "Problem/dimension"},
+      {"--set \"Continuum/poisson ratio=0.7\"", "poisson ratio"},
+      {"--set \"Coupling/variant=slaved-layer\"", "Coupling/variant"},
+  };
+  for (const auto &c : cases)
+    {
+      const Run r = run(out + c.args);
+      INFO(c.args << "\n" << r.text);
+      CHECK(r.code == 1);
+      CHECK(r.text.find(c.key) != std::string::npos);
+      CHECK(!std::filesystem::exists(dir));
+    }
+}
