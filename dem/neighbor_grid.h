@@ -29,7 +29,7 @@ namespace demfem::dem
 
     Vec<dim>                    lo_;
     double                      h_ = 1;
-    std::array<std::int64_t, 3> n_{1, 1, 1};
+    std::array<std::int64_t, 3> n_{{1, 1, 1}};
     std::vector<std::uint32_t>  cell_start_; ///< CSR: particles sorted by cell
     std::vector<std::uint32_t>  sorted_;
   };
