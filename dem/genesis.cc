@@ -193,7 +193,12 @@ namespace demfem::dem
         if (out)
           *out << "genesis: phase " << phase << ", step " << steps << ", grains "
                << s.model.particles.size() << ", wall pressure " << wall_pressure(s)
-               << " Pa, ratio " << s.model.unbalanced_ratio() << "\n";
+               << " Pa (";
+        for (int a = 0; a < dim; ++a)
+          if (out)
+            *out << (a ? " " : "") << -s.vessel.wall_stress(s.model.walls, a);
+        if (out)
+          *out << "), ratio " << s.model.unbalanced_ratio() << "\n";
       }
       /// ft_eq: cycles until the ratio-average falls below the limit
       /// (at least `min_steps`; checked every 50 steps). Returns false when
@@ -440,7 +445,8 @@ namespace demfem::dem
         m.invalidate_contacts();
         m.reset_energy_baseline();
         ServoParams sp;
-        sp.tol = p.P_tol;
+        sp.tol       = p.P_tol;
+        sp.isotropic = true;
         // Automatic velocity limit: a wall hitting a grain at v loads it with
         // v sqrt(k m); keep that below 10 x the grain's share of Pm.
         const double Ag = dim == 2 ? 2 * rbar : M_PI * rbar * rbar;
@@ -455,8 +461,11 @@ namespace demfem::dem
           {
             servo.update(m);
             pk.step();
-            if (n % 50 == 0 && servo.within_tolerance(m) && n_active(m) > 0 &&
-                m.unbalanced_ratio() < p.ratio_limit)
+            // The mean wall pressure is the criterion: per-axis control can
+            // stall with a deviator the assembly carries at yield (measured
+            // +-10 % in frictionless 2D boxes), which the walls cannot remove.
+            if (n % 50 == 0 && std::abs(wall_pressure(s) - p.Pm) <= p.P_tol * p.Pm &&
+                n_active(m) > 0 && m.unbalanced_ratio() < p.ratio_limit)
               break;
             if (n % 5000 == 0)
               pk.report("boundary contraction");

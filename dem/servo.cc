@@ -76,11 +76,35 @@ namespace demfem::dem
     double dt = m.timestep();
     if (dt <= 0)
       dt = m.safety_factor * m.critical_timestep();
+    // Isotropic mode: moving every wall by dx changes the mean pressure by
+    // dx (1/n) sum k_a / A_a; close alpha of the mean error per step.
+    double v_iso = 0;
+    if (p_.isotropic && dt > 0)
+      {
+        double err = 0, k = 0;
+        int    n = 0;
+        for (int a = 0; a < dim; ++a)
+          if (on_[a])
+            {
+              err += pressure(m, a) - target_[a];
+              k += kn[a] / vessel_.area(m.walls, a);
+              ++n;
+            }
+        if (n > 0)
+          v_iso = k > 0 ? p_.alpha * (err / n) / (k / n * dt)
+                        : (err > 0 ? p_.v_limit : -p_.v_limit);
+        v_iso = std::clamp(v_iso, -p_.v_limit, p_.v_limit);
+      }
     for (int a = 0; a < dim; ++a)
       {
         if (vessel_.cylinder() && a > 0 && a < dim - 1)
           continue; // lateral axes share the cylinder wall (handled by a = 0)
         double v = velocity_[a];
+        if (on_[a] && p_.isotropic)
+          {
+            vessel_.set_velocity(m.walls, a, v_iso);
+            continue;
+          }
         if (on_[a])
           {
             const double err = pressure(m, a) - target_[a]; // > 0: too much, open

@@ -13,6 +13,10 @@ namespace demfem::dem
     double alpha   = 0.5;  ///< gain factor (Table 9, alpha in (0, 1))
     double v_limit = 0;    ///< velocity limit [m/s] (> 0)
     double tol     = 1e-2; ///< equilibrium-pressure tolerance eps_P
+    /// One velocity for all pressure-controlled axes from their mean
+    /// pressure (isotropic compression, used for packing): per-axis control
+    /// stalls when the assembly carries a deviator at yield.
+    bool isotropic = false;
   };
 
   template <int dim>
