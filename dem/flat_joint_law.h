@@ -30,6 +30,10 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <string>
 
 namespace demfem::dem
@@ -93,7 +97,14 @@ namespace demfem::dem
     }
 
     // ---- state layout -----------------------------------------------------
-    // header: R, g_s, delta_ss, delta_st, theta_bs, theta_bt (memo Eq. 15/22)
+    // Per contact: a header R, g_s, delta_ss, delta_st, theta_bs, theta_bt
+    // (memo Eq. 15/22), then per element the bond state and slip flag packed
+    // in one double (B + 4 slip), the forces, the slip energy and (2D only)
+    // the bending moment. The update is memory-bound, so nothing derivable is
+    // stored: the element geometry depends only on (Nr, Nal, e) scaled by R
+    // (memo Eq. 13, 16-17: A = R^2 A^, r = R r^); the centroid gap at the end
+    // of the previous step (g_0 of Eq. 33) is the gap of the header before
+    // this step's increments; the 3D element bending moment is zero (Eq. 50).
     enum : int
     {
       h_R,
@@ -104,23 +115,16 @@ namespace demfem::dem
       h_tbt,
       n_head
     };
-    // per element: bond state, slip flag, forces, slip energy, centroid gap
-    // at the end of the previous step (g_0 of Eq. 33), fixed geometry.
     enum : int
     {
-      e_B,
-      e_slip,
+      e_code, ///< B + 4 slip (B: 0 unbonded, 1/2 broke in tension/shear, 3 bonded)
       e_fn,
       e_fss,
       e_fst,
-      e_mb,
       e_eslip,
-      e_gap,
-      e_area,
-      e_rs,
-      e_rt,
-      n_elem
+      e_mb ///< 2D only
     };
+    static constexpr int n_elem = dim == 2 ? 6 : 5;
 
     static int element_count(const Params &p) { return dim == 2 ? p.Nr : p.Nr * p.Nal; }
     static int state_size(const Params &p) { return n_head + n_elem * element_count(p); }
@@ -129,6 +133,50 @@ namespace demfem::dem
     static const double *elem(const double *st, int e)
     {
       return st + n_head + n_elem * e;
+    }
+
+    static int    code_bond(double c) { return int(c) & 3; }
+    static bool   code_slip(double c) { return c >= 4; }
+    static double make_code(int B, bool slip) { return B + (slip ? 4 : 0); }
+
+    /// 3D unit-radius element geometry {A^, r^_s, r^_t} per element (memo
+    /// Eq. 16-17 with R = 1), built once per (Nr, Nal). The table is shared by
+    /// all threads (guarded by a mutex, never freed, entries never move); a
+    /// thread-local copy of the last lookup keeps the hot path free of locks
+    /// and allocation.
+    static const double *unit_geometry(int Nr, int Nal)
+    {
+      struct Last
+      {
+        int           Nr = -1, Nal = -1;
+        const double *g = nullptr;
+      };
+      thread_local Last last;
+      if (last.Nr == Nr && last.Nal == Nal)
+        return last.g;
+      static std::mutex                                               mutex;
+      static std::map<std::pair<int, int>, std::unique_ptr<double[]>> table;
+      std::lock_guard<std::mutex>                                     lock(mutex);
+      auto &t = table[{Nr, Nal}];
+      if (!t)
+        {
+          t.reset(new double[3 * std::size_t(Nr) * Nal]);
+          const double dr = 1.0 / Nr, da = 2 * M_PI / Nal;
+          for (int e = 0; e < Nr * Nal; ++e)
+            {
+              const int    I = e / Nal, J = e - I * Nal;
+              const double r1 = I * dr, r2 = (I + 1) * dr;
+              const double a1 = J * da, a2 = (J + 1) * da;
+              const double radial = (r2 * r2 * r2 - r1 * r1 * r1) / (r2 * r2 - r1 * r1);
+              t[3 * e]            = 0.5 * (a2 - a1) * (r2 * r2 - r1 * r1);
+              t[3 * e + 1] =
+                  2.0 / 3.0 * (std::sin(a2) - std::sin(a1)) / (a2 - a1) * radial;
+              t[3 * e + 2] =
+                  2.0 / 3.0 * (std::cos(a1) - std::cos(a2)) / (a2 - a1) * radial;
+            }
+        }
+      last = {Nr, Nal, t.get()};
+      return last.g;
     }
 
     /// Element area and centroid (r_s, r_t) for radius R: memo Eq. 13 (2D),
@@ -145,14 +193,10 @@ namespace demfem::dem
         }
       else
         {
-          const int    I = e / p.Nal, J = e - I * p.Nal;
-          const double dr = R / p.Nr, da = 2 * M_PI / p.Nal;
-          const double r1 = I * dr, r2 = (I + 1) * dr;
-          const double a1 = J * da, a2 = (J + 1) * da;
-          const double radial = (r2 * r2 * r2 - r1 * r1 * r1) / (r2 * r2 - r1 * r1);
-          A                   = 0.5 * (a2 - a1) * (r2 * r2 - r1 * r1);
-          rs = 2.0 / 3.0 * (std::sin(a2) - std::sin(a1)) / (a2 - a1) * radial;
-          rt = 2.0 / 3.0 * (std::cos(a1) - std::cos(a2)) / (a2 - a1) * radial;
+          const double *u = unit_geometry(p.Nr, p.Nal) + 3 * e;
+          A               = R * R * u[0];
+          rs              = R * u[1];
+          rt              = R * u[2];
         }
     }
 
@@ -209,33 +253,32 @@ namespace demfem::dem
         }
     }
 
-    /// Element normal force and bending moment from the current gap field
-    /// (memo step 1 and 3): 2D exact (Eq. 44-49), 3D Eq. 50 (Mb = 0).
-    static void normal_and_bending(const Params &p, const double *st, const double *el,
-                                   bool bonded, double &Fn, double &Mb)
+    /// Element normal force and bending moment for an element centred at rho
+    /// (2D, exact, Eq. 44-49) or at (rs, rt) with area A (3D, Eq. 50: Mb = 0).
+    static void normal_and_bending(const Params &p, const double *st, double A, double rs,
+                                   double rt, bool bonded, double &Fn, double &Mb)
     {
       if (dim == 2)
         {
           const double rbar = st[h_R] / p.Nr;
-          const double rho  = el[e_rt];
           // end a = larger rho (see the header comment)
-          const double ga = interface_gap(st, 0, rho + rbar);
-          const double gb = interface_gap(st, 0, rho - rbar);
+          const double ga = interface_gap(st, 0, rt + rbar);
+          const double gb = interface_gap(st, 0, rt - rbar);
           integrate_2d(p.kn, rbar, ga, gb, bonded, Fn, Mb);
         }
       else
         {
-          const double g = interface_gap(st, el[e_rs], el[e_rt]);
-          Fn             = (!bonded && g >= 0) ? 0.0 : p.kn * g * el[e_area];
+          const double g = interface_gap(st, rs, rt);
+          Fn             = (!bonded && g >= 0) ? 0.0 : p.kn * g * A;
           Mb             = 0.0;
         }
     }
 
     /// Crack size (fistPkg §3.4, memo footnote 3): 2D element length,
     /// 3D twice the radius of the disk of equal area.
-    static double element_size(const Params &p, const double *st, const double *el)
+    static double element_size(const Params &p, const double *st, double A)
     {
-      return dim == 2 ? 2 * st[h_R] / p.Nr : 2 * std::sqrt(el[e_area] / M_PI);
+      return dim == 2 ? 2 * st[h_R] / p.Nr : 2 * std::sqrt(A / M_PI);
     }
 
     // ---- contract -----------------------------------------------------------
@@ -247,17 +290,14 @@ namespace demfem::dem
       st[h_gs]            = p.gap0;                  // memo Eq. 31
       const bool bond_all = p.bonded && p.gap0 == 0; // Table 5: g_o > 0 => B = 0
       for (int e = 0; e < element_count(p); ++e)
-        {
-          double *el = elem(st, e);
-          element_geometry(p, st[h_R], e, el[e_area], el[e_rs], el[e_rt]);
-          el[e_B]   = bond_all ? 3 : 0;
-          el[e_gap] = interface_gap(st, el[e_rs], el[e_rt]);
-        }
+        elem(st, e)[e_code] = make_code(bond_all ? 3 : 0, false);
     }
 
     static void update(const Params &p, const ContactStep<dim> &k, double *st,
                        ContactForce &f, EventSink &events)
     {
+      // Gap field at the end of the previous step (g_0 of memo Eq. 33).
+      const double gs0 = st[h_gs], tbs0 = st[h_tbs], tbt0 = dim == 3 ? st[h_tbt] : 0.0;
       // Tracked interface motion (memo Eq. 15 / 22). In 2D only d_st and d_bs
       // exist.
       const double d_ss = dim == 3 ? k.d_ss : 0.0;
@@ -269,17 +309,40 @@ namespace demfem::dem
       if (dim == 3)
         st[h_tbt] += k.d_bt;
 
-      const double tan_phi = std::tan(p.fa * M_PI / 180.0);
-      f                    = ContactForce{};
-      double mz            = 0; // 2D resultant moment about +z
-      for (int e = 0; e < element_count(p); ++e)
+      // Per-contact invariants hoisted out of the element loop.
+      const double  R   = st[h_R];
+      const double  gs1 = st[h_gs], tbs1 = st[h_tbs], tbt1 = dim == 3 ? st[h_tbt] : 0.0;
+      const double *ug      = dim == 3 ? unit_geometry(p.Nr, p.Nal) : nullptr;
+      const double  R2      = R * R;
+      const double  A2d     = 2 * R / p.Nr; // 2D element area (Eq. 13)
+      const double  tan_phi = tan_deg(p.fa);
+      const int     ne      = element_count(p);
+
+      f         = ContactForce{};
+      double mz = 0; // 2D resultant moment about +z
+      for (int e = 0; e < ne; ++e)
         {
-          double      *el = elem(st, e);
-          const double A = el[e_area], rs = el[e_rs], rt = el[e_rt];
-          const double g0     = el[e_gap];
-          const double g1     = interface_gap(st, rs, rt);
-          bool         bonded = el[e_B] == 3;
-          bool         slip   = false;
+          double *el = elem(st, e);
+          double  A, rs, rt;
+          if (dim == 3)
+            {
+              A  = R2 * ug[3 * e];
+              rs = R * ug[3 * e + 1];
+              rt = R * ug[3 * e + 2];
+            }
+          else
+            {
+              A  = A2d;
+              rs = 0;
+              rt = R * (-2.0 * (e + 1) + 1 + p.Nr) / p.Nr; // rho^(e), Eq. 13
+            }
+          const double g0       = gs0 + rt * tbs0 - rs * tbt0;
+          const double g1       = gs1 + rt * tbs1 - rs * tbt1;
+          const double code     = el[e_code];
+          int          B        = code_bond(code);
+          const bool   was_slip = code_slip(code);
+          bool         bonded   = B == 3;
+          bool         slip     = false;
 
           auto break_event = [&](int mode, double strength) {
             LawEvent ev;
@@ -288,70 +351,80 @@ namespace demfem::dem
             ev.mode     = mode;
             ev.r_s      = rs;
             ev.r_t      = rt;
-            ev.size     = element_size(p, st, el);
+            ev.size     = element_size(p, st, A);
             ev.gap      = g1;
             ev.strength = strength;
             events.push(ev);
           };
 
-          // Step 1: normal force (Eq. 32) and tension check.
-          double Fn, Mb;
-          normal_and_bending(p, st, el, bonded, Fn, Mb);
-          double sigma = Fn / A;
+          // Step 1: normal force (Eq. 32) and tension check (sigma = Fn/A
+          // compared as forces, A > 0).
+          double Fn, Mb = 0;
+          if (dim == 3)
+            Fn = (!bonded && g1 >= 0) ? 0.0 : p.kn * g1 * A;
+          else
+            normal_and_bending(p, st, A, rs, rt, bonded, Fn, Mb);
           double Fss = el[e_fss], Fst = el[e_fst];
-          bool   do_shear = true;
-          if (bonded && sigma > p.ten)
+          bool   do_shear = true, tension_break = false;
+          if (bonded && Fn > p.ten * A)
             {
-              el[e_B] = 1;
-              bonded  = false;
+              B      = 1;
+              bonded = false;
               Fn = Fss = Fst = 0;
               do_shear       = false;
+              tension_break  = true;
               break_event(0, p.ten);
             }
-          else if (!bonded && sigma >= 0)
+          else if (!bonded && Fn >= 0)
             {
               Fss = Fst = 0;
               do_shear  = false;
             }
 
           // Step 2: shear (Eq. 33-34) with the effective increment at the
-          // centroid, including twist (Eq. 12: n x r = r_s t - r_t s).
+          // centroid, including twist (Eq. 12: n x r = r_s t - r_t s). The
+          // strength tests compare squared forces, so the square root is only
+          // taken when the element slips.
           if (do_shear)
             {
               const double alpha = (!bonded && g0 > 0 && g1 < 0) ? g1 / (g1 - g0) : 1.0;
               const double ds    = alpha * (d_ss - d_tw * rt);
               const double dtt   = alpha * (k.d_st + d_tw * rs);
-              Fss -= p.ks * A * ds;
-              Fst -= p.ks * A * dtt;
-              const double tau = std::sqrt(Fss * Fss + Fst * Fst) / A;
+              const double ksA   = p.ks * A;
+              Fss -= ksA * ds;
+              Fst -= ksA * dtt;
+              const double F2 = Fss * Fss + Fst * Fst;
               if (!bonded)
                 {
-                  const double tau_c = -p.fric * sigma;
-                  if (tau > tau_c)
+                  const double Tc = -p.fric * Fn; // >= 0: Fn < 0 here
+                  if (F2 > Tc * Tc)
                     {
-                      const double scale = tau_c / tau; // tau > tau_c >= 0
+                      const double scale = Tc / std::sqrt(F2);
                       Fss *= scale;
                       Fst *= scale;
                       slip = true;
                       // memo Eq. 39
-                      el[e_eslip] += tau_c * A * std::sqrt(ds * ds + dtt * dtt);
+                      el[e_eslip] += Tc * std::sqrt(ds * ds + dtt * dtt);
                     }
                 }
               else
                 {
-                  const double tau_c = p.coh - sigma * tan_phi;
-                  if (tau > tau_c)
+                  const double Tc = p.coh * A - Fn * tan_phi; // tau_c A
+                  if (Tc < 0 || F2 > Tc * Tc)
                     {
-                      el[e_B] = 2;
-                      bonded  = false;
+                      B      = 2;
+                      bonded = false;
                       Fss = Fst = 0;
                       // re-evaluate Fn as in step 1, now unbonded
-                      normal_and_bending(p, st, el, false, Fn, Mb);
-                      break_event(1, tau_c);
+                      if (dim == 3)
+                        Fn = g1 >= 0 ? 0.0 : p.kn * g1 * A;
+                      else
+                        normal_and_bending(p, st, A, rs, rt, false, Fn, Mb);
+                      break_event(1, Tc / A);
                     }
                 }
             }
-          if (slip != (el[e_slip] != 0))
+          if (slip != was_slip)
             {
               LawEvent ev;
               ev.kind    = slip ? LawEvent::slip_start : LawEvent::slip_end;
@@ -359,25 +432,27 @@ namespace demfem::dem
               ev.mode    = slip ? 0 : 1; // memo Table 7 slip-change mode
               ev.r_s     = rs;
               ev.r_t     = rt;
-              ev.size    = element_size(p, st, el);
+              ev.size    = element_size(p, st, A);
               ev.gap     = g1;
               events.push(ev);
-              el[e_slip] = slip ? 1 : 0;
             }
 
           // Step 3: bending moment (Eq. 35) with the final bond state; after
           // a tension break the memo zeroes Fn for this step and Mb follows
-          // the unbonded stress field.
-          {
-            double fn_dummy;
-            normal_and_bending(p, st, el, el[e_B] == 3, fn_dummy, Mb);
-          }
+          // the unbonded stress field. Otherwise Mb from steps 1-2 already
+          // belongs to the final bond state. 3D: Mb = 0 (Eq. 50).
+          if (dim == 2 && tension_break)
+            {
+              double fn_dummy;
+              normal_and_bending(p, st, A, rs, rt, false, fn_dummy, Mb);
+            }
 
-          el[e_fn]  = Fn;
-          el[e_fss] = Fss;
-          el[e_fst] = Fst;
-          el[e_mb]  = Mb;
-          el[e_gap] = g1;
+          el[e_code] = make_code(B, slip);
+          el[e_fn]   = Fn;
+          el[e_fss]  = Fss;
+          el[e_fst]  = Fst;
+          if (dim == 2)
+            el[e_mb] = Mb;
 
           // Resultant (memo Eq. 23-24), r = rs s + rt t, force -Fn n + Fs.
           f.Fn += Fn;
@@ -399,23 +474,37 @@ namespace demfem::dem
         }
     }
 
+    /// tan(phi) for phi in degrees; the last value is cached per thread so
+    /// the per-contact update does not call std::tan.
+    static double tan_deg(double fa)
+    {
+      thread_local double last_fa = 0, last_tan = 0; // tan(0) = 0
+      if (fa != last_fa)
+        {
+          last_tan = std::tan(fa * M_PI / 180.0);
+          last_fa  = fa;
+        }
+      return last_tan;
+    }
+
     /// Memo §1.6: active if any element is bonded or has a negative gap
     /// (2D: anywhere over the element, as the stress field of Eq. 28).
     static bool active(const Params &p, const double *st, double /*gap*/)
     {
       for (int e = 0; e < element_count(p); ++e)
         {
-          const double *el = elem(st, e);
-          if (el[e_B] == 3)
+          if (code_bond(elem(st, e)[e_code]) == 3)
             return true;
+          double A, rs, rt;
+          element_geometry(p, st[h_R], e, A, rs, rt);
           if (dim == 2)
             {
               const double rbar = st[h_R] / p.Nr;
-              if (interface_gap(st, 0, el[e_rt] + rbar) < 0 ||
-                  interface_gap(st, 0, el[e_rt] - rbar) < 0)
+              if (interface_gap(st, 0, rt + rbar) < 0 ||
+                  interface_gap(st, 0, rt - rbar) < 0)
                 return true;
             }
-          else if (interface_gap(st, el[e_rs], el[e_rt]) < 0)
+          else if (interface_gap(st, rs, rt) < 0)
             return true;
         }
       return false;
@@ -450,21 +539,17 @@ namespace demfem::dem
       for (int e = 0; e < element_count(p); ++e)
         {
           const double *el = elem(st, e);
-          const double  A  = el[e_area];
-          double        I;
-          if (dim == 2)
-            {
-              const double rbar = st[h_R] / p.Nr;
-              I                 = 2.0 / 3.0 * rbar * rbar * rbar;
-            }
-          else
-            {
-              const double re2 = A / M_PI;
-              I                = 0.25 * M_PI * re2 * re2;
-            }
+          const double  A  = element_area(p, st, e);
           if (p.kn > 0)
-            E += 0.5 *
-                 (el[e_fn] * el[e_fn] / (p.kn * A) + el[e_mb] * el[e_mb] / (p.kn * I));
+            {
+              E += 0.5 * el[e_fn] * el[e_fn] / (p.kn * A);
+              if (dim == 2)
+                {
+                  const double rbar = st[h_R] / p.Nr;
+                  const double I    = 2.0 / 3.0 * rbar * rbar * rbar;
+                  E += 0.5 * el[e_mb] * el[e_mb] / (p.kn * I);
+                }
+            }
           if (p.ks > 0)
             E += 0.5 * (el[e_fss] * el[e_fss] + el[e_fst] * el[e_fst]) / (p.ks * A);
         }
@@ -482,16 +567,12 @@ namespace demfem::dem
 
     // ---- per-contact setters for material genesis (memo §1.10) -----------
     /// Sets g_o and g_s (memo Eq. 31); g0 > 0 unbonds every element (Table 5).
+    /// The previous-step gap of Eq. 33 follows from the header.
     static void set_initial_gap(const Params &p, double *st, double g0)
     {
       st[h_gs] = g0;
-      for (int e = 0; e < element_count(p); ++e)
-        {
-          double *el = elem(st, e);
-          el[e_gap]  = interface_gap(st, el[e_rs], el[e_rt]);
-          if (g0 > 0)
-            el[e_B] = 0;
-        }
+      if (g0 > 0)
+        unbond(p, st);
     }
 
     /// Bond element e (0-based) or all (e < 0). Memo §1.10: only elements
@@ -511,16 +592,17 @@ namespace demfem::dem
           if (dim == 2)
             {
               const double rbar = st[h_R] / p.Nr;
-              zero = std::abs(interface_gap(st, 0, el[e_rt] + rbar)) <= tol &&
-                     std::abs(interface_gap(st, 0, el[e_rt] - rbar)) <= tol;
+              const double rho  = element_centroid(p, st, e)[1];
+              zero              = std::abs(interface_gap(st, 0, rho + rbar)) <= tol &&
+                     std::abs(interface_gap(st, 0, rho - rbar)) <= tol;
             }
           else // the gap is planar: zero everywhere iff g_s = 0 and theta_b = 0
             zero =
                 std::abs(st[h_gs]) <= tol &&
                 std::sqrt(st[h_tbs] * st[h_tbs] + st[h_tbt] * st[h_tbt]) * st[h_R] <= tol;
-          if (zero && el[e_B] != 3)
+          if (zero && code_bond(el[e_code]) != 3)
             {
-              el[e_B] = 3;
+              el[e_code] = make_code(3, code_slip(el[e_code]));
               ++n;
             }
         }
@@ -532,36 +614,46 @@ namespace demfem::dem
     {
       for (int e = 0; e < element_count(p); ++e)
         if (element < 0 || e == element)
-          elem(st, e)[e_B] = 0;
+          {
+            double *el = elem(st, e);
+            el[e_code] = make_code(0, code_slip(el[e_code]));
+          }
     }
 
     // ---- getters -------------------------------------------------------------
     static int bond_state(const Params &, const double *st, int e)
     {
-      return int(elem(st, e)[e_B]);
+      return code_bond(elem(st, e)[e_code]);
     }
     static bool slipping(const Params &, const double *st, int e)
     {
-      return elem(st, e)[e_slip] != 0;
+      return code_slip(elem(st, e)[e_code]);
     }
-    static double element_area(const Params &, const double *st, int e)
+    static double element_area(const Params &p, const double *st, int e)
     {
-      return elem(st, e)[e_area];
+      double A, rs, rt;
+      element_geometry(p, st[h_R], e, A, rs, rt);
+      return A;
     }
-    static std::array<double, 2> element_centroid(const Params &, const double *st, int e)
+    static std::array<double, 2> element_centroid(const Params &p, const double *st,
+                                                  int e)
     {
-      return {elem(st, e)[e_rs], elem(st, e)[e_rt]};
+      double A, rs, rt;
+      element_geometry(p, st[h_R], e, A, rs, rt);
+      return {rs, rt};
     }
     /// Gap at the element centroid g^(e) (memo Eq. 21).
-    static double element_gap(const Params &, const double *st, int e)
+    static double element_gap(const Params &p, const double *st, int e)
     {
-      return interface_gap(st, elem(st, e)[e_rs], elem(st, e)[e_rt]);
+      const auto r = element_centroid(p, st, e);
+      return interface_gap(st, r[0], r[1]);
     }
-    /// Element force {Fn, Fss, Fst} and bending moment (2D: about +z).
+    /// Element force {Fn, Fss, Fst} and bending moment (2D: about +z; 3D: 0,
+    /// memo Eq. 50).
     static std::array<double, 4> element_force(const Params &, const double *st, int e)
     {
       const double *el = elem(st, e);
-      return {el[e_fn], el[e_fss], el[e_fst], el[e_mb]};
+      return {el[e_fn], el[e_fss], el[e_fst], dim == 2 ? el[e_mb] : 0.0};
     }
     static double element_slip_energy(const Params &, const double *st, int e)
     {
@@ -577,7 +669,7 @@ namespace demfem::dem
     {
       int n = 0;
       for (int e = 0; e < element_count(p); ++e)
-        n += elem(st, e)[e_B] == 3;
+        n += code_bond(elem(st, e)[e_code]) == 3;
       return n;
     }
   };
