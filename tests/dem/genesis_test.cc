@@ -135,16 +135,42 @@ TEST_CASE("grain scaling reaches the material pressure (2D)", "[genesis]")
 
 TEST_CASE("packed fabric is isotropic", "[genesis]")
 {
-  const auto &s = fj2d();
-  // Contacts in the central region (a wall orders the first grain layer).
-  const auto F = fabric_tensor(s.model, &s.vessel.regions[1]);
+  const auto                              &s = fj2d();
+  const auto                               F = fabric_tensor(s.model);
   Eigen::SelfAdjointEigenSolver<Tensor<2>> es(F);
   const auto                               e = es.eigenvalues();
   CHECK(F.trace() == Approx(1).epsilon(1e-12));
-  // N ~ 150 random unit normals in 2D: each eigenvalue of Phi deviates from
-  // 1/2 by ~ 1/sqrt(8N) ~ 0.03 (one standard deviation), i.e. the ratio by
-  // ~12 %; 2.5 sigma gives the 30 % bound on (e_max - e_min) / mean.
-  CHECK((e.maxCoeff() - e.minCoeff()) / 0.5 < 0.3);
+  REQUIRE(contact_counts(s.model).active_grain_grain > 250);
+  // 2D: (e_max - e_min) / (1/2) = 2 |(<cos 2t>, <sin 2t>)|. For N = 300
+  // independent random normals this is Rayleigh with sigma = 1/sqrt(2N) per
+  // component (mean ~10 %); a packing's normals are more regular than that:
+  // seeds 1-5 gave 0.7-8.5 %. Bound 15 % (the brief's isotropy criterion).
+  CHECK((e.maxCoeff() - e.minCoeff()) / 0.5 < 0.15);
+}
+
+TEST_CASE("gauge and wall strains", "[genesis]")
+{
+  // Gauge strain is the least-squares displacement gradient: exact for an
+  // affine motion x = (I + E) x0 of the gauge grains.
+  Model<2> m;
+  for (int i = 0; i < 5; ++i)
+    m.particles.add(Vec<2>(0.01 * i, 0.003 * i * i), 1e-3, 2650);
+  Tensor<2> E;
+  E << 1e-3, 4e-4, 0, -5e-4;
+  for (std::size_t i = 0; i < 5; ++i)
+    m.particles.x[i] = m.particles.x0[i] + E * m.particles.x0[i];
+  const auto g = gauge_strain(m, {0, 1, 2, 3, 4});
+  CHECK(g(0, 0) == Approx(1e-3).margin(1e-12));
+  CHECK(g(1, 1) == Approx(-5e-4).margin(1e-12));
+  CHECK(g(0, 1) == Approx(2e-4).margin(1e-12));
+  // Wall strain: walls of axis 0 moved apart by 1e-4 each on W = 0.05.
+  Walls<2>     w;
+  VesselParams v = box(0.05, 0.1);
+  auto         V = make_vessel(w, v);
+  V.translate_outward(w, 0, 1e-4);
+  CHECK(V.wall_strain(w, 0) == Approx(2e-4 / 0.05).epsilon(1e-12));
+  CHECK(V.wall_strain(w, 1) == 0);
+  CHECK(V.volume(w) == Approx(0.0502 * 0.1).epsilon(1e-12));
 }
 
 TEST_CASE("bonded material starts free of force", "[genesis]")
