@@ -3,7 +3,13 @@
 // packing, fistPkg §4.2), so the tests do not see each other's damage.
 #include "apps/calibrate.h"
 #include "apps/calibrate_output.h"
+#include "dem/checkpoint.h"
+#include "dem/contact_bond_law.h"
+#include "dem/flat_joint_law.h"
+#include "dem/linear_law.h"
 #include "dem/measurement.h"
+#include "dem/parallel_bond_law.h"
+#include "dem/smooth_joint_law.h"
 #include "dem/vtk_output.h"
 
 #include <unistd.h>
@@ -147,6 +153,59 @@ namespace demfem::apps
       return j;
     }
 
+    template <int dim, class Law>
+    bool clone_group(const dem::ContactGroupBase<dim> &g, dem::Model<dim> &m)
+    {
+      const auto *c = dynamic_cast<const dem::ContactGroup<dim, Law> *>(&g);
+      if (c)
+        m.template add_law<Law>(c->params);
+      return c != nullptr;
+    }
+
+    // A fresh copy of the specimen right after genesis, so that every test
+    // starts from the same material without repeating the packing: the
+    // same law groups are created and the state comes from an HDF5
+    // checkpoint (dem/checkpoint.h restores it bit for bit).
+    template <int dim>
+    std::unique_ptr<dem::Specimen<dim>> clone(const dem::Specimen<dim> &s,
+                                              const std::string       &checkpoint)
+    {
+      auto c                     = std::make_unique<dem::Specimen<dim>>();
+      c->vessel                  = s.vessel;
+      c->material                = s.material;
+      c->linear_group            = s.linear_group;
+      c->wall_group              = s.wall_group;
+      c->bond_group              = s.bond_group;
+      c->bond_groups             = s.bond_groups;
+      c->packing_pressure        = s.packing_pressure;
+      c->packing_region_pressure = s.packing_region_pressure;
+      c->packing_max_force       = s.packing_max_force;
+      c->packing_ratio           = s.packing_ratio;
+      c->packing_steps           = s.packing_steps;
+      c->fj_rmul_min             = s.fj_rmul_min;
+      c->fj_rmul_max             = s.fj_rmul_max;
+      auto &m                    = c->model;
+      m.local_damping            = s.model.local_damping;
+      m.skin                     = s.model.skin;
+      m.safety_factor            = s.model.safety_factor;
+      m.gravity                  = s.model.gravity;
+      m.check_timestep           = s.model.check_timestep;
+      for (int g = 0; g < s.model.n_groups(); ++g)
+        {
+          const auto &grp = s.model.group(g);
+          if (!(clone_group<dim, dem::LinearLaw<dim>>(grp, m) ||
+                clone_group<dim, dem::FlatJointLaw<dim>>(grp, m) ||
+                clone_group<dim, dem::ParallelBondLaw<dim>>(grp, m) ||
+                clone_group<dim, dem::ContactBondLaw<dim>>(grp, m) ||
+                clone_group<dim, dem::SmoothJointLaw<dim>>(grp, m)))
+            throw std::runtime_error(std::string("calibrate: cannot copy law group ") +
+                                     grp.law_name());
+        }
+      dem::read_checkpoint(m, checkpoint, nullptr);
+      m.set_default_law(s.linear_group, s.wall_group);
+      return c;
+    }
+
     template <int dim>
     void write_snapshot(const std::string &dir, const std::string &base,
                         const dem::Specimen<dim> &sp, bool contacts)
@@ -207,6 +266,9 @@ namespace demfem::apps
     const auto   counts    = dem::contact_counts(first->model);
     if (s.vtk)
       write_snapshot(vtk_dir, "specimen", *first, true);
+    const std::string ckpt = s.out + "/specimen.h5";
+    dem::write_checkpoint(first->model, ckpt, {{"parameter_file", s.where}});
+    auto fresh = [&]() { return clone(*first, ckpt); };
     std::cerr << "demfem calibrate: " << n_grains << " grains, porosity " << porosity
               << ", genesis " << genesis_s << " s\n";
 
@@ -216,7 +278,7 @@ namespace demfem::apps
       {
         const auto &t    = s.tests[k];
         const auto  name = file_name(t.name);
-        auto        sp   = first ? std::move(first) : std::make_unique<dem::Specimen<dim>>(build());
+        auto        sp   = fresh();
         dem::LabTestParams lp = s.lab;
         lp.kind               = t.kind;
         lp.ctype              = t.ctype;
@@ -263,7 +325,7 @@ namespace demfem::apps
                   << r.ended_by << ", " << r.loading_steps << " steps, " << test_s << " s)\n";
         if (s.rate_check)
           {
-            auto               sp2 = std::make_unique<dem::Specimen<dim>>(build());
+            auto               sp2 = fresh();
             dem::LabTestParams l2  = lp;
             l2.strain_rate *= 0.5;
             l2.step_limit *= 2;
@@ -329,6 +391,8 @@ namespace demfem::apps
         .num("wall_time_s", seconds_since(t_start));
     sum.obj("tests", tests_json);
     dem::vtkout::write_text_atomically(s.out + "/summary.json", sum.text() + "\n");
+    fs::remove(ckpt);
+    fs::remove(ckpt + ".prev");
     std::cerr << "demfem calibrate: wrote " << s.out << "/material.json ("
               << seconds_since(t_start) << " s)\n";
     return 0;
