@@ -362,6 +362,8 @@ TEST_CASE("3D box and cylinder packings reach the material pressure", "[genesis]
   v.shape = "cylinder";
   auto c  = make<3>(fj_material(), v, 150);
   CHECK(c.packing_pressure == Approx(1e5).epsilon(1e-2));
+  CHECK(max_contact_force(c.model) <= 1e-9 * c.packing_max_force);
+  CHECK(worst_face_overlap(c.model) <= 1e-9);
   // Cylinder volume pi R^2 H of the polygon (24 facets): within 1.2 %.
   CHECK(c.vessel.volume(c.model.walls) ==
         Approx(M_PI * 0.025 * 0.025 * 0.05).epsilon(0.012));
