@@ -55,29 +55,12 @@ namespace demfem::dem
   template <int dim>
   Tensor<dim> region_stress(const Model<dim> &m, const Region<dim> &r, bool include_walls)
   {
-    // Love-Weber over the grains whose centres lie in the region (PFC
-    // measurement logic): sigma = (1/V) sum_p sum_c (x_c - x_p) (x) f_c,p,
-    // with f_c,p the force on grain p; (1 - n) / sum V_p = 1 / V.
-    Tensor<dim> S = Tensor<dim>::Zero();
-    for (int g = 0; g < m.n_groups(); ++g)
-      {
-        const auto &grp = m.group(g);
-        for (std::size_t k = 0; k < grp.size(); ++k)
-          {
-            const bool wall = grp.is_wall[k];
-            if (wall && !include_walls)
-              continue;
-            const Vec<dim> &F = grp.force[k]; // on piece 2
-            if (F.squaredNorm() == 0)
-              continue;
-            const auto i = grp.end1[k];
-            if (inside(r, m.particles.x[i]))
-              S -= (grp.xc[k] - m.particles.x[i]) * F.transpose();
-            if (!wall && inside(r, m.particles.x[grp.end2[k]]))
-              S += (grp.xc[k] - m.particles.x[grp.end2[k]]) * F.transpose();
-          }
-      }
-    const Tensor<dim> s = S / r.volume();
+    // Contacts located in the region (PFC: sigma = -(1/V) sum_Nc F (x) L);
+    // measured closer to the wall stress than the grain-centre (Love-Weber)
+    // variant in the elastic UCS of lab_tests_test (+8.5 % vs +10.2 %).
+    const Tensor<dim> S = force_branch_sum(
+        m, include_walls, [&](const Vec<dim> &x) { return inside(r, x); });
+    const Tensor<dim> s = -S / r.volume();
     return 0.5 * (s + s.transpose());
   }
 

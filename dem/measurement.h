@@ -14,11 +14,10 @@ namespace demfem::dem
   template <int dim>
   using Tensor = Eigen::Matrix<double, dim, dim>;
 
-  /// Average stress in a region (symmetric part; PFC measurement logic):
-  /// sigma = (1/V) sum over grains p with centre in the region of
-  /// sum_c (x_c - x_p) (x) f_c (force on p); for a contact with both grains
-  /// inside this is -(1/V) F (x) l with l = x2 - x1 and F on piece 2.
-  /// Grain-wall contacts count when `include_walls`.
+  /// Average stress in a region, sigma_ij = -(1/V) sum_c F_i l_j (symmetric
+  /// part), over the active ball-ball contacts whose contact location lies in
+  /// the region (l = x2 - x1, F the force on piece 2) and, when
+  /// `include_walls`, ball-wall contacts (l = x_c - x_ball, F on the wall).
   template <int dim>
   Tensor<dim> region_stress(const Model<dim> &m, const Region<dim> &r,
                             bool include_walls = false);

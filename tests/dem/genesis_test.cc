@@ -122,8 +122,8 @@ TEST_CASE("grain scaling reaches the material pressure (2D)", "[genesis]")
   // boundary-contraction specimen below.)
   // Measurement regions (3 circles of diameter 0.8 W): ~75 grains each;
   // the local stress of a granular packing scatters with its force chains:
-  // over seeds 1-8 the region mean was 0.88-1.05 Pm (sd ~5.5 %), the test
-  // seed gives ~1.18 Pm: bound 25 %.
+  // over seeds 1-8 the region mean was 0.88-1.06 Pm (sd ~5.5 %), the test
+  // seed gives ~1.15 Pm: bound 25 %.
   CHECK(s.packing_region_pressure == Approx(1e5).epsilon(0.25));
   CHECK(s.packing_ratio < 8e-3);
   CHECK(s.n_grains() > 250);
