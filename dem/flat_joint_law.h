@@ -98,13 +98,19 @@ namespace demfem::dem
 
     // ---- state layout -----------------------------------------------------
     // Per contact: a header R, g_s, delta_ss, delta_st, theta_bs, theta_bt
-    // (memo Eq. 15/22), then per element the bond state and slip flag packed
-    // in one double (B + 4 slip), the forces, the slip energy and (2D only)
-    // the bending moment. The update is memory-bound, so nothing derivable is
-    // stored: the element geometry depends only on (Nr, Nal, e) scaled by R
-    // (memo Eq. 13, 16-17: A = R^2 A^, r = R r^); the centroid gap at the end
-    // of the previous step (g_0 of Eq. 33) is the gap of the header before
-    // this step's increments; the 3D element bending moment is zero (Eq. 50).
+    // (memo Eq. 15/22), then one array over the elements per field: the bond
+    // state and slip flag packed in one double (B + 4 slip), the shear
+    // forces, the slip energy and (2D only) the normal force and bending
+    // moment. The update is memory-bound, so nothing derivable is stored:
+    // the element geometry depends only on (Nr, Nal, e) scaled by R (memo
+    // Eq. 13, 16-17: A = R^2 A^, r = R r^); the centroid gap at the end of
+    // the previous step (g_0 of Eq. 33) is the gap of the header before this
+    // step's increments; the 3D element bending moment is zero (Eq. 50) and
+    // the 3D element normal force is a function of the current gap and bond
+    // state (Eq. 32, 50; a tension break leaves g > 0 and B = 1, for which
+    // it gives the memo's Fn = 0). Arrays per field (rather than per element)
+    // keep the rarely changing bond codes and slip energies in cache lines
+    // that the update only reads, so they are not written back to memory.
     enum : int
     {
       h_R,
@@ -117,22 +123,26 @@ namespace demfem::dem
     };
     enum : int
     {
-      e_code, ///< B + 4 slip (B: 0 unbonded, 1/2 broke in tension/shear, 3 bonded)
-      e_fn,
-      e_fss,
-      e_fst,
-      e_eslip,
-      e_mb ///< 2D only
+      f_code, ///< B + 4 slip (B: 0 unbonded, 1/2 broke in tension/shear, 3 bonded)
+      f_fss,
+      f_fst,
+      f_eslip,
+      f_fn, ///< 2D only
+      f_mb  ///< 2D only
     };
-    static constexpr int n_elem = dim == 2 ? 6 : 5;
+    static constexpr int n_field = dim == 2 ? 6 : 4;
 
     static int element_count(const Params &p) { return dim == 2 ? p.Nr : p.Nr * p.Nal; }
-    static int state_size(const Params &p) { return n_head + n_elem * element_count(p); }
+    static int state_size(const Params &p) { return n_head + n_field * element_count(p); }
 
-    static double       *elem(double *st, int e) { return st + n_head + n_elem * e; }
-    static const double *elem(const double *st, int e)
+    /// Array of field f over the elements.
+    static double *field(const Params &p, double *st, int f)
     {
-      return st + n_head + n_elem * e;
+      return st + n_head + f * element_count(p);
+    }
+    static const double *field(const Params &p, const double *st, int f)
+    {
+      return st + n_head + f * element_count(p);
     }
 
     static int    code_bond(double c) { return int(c) & 3; }
@@ -152,8 +162,12 @@ namespace demfem::dem
         const double *g = nullptr;
       };
       thread_local Last last;
-      if (last.Nr == Nr && last.Nal == Nal)
-        return last.g;
+      if (last.Nr != Nr || last.Nal != Nal)
+        last = {Nr, Nal, build_unit_geometry(Nr, Nal)};
+      return last.g;
+    }
+    static const double *build_unit_geometry(int Nr, int Nal)
+    {
       static std::mutex                                               mutex;
       static std::map<std::pair<int, int>, std::unique_ptr<double[]>> table;
       std::lock_guard<std::mutex>                                     lock(mutex);
@@ -175,14 +189,13 @@ namespace demfem::dem
                   2.0 / 3.0 * (std::cos(a1) - std::cos(a2)) / (a2 - a1) * radial;
             }
         }
-      last = {Nr, Nal, t.get()};
-      return last.g;
+      return t.get();
     }
 
-    /// Element area and centroid (r_s, r_t) for radius R: memo Eq. 13 (2D),
-    /// Eq. 16-17 (3D); e is 0-based.
-    static void element_geometry(const Params &p, double R, int e, double &A, double &rs,
-                                 double &rt)
+    /// Element geometry for radius R with the unit table ug (3D, from
+    /// unit_geometry; unused in 2D).
+    static void scaled_geometry(const Params &p, double R, const double *ug, int e,
+                                double &A, double &rs, double &rt)
     {
       if (dim == 2)
         {
@@ -193,11 +206,27 @@ namespace demfem::dem
         }
       else
         {
-          const double *u = unit_geometry(p.Nr, p.Nal) + 3 * e;
-          A               = R * R * u[0];
-          rs              = R * u[1];
-          rt              = R * u[2];
+          A  = R * R * ug[3 * e];
+          rs = R * ug[3 * e + 1];
+          rt = R * ug[3 * e + 2];
         }
+    }
+
+    /// 3D element normal force (memo Eq. 32, 50) for bond state B.
+    static double normal_force_3d(const Params &p, const double *st, double A, double rs,
+                                  double rt, int B)
+    {
+      const double g = interface_gap(st, rs, rt);
+      return (B != 3 && g >= 0) ? 0.0 : p.kn * g * A;
+    }
+
+    /// Element area and centroid (r_s, r_t) for radius R: memo Eq. 13 (2D),
+    /// Eq. 16-17 (3D); e is 0-based.
+    static void element_geometry(const Params &p, double R, int e, double &A, double &rs,
+                                 double &rt)
+    {
+      scaled_geometry(p, R, dim == 3 ? unit_geometry(p.Nr, p.Nal) : nullptr, e, A, rs,
+                      rt);
     }
 
     /// Interface gap at (r_s, r_t) (memo Eq. 21; 2D Eq. 14 as derived above).
@@ -290,7 +319,7 @@ namespace demfem::dem
       st[h_gs]            = p.gap0;                  // memo Eq. 31
       const bool bond_all = p.bonded && p.gap0 == 0; // Table 5: g_o > 0 => B = 0
       for (int e = 0; e < element_count(p); ++e)
-        elem(st, e)[e_code] = make_code(bond_all ? 3 : 0, false);
+        field(p, st, f_code)[e] = make_code(bond_all ? 3 : 0, false);
     }
 
     static void update(const Params &p, const ContactStep<dim> &k, double *st,
@@ -309,36 +338,35 @@ namespace demfem::dem
       if (dim == 3)
         st[h_tbt] += k.d_bt;
 
+      // The update is bound by memory latency; groups keep the state blocks
+      // of consecutive contacts contiguous, so fetch the next block while this
+      // one is computed (a prefetch never faults, whatever follows).
+      {
+        const int n = state_size(p);
+        for (int i = 0; i < n; i += 8)
+          __builtin_prefetch(st + n + i, 1);
+      }
+
       // Per-contact invariants hoisted out of the element loop.
       const double  R   = st[h_R];
       const double  gs1 = st[h_gs], tbs1 = st[h_tbs], tbt1 = dim == 3 ? st[h_tbt] : 0.0;
       const double *ug      = dim == 3 ? unit_geometry(p.Nr, p.Nal) : nullptr;
-      const double  R2      = R * R;
-      const double  A2d     = 2 * R / p.Nr; // 2D element area (Eq. 13)
       const double  tan_phi = tan_deg(p.fa);
       const int     ne      = element_count(p);
+      double       *codes   = field(p, st, f_code);
+      double       *fss_a   = field(p, st, f_fss);
+      double       *fst_a   = field(p, st, f_fst);
+      double       *eslip_a = field(p, st, f_eslip);
 
       f         = ContactForce{};
       double mz = 0; // 2D resultant moment about +z
       for (int e = 0; e < ne; ++e)
         {
-          double *el = elem(st, e);
-          double  A, rs, rt;
-          if (dim == 3)
-            {
-              A  = R2 * ug[3 * e];
-              rs = R * ug[3 * e + 1];
-              rt = R * ug[3 * e + 2];
-            }
-          else
-            {
-              A  = A2d;
-              rs = 0;
-              rt = R * (-2.0 * (e + 1) + 1 + p.Nr) / p.Nr; // rho^(e), Eq. 13
-            }
+          double A, rs, rt;
+          scaled_geometry(p, R, ug, e, A, rs, rt);
           const double g0       = gs0 + rt * tbs0 - rs * tbt0;
           const double g1       = gs1 + rt * tbs1 - rs * tbt1;
-          const double code     = el[e_code];
+          const double code     = codes[e];
           int          B        = code_bond(code);
           const bool   was_slip = code_slip(code);
           bool         bonded   = B == 3;
@@ -361,10 +389,10 @@ namespace demfem::dem
           // compared as forces, A > 0).
           double Fn, Mb = 0;
           if (dim == 3)
-            Fn = (!bonded && g1 >= 0) ? 0.0 : p.kn * g1 * A;
+            Fn = (!bonded && g1 >= 0) ? 0.0 : p.kn * g1 * A; // normal_force_3d
           else
             normal_and_bending(p, st, A, rs, rt, bonded, Fn, Mb);
-          double Fss = el[e_fss], Fst = el[e_fst];
+          double Fss = fss_a[e], Fst = fst_a[e];
           bool   do_shear = true, tension_break = false;
           if (bonded && Fn > p.ten * A)
             {
@@ -404,7 +432,7 @@ namespace demfem::dem
                       Fst *= scale;
                       slip = true;
                       // memo Eq. 39
-                      el[e_eslip] += Tc * std::sqrt(ds * ds + dtt * dtt);
+                      eslip_a[e] += Tc * std::sqrt(ds * ds + dtt * dtt);
                     }
                 }
               else
@@ -447,12 +475,16 @@ namespace demfem::dem
               normal_and_bending(p, st, A, rs, rt, false, fn_dummy, Mb);
             }
 
-          el[e_code] = make_code(B, slip);
-          el[e_fn]   = Fn;
-          el[e_fss]  = Fss;
-          el[e_fst]  = Fst;
+          const double new_code = make_code(B, slip);
+          if (new_code != code) // keep the cache line clean
+            codes[e] = new_code;
+          fss_a[e] = Fss;
+          fst_a[e] = Fst;
           if (dim == 2)
-            el[e_mb] = Mb;
+            {
+              field(p, st, f_fn)[e] = Fn;
+              field(p, st, f_mb)[e] = Mb;
+            }
 
           // Resultant (memo Eq. 23-24), r = rs s + rt t, force -Fn n + Fs.
           f.Fn += Fn;
@@ -493,7 +525,7 @@ namespace demfem::dem
     {
       for (int e = 0; e < element_count(p); ++e)
         {
-          if (code_bond(elem(st, e)[e_code]) == 3)
+          if (bond_state(p, st, e) == 3)
             return true;
           double A, rs, rt;
           element_geometry(p, st[h_R], e, A, rs, rt);
@@ -532,26 +564,35 @@ namespace demfem::dem
       return {p.kn * A, p.ks * A, p.kn * I, p.ks * J};
     }
 
-    /// Memo Eq. 36-37 (element twisting moment is zero, memo footnote 5).
+    /// Memo Eq. 36-37 (element twisting moment is zero, memo footnote 5;
+    /// 3D bending moment zero, Eq. 50).
     static double strain_energy(const Params &p, const double *st)
     {
-      double E = 0;
+      const double *ug   = dim == 3 ? unit_geometry(p.Nr, p.Nal) : nullptr;
+      const double  R    = st[h_R];
+      const double  rbar = R / p.Nr;
+      const double  I2d  = 2.0 / 3.0 * rbar * rbar * rbar;
+      const double *code = field(p, st, f_code), *fss = field(p, st, f_fss),
+                   *fst = field(p, st, f_fst);
+      double E          = 0;
       for (int e = 0; e < element_count(p); ++e)
         {
-          const double *el = elem(st, e);
-          const double  A  = element_area(p, st, e);
+          double A, rs, rt;
+          scaled_geometry(p, R, ug, e, A, rs, rt);
           if (p.kn > 0)
             {
-              E += 0.5 * el[e_fn] * el[e_fn] / (p.kn * A);
+              const double Fn =
+                  dim == 2 ? field(p, st, f_fn)[e]
+                           : normal_force_3d(p, st, A, rs, rt, code_bond(code[e]));
+              E += 0.5 * Fn * Fn / (p.kn * A);
               if (dim == 2)
                 {
-                  const double rbar = st[h_R] / p.Nr;
-                  const double I    = 2.0 / 3.0 * rbar * rbar * rbar;
-                  E += 0.5 * el[e_mb] * el[e_mb] / (p.kn * I);
+                  const double Mb = field(p, st, f_mb)[e];
+                  E += 0.5 * Mb * Mb / (p.kn * I2d);
                 }
             }
           if (p.ks > 0)
-            E += 0.5 * (el[e_fss] * el[e_fss] + el[e_fst] * el[e_fst]) / (p.ks * A);
+            E += 0.5 * (fss[e] * fss[e] + fst[e] * fst[e]) / (p.ks * A);
         }
       return E;
     }
@@ -561,7 +602,7 @@ namespace demfem::dem
     {
       double E = 0;
       for (int e = 0; e < element_count(p); ++e)
-        E += elem(st, e)[e_eslip];
+        E += field(p, st, f_eslip)[e];
       return E;
     }
 
@@ -587,7 +628,7 @@ namespace demfem::dem
         {
           if (element >= 0 && e != element)
             continue;
-          double *el = elem(st, e);
+          double *code = field(p, st, f_code) + e;
           bool    zero;
           if (dim == 2)
             {
@@ -600,9 +641,9 @@ namespace demfem::dem
             zero =
                 std::abs(st[h_gs]) <= tol &&
                 std::sqrt(st[h_tbs] * st[h_tbs] + st[h_tbt] * st[h_tbt]) * st[h_R] <= tol;
-          if (zero && code_bond(el[e_code]) != 3)
+          if (zero && code_bond(*code) != 3)
             {
-              el[e_code] = make_code(3, code_slip(el[e_code]));
+              *code = make_code(3, code_slip(*code));
               ++n;
             }
         }
@@ -615,19 +656,19 @@ namespace demfem::dem
       for (int e = 0; e < element_count(p); ++e)
         if (element < 0 || e == element)
           {
-            double *el = elem(st, e);
-            el[e_code] = make_code(0, code_slip(el[e_code]));
+            double *code = field(p, st, f_code) + e;
+            *code        = make_code(0, code_slip(*code));
           }
     }
 
     // ---- getters -------------------------------------------------------------
-    static int bond_state(const Params &, const double *st, int e)
+    static int bond_state(const Params &p, const double *st, int e)
     {
-      return code_bond(elem(st, e)[e_code]);
+      return code_bond(field(p, st, f_code)[e]);
     }
-    static bool slipping(const Params &, const double *st, int e)
+    static bool slipping(const Params &p, const double *st, int e)
     {
-      return code_slip(elem(st, e)[e_code]);
+      return code_slip(field(p, st, f_code)[e]);
     }
     static double element_area(const Params &p, const double *st, int e)
     {
@@ -649,15 +690,20 @@ namespace demfem::dem
       return interface_gap(st, r[0], r[1]);
     }
     /// Element force {Fn, Fss, Fst} and bending moment (2D: about +z; 3D: 0,
-    /// memo Eq. 50).
-    static std::array<double, 4> element_force(const Params &, const double *st, int e)
+    /// memo Eq. 50) of the last update. 3D Fn is evaluated from the gap and
+    /// bond state exactly as the update does (see the state layout).
+    static std::array<double, 4> element_force(const Params &p, const double *st, int e)
     {
-      const double *el = elem(st, e);
-      return {el[e_fn], el[e_fss], el[e_fst], dim == 2 ? el[e_mb] : 0.0};
+      const double Fss = field(p, st, f_fss)[e], Fst = field(p, st, f_fst)[e];
+      if (dim == 2)
+        return {field(p, st, f_fn)[e], Fss, Fst, field(p, st, f_mb)[e]};
+      double A, rs, rt;
+      element_geometry(p, st[h_R], e, A, rs, rt);
+      return {normal_force_3d(p, st, A, rs, rt, bond_state(p, st, e)), Fss, Fst, 0.0};
     }
-    static double element_slip_energy(const Params &, const double *st, int e)
+    static double element_slip_energy(const Params &p, const double *st, int e)
     {
-      return elem(st, e)[e_eslip];
+      return field(p, st, f_eslip)[e];
     }
     static double                surface_gap(const double *st) { return st[h_gs]; }
     static double                radius(const double *st) { return st[h_R]; }
@@ -669,7 +715,7 @@ namespace demfem::dem
     {
       int n = 0;
       for (int e = 0; e < element_count(p); ++e)
-        n += code_bond(elem(st, e)[e_code]) == 3;
+        n += bond_state(p, st, e) == 3;
       return n;
     }
   };
