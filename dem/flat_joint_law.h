@@ -31,6 +31,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -340,11 +341,13 @@ namespace demfem::dem
 
       // The update is bound by memory latency; groups keep the state blocks
       // of consecutive contacts contiguous, so fetch the next block while this
-      // one is computed (a prefetch never faults, whatever follows).
+      // one is computed (a prefetch never faults, whatever follows; the
+      // address is formed as an integer since it may lie past the array).
       {
-        const int n = state_size(p);
-        for (int i = 0; i < n; i += 8)
-          __builtin_prefetch(st + n + i, 1);
+        const std::size_t    bytes = sizeof(double) * std::size_t(state_size(p));
+        const std::uintptr_t next  = reinterpret_cast<std::uintptr_t>(st) + bytes;
+        for (std::size_t i = 0; i < bytes; i += 64) // one cache line
+          __builtin_prefetch(reinterpret_cast<const void *>(next + i), 1);
       }
 
       // Per-contact invariants hoisted out of the element loop.
