@@ -39,42 +39,50 @@ namespace demfem::apps
 
     // Test names of Tests/tests and what they run.
     const std::vector<TestSpec> known_tests = {
-      {"ucs", dem::TestKind::compression, dem::CompressionType::unconfined},
-      {"triaxial", dem::TestKind::compression, dem::CompressionType::confined},
-      {"uniaxial strain", dem::TestKind::compression, dem::CompressionType::uniaxial_strain},
-      {"brazilian", dem::TestKind::brazilian, dem::CompressionType::unconfined},
-      {"direct tension", dem::TestKind::direct_tension, dem::CompressionType::unconfined}};
+        {"ucs", dem::TestKind::compression, dem::CompressionType::unconfined},
+        {"triaxial", dem::TestKind::compression, dem::CompressionType::confined},
+        {"uniaxial strain", dem::TestKind::compression,
+         dem::CompressionType::uniaxial_strain},
+        {"brazilian", dem::TestKind::brazilian, dem::CompressionType::unconfined},
+        {"direct tension", dem::TestKind::direct_tension,
+         dem::CompressionType::unconfined}};
 
     void dist(ParameterHandler &prm, const std::string &name, const std::string &mean,
               const std::string &doc)
     {
       prm.declare_entry(name + " mean", mean, Patterns::Double(), doc + " mean (>= 0)");
-      prm.declare_entry(name + " sd", "0", Patterns::Double(), doc + " standard deviation (>= 0)");
+      prm.declare_entry(name + " sd", "0", Patterns::Double(),
+                        doc + " standard deviation (>= 0)");
     }
 
     void declare_parameters(ParameterHandler &prm)
     {
       prm.enter_subsection("Problem");
-      prm.declare_entry("dimension", "2", Patterns::Integer(2, 3), "2 (disks) or 3 (spheres)");
+      prm.declare_entry("dimension", "2", Patterns::Integer(2, 3),
+                        "2 (disks) or 3 (spheres)");
       prm.declare_entry("output directory", "out/calibrate", Patterns::Anything(),
                         "Created after validation; files in it are replaced");
-      prm.declare_entry("vtk", "true", Patterns::Bool(), "Write VTK of specimen and tests");
+      prm.declare_entry("vtk", "true", Patterns::Bool(),
+                        "Write VTK of specimen and tests");
       prm.leave_subsection();
 
       prm.enter_subsection("Material");
-      prm.declare_entry("type", "flatjointed",
-                        Patterns::Selection("linear|contactbonded|parallelbonded|flatjointed"),
-                        "Material type (fistPkg Tables 2-5)");
-      prm.declare_entry("size distribution", "uniform 1.6e-3 2.4e-3 1",
-                        Patterns::Anything(),
-                        "Grain diameters [m] (fistPkg Table 1), pieces separated by ';': "
-                        "'uniform D_lo D_hi fraction' or 'gaussian mean sd D_lo D_hi fraction' "
-                        "(D_hi = 0: no upper cut); volume fractions sum to 1");
+      prm.declare_entry(
+          "type", "flatjointed",
+          Patterns::Selection("linear|contactbonded|parallelbonded|flatjointed"),
+          "Material type (fistPkg Tables 2-5)");
+      prm.declare_entry(
+          "size distribution", "uniform 1.6e-3 2.4e-3 1", Patterns::Anything(),
+          "Grain diameters [m] (fistPkg Table 1), pieces separated by ';': "
+          "'uniform D_lo D_hi fraction' or 'gaussian mean sd D_lo D_hi fraction' "
+          "(D_hi = 0: no upper cut); volume fractions sum to 1");
       prm.declare_entry("diameter multiplier", "1", Patterns::Double(), "D_mult (> 0)");
-      prm.declare_entry("number of grains", "0", Patterns::Double(),
-                        "> 0: sets the diameter multiplier so about this many grains fill "
-                        "the vessel; 0: use the diameter multiplier");
-      prm.declare_entry("density", "2650", Patterns::Double(), "Grain density [kg/m^3] (> 0)");
+      prm.declare_entry(
+          "number of grains", "0", Patterns::Double(),
+          "> 0: sets the diameter multiplier so about this many grains fill "
+          "the vessel; 0: use the diameter multiplier");
+      prm.declare_entry("density", "2650", Patterns::Double(),
+                        "Grain density [kg/m^3] (> 0)");
       prm.declare_entry("bulk density", "false", Patterns::Bool(),
                         "density is the bulk density");
       prm.declare_entry("local damping", "0.7", Patterns::Double(), "[0, 1)");
@@ -94,7 +102,8 @@ namespace demfem::apps
       prm.leave_subsection();
       prm.enter_subsection("Parallel bond");
       prm.declare_entry("radius multiplier", "1", Patterns::Double(), "pb_rmul");
-      prm.declare_entry("bond effective modulus", "0", Patterns::Double(), "pb_bemod [Pa]");
+      prm.declare_entry("bond effective modulus", "0", Patterns::Double(),
+                        "pb_bemod [Pa]");
       prm.declare_entry("bond stiffness ratio", "1", Patterns::Double(), "pb_bkrat");
       prm.declare_entry("moment contribution factor", "0", Patterns::Double(), "pb_mcf");
       dist(prm, "tensile strength", "0", "Tensile strength [Pa]");
@@ -106,8 +115,10 @@ namespace demfem::apps
       prm.declare_entry("gapped fraction", "0", Patterns::Double(),
                         "phi_G (slit fraction = 1 - phi_B - phi_G)");
       dist(prm, "gap", "0", "Initial surface gap of gapped joints [m]");
-      prm.declare_entry("radial elements", "2", Patterns::Integer(1), "N_r (2D: elements)");
-      prm.declare_entry("circumferential elements", "4", Patterns::Integer(3), "N_alpha (3D)");
+      prm.declare_entry("radial elements", "2", Patterns::Integer(1),
+                        "N_r (2D: elements)");
+      prm.declare_entry("circumferential elements", "4", Patterns::Integer(3),
+                        "N_alpha (3D)");
       prm.declare_entry("radius multiplier code", "0", Patterns::Integer(0, 2),
                         "0 fixed, 1 valid non-uniform, 2 valid uniform (fistPkg §2.6.2)");
       prm.declare_entry("radius multiplier", "1", Patterns::Double(), "lambda");
@@ -118,9 +129,11 @@ namespace demfem::apps
       prm.leave_subsection();
 
       prm.enter_subsection("Vessel");
-      prm.declare_entry("shape", "box", Patterns::Selection("box|cylinder"), "cylinder: 3D only");
+      prm.declare_entry("shape", "box", Patterns::Selection("box|cylinder"),
+                        "cylinder: 3D only");
       prm.declare_entry("height", "0.1", Patterns::Double(), "H (axial) [m]");
-      prm.declare_entry("width", "0.05", Patterns::Double(), "W (x; cylinder diameter) [m]");
+      prm.declare_entry("width", "0.05", Patterns::Double(),
+                        "W (x; cylinder diameter) [m]");
       prm.declare_entry("depth", "0.05", Patterns::Double(), "D (y, 3D box) [m]");
       prm.declare_entry("expansion factor", "1.2", Patterns::Double(), ">= 1");
       prm.declare_entry("wall effective modulus", "0", Patterns::Double(),
@@ -129,42 +142,58 @@ namespace demfem::apps
 
       prm.enter_subsection("Packing");
       prm.declare_entry("method", "grain-scaling",
-                        Patterns::Selection("grain-scaling|boundary-contraction"), "fistPkg §4.2.1");
+                        Patterns::Selection("grain-scaling|boundary-contraction"),
+                        "fistPkg §4.2.1");
       prm.declare_entry("material pressure", "1e6", Patterns::Double(),
                         "P_m [Pa] (compression positive)");
       prm.declare_entry("pressure tolerance", "0.01", Patterns::Double(), "eps_P");
       prm.declare_entry("ratio limit", "8e-3", Patterns::Double(), "ft_eq ratio limit");
-      prm.declare_entry("step limit", "2000000", Patterns::Integer(1), "ft_eq step limit");
-      prm.declare_entry("cloud porosity", "-1", Patterns::Double(), "n_c; < 0: Table 7 default");
+      prm.declare_entry("step limit", "2000000", Patterns::Integer(1),
+                        "ft_eq step limit");
+      prm.declare_entry("cloud porosity", "-1", Patterns::Double(),
+                        "n_c; < 0: Table 7 default");
       prm.leave_subsection();
 
       prm.enter_subsection("Tests");
-      prm.declare_entry("tests", "ucs, brazilian, direct tension",
-                        Patterns::List(Patterns::Selection(
-                            "ucs|triaxial|uniaxial strain|brazilian|direct tension"),
-                                       1),
-                        "Tests to run, each on a fresh specimen");
-      prm.declare_entry("strain rate", "0.1", Patterns::Double(), "Axial strain rate [1/s] (> 0)");
+      prm.declare_entry(
+          "tests", "ucs, brazilian, direct tension",
+          Patterns::List(Patterns::Selection(
+                             "ucs|triaxial|uniaxial strain|brazilian|direct tension"),
+                         1),
+          "Tests to run, each on a fresh specimen");
+      prm.declare_entry("strain rate", "0.1", Patterns::Double(),
+                        "Axial strain rate [1/s] (> 0)");
       prm.declare_entry("confining pressure", "10e6", Patterns::Double(),
                         "P_c [Pa] of the triaxial / uniaxial-strain tests (>= 0)");
-      prm.declare_entry("load fraction", "0.7", Patterns::Double(),
-                        "Test ends when the load falls below this fraction of its peak (0, 1)");
-      prm.declare_entry("strain limit", "0.02", Patterns::Double(), "|axial strain| limit (0, 1]");
-      prm.declare_entry("step limit", "400000", Patterns::Integer(1), "Loading steps limit");
-      prm.declare_entry("history interval", "50", Patterns::Integer(1), "Steps per history row");
-      prm.declare_entry("grip thickness", "0.1", Patterns::Double(), "t_g / H (direct tension)");
-      prm.declare_entry("platen friction", "0.5", Patterns::Double(),
-                        "Brazilian platen friction (fistPkg: frictionless; a small 2D disk "
-                        "between frictionless platens can slide out sideways) (>= 0)");
-      prm.declare_entry("fit window low", "0.1", Patterns::Double(), "E/nu fit from this fraction");
-      prm.declare_entry("fit window high", "0.5", Patterns::Double(), "... to this fraction of peak");
-      prm.declare_entry("crack initiation fraction", "0.01", Patterns::Double(),
-                        "Crack initiation when cracks reach this fraction of those at peak");
-      prm.declare_entry("seating ratio limit", "1e-4", Patterns::Double(), "ft_eq ratio of seating");
+      prm.declare_entry(
+          "load fraction", "0.7", Patterns::Double(),
+          "Test ends when the load falls below this fraction of its peak (0, 1)");
+      prm.declare_entry("strain limit", "0.02", Patterns::Double(),
+                        "|axial strain| limit (0, 1]");
+      prm.declare_entry("step limit", "400000", Patterns::Integer(1),
+                        "Loading steps limit");
+      prm.declare_entry("history interval", "50", Patterns::Integer(1),
+                        "Steps per history row");
+      prm.declare_entry("grip thickness", "0.1", Patterns::Double(),
+                        "t_g / H (direct tension)");
+      prm.declare_entry(
+          "platen friction", "0.5", Patterns::Double(),
+          "Brazilian platen friction (fistPkg: frictionless; a small 2D disk "
+          "between frictionless platens can slide out sideways) (>= 0)");
+      prm.declare_entry("fit window low", "0.1", Patterns::Double(),
+                        "E/nu fit from this fraction");
+      prm.declare_entry("fit window high", "0.5", Patterns::Double(),
+                        "... to this fraction of peak");
+      prm.declare_entry(
+          "crack initiation fraction", "0.01", Patterns::Double(),
+          "Crack initiation when cracks reach this fraction of those at peak");
+      prm.declare_entry("seating ratio limit", "1e-4", Patterns::Double(),
+                        "ft_eq ratio of seating");
       prm.declare_entry("seating step limit", "20000", Patterns::Integer(0), "");
-      prm.declare_entry("loading rate check", "false", Patterns::Bool(),
-                        "Repeat each test at half the strain rate and report the change of peak "
-                        "strength (fistPkg §5.4)");
+      prm.declare_entry(
+          "loading rate check", "false", Patterns::Bool(),
+          "Repeat each test at half the strain rate and report the change of peak "
+          "strength (fistPkg §5.4)");
       prm.leave_subsection();
     }
 
@@ -179,9 +208,9 @@ namespace demfem::apps
       std::stringstream        ss(path);
       for (std::string p; std::getline(ss, p, '/');)
         parts.push_back(p);
-      AssertThrow(parts.size() >= 2,
-                  ExcMessage("--set \"" + arg + "\": the key needs its section, e.g. "
-                             "\"Material/seed=2\""));
+      AssertThrow(parts.size() >= 2, ExcMessage("--set \"" + arg +
+                                                "\": the key needs its section, e.g. "
+                                                "\"Material/seed=2\""));
       std::size_t entered = 0;
       try
         {
@@ -217,8 +246,8 @@ namespace demfem::apps
 
     // Physical checks that patterns cannot express name the key, the file
     // and the allowed range (DESIGN §8).
-    void check(const std::string &where, const std::string &key, double v, double lo, double hi,
-               bool lo_open = false, bool hi_open = false)
+    void check(const std::string &where, const std::string &key, double v, double lo,
+               double hi, bool lo_open = false, bool hi_open = false)
     {
       dem::check_range(where, key, v, lo, hi, lo_open, hi_open);
     }
@@ -232,7 +261,8 @@ namespace demfem::apps
       return d;
     }
 
-    std::vector<dem::SizePiece> parse_sizes(const std::string &text, const std::string &where)
+    std::vector<dem::SizePiece> parse_sizes(const std::string &text,
+                                            const std::string &where)
     {
       const std::string           key = "Material/size distribution";
       std::vector<dem::SizePiece> pieces;
@@ -245,7 +275,7 @@ namespace demfem::apps
           s >> kind;
           if (kind.empty())
             continue;
-          dem::SizePiece p;
+          dem::SizePiece      p;
           std::vector<double> v;
           for (double x; s >> x;)
             v.push_back(x);
@@ -255,7 +285,8 @@ namespace demfem::apps
           else if (kind == "gaussian" && v.size() == 5 && !bad_tail)
             {
               p.gaussian = true;
-              p.mean = v[0], p.sd = v[1], p.d_lo = v[2], p.d_hi = v[3], p.volume_fraction = v[4];
+              p.mean = v[0], p.sd = v[1], p.d_lo = v[2], p.d_hi = v[3],
+              p.volume_fraction = v[4];
             }
           else
             throw dem::InputError(
@@ -308,7 +339,8 @@ namespace demfem::apps
       m.type                = prm.get("type");
       m.sizes               = parse_sizes(prm.get("size distribution"), where);
       m.diameter_multiplier = prm.get_double("diameter multiplier");
-      check(where, "Material/diameter multiplier", m.diameter_multiplier, 0, HUGE_VAL, true);
+      check(where, "Material/diameter multiplier", m.diameter_multiplier, 0, HUGE_VAL,
+            true);
       s.n_grains = prm.get_double("number of grains");
       check(where, "Material/number of grains", s.n_grains, 0, 1e8);
       m.density = prm.get_double("density");
@@ -340,29 +372,29 @@ namespace demfem::apps
       prm.leave_subsection();
       prm.enter_subsection("Parallel bond");
       const std::string pb = "Material/Parallel bond/";
-      m.pb_rmul  = prm.get_double("radius multiplier");
-      m.pb_bemod = prm.get_double("bond effective modulus");
-      m.pb_bkrat = prm.get_double("bond stiffness ratio");
-      m.pb_mcf   = prm.get_double("moment contribution factor");
-      m.pb_ten   = read_dist(prm, where, pb, "tensile strength");
-      m.pb_coh   = read_dist(prm, where, pb, "cohesion");
-      m.pb_fa    = prm.get_double("friction angle");
+      m.pb_rmul            = prm.get_double("radius multiplier");
+      m.pb_bemod           = prm.get_double("bond effective modulus");
+      m.pb_bkrat           = prm.get_double("bond stiffness ratio");
+      m.pb_mcf             = prm.get_double("moment contribution factor");
+      m.pb_ten             = read_dist(prm, where, pb, "tensile strength");
+      m.pb_coh             = read_dist(prm, where, pb, "cohesion");
+      m.pb_fa              = prm.get_double("friction angle");
       check(where, pb + "radius multiplier", m.pb_rmul, 0, HUGE_VAL, true);
       check(where, pb + "moment contribution factor", m.pb_mcf, 0, 1);
       check(where, pb + "friction angle", m.pb_fa, 0, 90, false, true);
       prm.leave_subsection();
       prm.enter_subsection("Flat joint");
       const std::string fj = "Material/Flat joint/";
-      m.fj_B         = prm.get_double("bonded fraction");
-      m.fj_G         = prm.get_double("gapped fraction");
-      m.fj_gap       = read_dist(prm, where, fj, "gap");
-      m.fj_Nr        = prm.get_integer("radial elements");
-      m.fj_Nal       = prm.get_integer("circumferential elements");
-      m.fj_rmul_code = prm.get_integer("radius multiplier code");
-      m.fj_rmul      = prm.get_double("radius multiplier");
-      m.fj_ten       = read_dist(prm, where, fj, "tensile strength");
-      m.fj_coh       = read_dist(prm, where, fj, "cohesion");
-      m.fj_fa        = prm.get_double("friction angle");
+      m.fj_B               = prm.get_double("bonded fraction");
+      m.fj_G               = prm.get_double("gapped fraction");
+      m.fj_gap             = read_dist(prm, where, fj, "gap");
+      m.fj_Nr              = prm.get_integer("radial elements");
+      m.fj_Nal             = prm.get_integer("circumferential elements");
+      m.fj_rmul_code       = prm.get_integer("radius multiplier code");
+      m.fj_rmul            = prm.get_double("radius multiplier");
+      m.fj_ten             = read_dist(prm, where, fj, "tensile strength");
+      m.fj_coh             = read_dist(prm, where, fj, "cohesion");
+      m.fj_fa              = prm.get_double("friction angle");
       check(where, fj + "bonded fraction", m.fj_B, 0, 1);
       check(where, fj + "gapped fraction", m.fj_G, 0, 1 - m.fj_B);
       check(where, fj + "radius multiplier", m.fj_rmul, 0, 1, true);
@@ -384,8 +416,9 @@ namespace demfem::apps
       check(where, "Vessel/expansion factor", v.expand, 1, HUGE_VAL);
       check(where, "Vessel/wall effective modulus", v.emod, 0, HUGE_VAL);
       if (s.dim == 2 && v.shape == "cylinder")
-        throw dem::InputError(where + ": Vessel/shape: 'cylinder' needs Problem/dimension = 3 "
-                                      "(allowed in 2D: box)");
+        throw dem::InputError(where +
+                              ": Vessel/shape: 'cylinder' needs Problem/dimension = 3 "
+                              "(allowed in 2D: box)");
       prm.leave_subsection();
 
       prm.enter_subsection("Packing");
@@ -408,21 +441,21 @@ namespace demfem::apps
         for (const auto &t : known_tests)
           if (t.name == name)
             s.tests.push_back(t);
-      l.strain_rate      = prm.get_double("strain rate");
-      l.Pc               = prm.get_double("confining pressure");
-      l.load_fraction    = prm.get_double("load fraction");
-      l.strain_limit     = prm.get_double("strain limit");
-      l.step_limit       = prm.get_integer("step limit");
-      l.history_interval = prm.get_integer("history interval");
-      l.grip_thickness   = prm.get_double("grip thickness");
-      l.platen_friction  = prm.get_double("platen friction");
-      l.fit_lo           = prm.get_double("fit window low");
-      l.fit_hi           = prm.get_double("fit window high");
+      l.strain_rate               = prm.get_double("strain rate");
+      l.Pc                        = prm.get_double("confining pressure");
+      l.load_fraction             = prm.get_double("load fraction");
+      l.strain_limit              = prm.get_double("strain limit");
+      l.step_limit                = prm.get_integer("step limit");
+      l.history_interval          = prm.get_integer("history interval");
+      l.grip_thickness            = prm.get_double("grip thickness");
+      l.platen_friction           = prm.get_double("platen friction");
+      l.fit_lo                    = prm.get_double("fit window low");
+      l.fit_hi                    = prm.get_double("fit window high");
       l.crack_initiation_fraction = prm.get_double("crack initiation fraction");
-      l.ratio_limit      = prm.get_double("seating ratio limit");
-      l.seat_step_limit  = prm.get_integer("seating step limit");
-      s.rate_check       = prm.get_bool("loading rate check");
-      const std::string t = "Tests/";
+      l.ratio_limit               = prm.get_double("seating ratio limit");
+      l.seat_step_limit           = prm.get_integer("seating step limit");
+      s.rate_check                = prm.get_bool("loading rate check");
+      const std::string t         = "Tests/";
       check(where, t + "strain rate", l.strain_rate, 0, HUGE_VAL, true);
       check(where, t + "confining pressure", l.Pc, 0, HUGE_VAL);
       check(where, t + "load fraction", l.load_fraction, 0, 1, true, true);
@@ -431,7 +464,8 @@ namespace demfem::apps
       check(where, t + "platen friction", l.platen_friction, 0, HUGE_VAL);
       check(where, t + "fit window low", l.fit_lo, 0, 1, false, true);
       check(where, t + "fit window high", l.fit_hi, l.fit_lo, 1, true);
-      check(where, t + "crack initiation fraction", l.crack_initiation_fraction, 0, 1, true);
+      check(where, t + "crack initiation fraction", l.crack_initiation_fraction, 0, 1,
+            true);
       check(where, t + "seating ratio limit", l.ratio_limit, 0, 1, true);
       prm.leave_subsection();
 
@@ -473,7 +507,8 @@ namespace demfem::apps
               }
             else
               {
-                AssertThrow(file.empty(), ExcMessage("more than one parameter file given"));
+                AssertThrow(file.empty(),
+                            ExcMessage("more than one parameter file given"));
                 file = a;
               }
           }
@@ -487,7 +522,8 @@ namespace demfem::apps
           }
         else
           {
-            AssertThrow(print, ExcMessage(std::string("no parameter file given\n") + usage));
+            AssertThrow(print,
+                        ExcMessage(std::string("no parameter file given\n") + usage));
           }
         for (const auto &o : overrides)
           try

@@ -90,7 +90,8 @@ namespace demfem::apps
     for (std::size_t i = 0; i < items_.size(); ++i)
       {
         o += pad + quote(items_[i].first) + ": ";
-        o += is_obj_[i] ? objs_[std::stoul(items_[i].second)].text(indent + 2) : items_[i].second;
+        o += is_obj_[i] ? objs_[std::stoul(items_[i].second)].text(indent + 2)
+                        : items_[i].second;
         o += i + 1 < items_.size() ? ",\n" : "\n";
       }
     return o + std::string(indent, ' ') + "}";
@@ -104,10 +105,11 @@ namespace demfem::apps
          "load,cracks_tension,cracks_shear\n";
     s << std::setprecision(10);
     for (const auto &r : h)
-      s << r.step << ',' << r.time << ',' << r.axial_strain << ',' << r.lateral_strain << ','
-        << r.gauge_axial_strain << ',' << r.volumetric_strain << ',' << r.axial_stress << ','
-        << r.region_axial_stress << ',' << r.region_lateral_stress << ',' << r.axial_force
-        << ',' << r.load << ',' << r.cracks_tension << ',' << r.cracks_shear << '\n';
+      s << r.step << ',' << r.time << ',' << r.axial_strain << ',' << r.lateral_strain
+        << ',' << r.gauge_axial_strain << ',' << r.volumetric_strain << ','
+        << r.axial_stress << ',' << r.region_axial_stress << ','
+        << r.region_lateral_stress << ',' << r.axial_force << ',' << r.load << ','
+        << r.cracks_tension << ',' << r.cracks_shear << '\n';
     return s.str();
   }
 
@@ -139,14 +141,16 @@ namespace demfem::apps
       << xml(title) << "</text>\n";
     for (double v = x0; v <= x1 + 0.5 * dx; v += dx)
       s << "<line x1=\"" << X(v) << "\" y1=\"" << t << "\" x2=\"" << X(v) << "\" y2=\""
-        << Hh - b << "\" stroke=\"#ddd\"/>\n<text x=\"" << X(v) << "\" y=\"" << Hh - b + 16
-        << "\" text-anchor=\"middle\">" << (std::abs(v) < 1e-12 * dx ? 0.0 : v) << "</text>\n";
+        << Hh - b << "\" stroke=\"#ddd\"/>\n<text x=\"" << X(v) << "\" y=\""
+        << Hh - b + 16 << "\" text-anchor=\"middle\">"
+        << (std::abs(v) < 1e-12 * dx ? 0.0 : v) << "</text>\n";
     for (double v = y0; v <= y1 + 0.5 * dy; v += dy)
       s << "<line x1=\"" << l << "\" y1=\"" << Y(v) << "\" x2=\"" << W - r << "\" y2=\""
         << Y(v) << "\" stroke=\"#ddd\"/>\n<text x=\"" << l - 6 << "\" y=\"" << Y(v) + 4
-        << "\" text-anchor=\"end\">" << (std::abs(v) < 1e-12 * dy ? 0.0 : v) << "</text>\n";
-    s << "<rect x=\"" << l << "\" y=\"" << t << "\" width=\"" << W - l - r << "\" height=\""
-      << Hh - t - b << "\" fill=\"none\" stroke=\"black\"/>\n";
+        << "\" text-anchor=\"end\">" << (std::abs(v) < 1e-12 * dy ? 0.0 : v)
+        << "</text>\n";
+    s << "<rect x=\"" << l << "\" y=\"" << t << "\" width=\"" << W - l - r
+      << "\" height=\"" << Hh - t - b << "\" fill=\"none\" stroke=\"black\"/>\n";
     s << "<polyline fill=\"none\" stroke=\"#c00\" stroke-width=\"1.5\" points=\"";
     for (std::size_t i = 0; i < x.size() && i < y.size(); ++i)
       if (std::isfinite(x[i]) && std::isfinite(y[i]))

@@ -14,9 +14,9 @@ namespace demfem::apps
   class Json
   {
   public:
-    Json &num(const std::string &key, double v);           ///< null if not finite
-    Json &str(const std::string &key, const std::string &v);
-    Json &obj(const std::string &key, const Json &v);
+    Json       &num(const std::string &key, double v); ///< null if not finite
+    Json       &str(const std::string &key, const std::string &v);
+    Json       &obj(const std::string &key, const Json &v);
     std::string text(int indent = 0) const;
 
   private:

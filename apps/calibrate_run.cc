@@ -17,10 +17,10 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <limits>
 #include <map>
 #include <memory>
-#include <iostream>
 #include <sstream>
 
 namespace demfem::apps
@@ -50,9 +50,10 @@ namespace demfem::apps
     {
     public:
       explicit Progress(std::string test)
-        : test_(std::move(test))
-        , tty_(isatty(2))
-      {}
+          : test_(std::move(test))
+          , tty_(isatty(2))
+      {
+      }
       void operator()(const dem::LabProgress &g)
       {
         const double t = seconds_since(t0_);
@@ -64,8 +65,10 @@ namespace demfem::apps
         s << "[" << test_ << "] " << g.phase << " step " << g.step << "  stress "
           << g.stress / 1e6 << " MPa  strain " << g.strain << "  cracks " << g.cracks;
         if (g.fraction_done > 0.01)
-          s << "  ETA " << std::lround(t * (1 - g.fraction_done) / g.fraction_done) << " s";
-        std::cerr << (tty_ ? "\r" : "") << s.str() << (tty_ ? "\033[K" : "\n") << std::flush;
+          s << "  ETA " << std::lround(t * (1 - g.fraction_done) / g.fraction_done)
+            << " s";
+        std::cerr << (tty_ ? "\r" : "") << s.str() << (tty_ ? "\033[K" : "\n")
+                  << std::flush;
       }
       ~Progress()
       {
@@ -168,7 +171,7 @@ namespace demfem::apps
     // checkpoint (dem/checkpoint.h restores it bit for bit).
     template <int dim>
     std::unique_ptr<dem::Specimen<dim>> clone(const dem::Specimen<dim> &s,
-                                              const std::string       &checkpoint)
+                                              const std::string        &checkpoint)
     {
       auto c                     = std::make_unique<dem::Specimen<dim>>();
       c->vessel                  = s.vessel;
@@ -237,7 +240,9 @@ namespace demfem::apps
             j.num("E_plane_stress_Pa", r.E_ps).num("nu_plane_stress", r.nu_ps);
         }
       if (r.kind == dem::TestKind::brazilian)
-        j.num("peak_force_N", r.peak_force).num("disk_radius_m", r.R).num("thickness_m", r.t);
+        j.num("peak_force_N", r.peak_force)
+            .num("disk_radius_m", r.R)
+            .num("thickness_m", r.t);
       return j;
     }
   } // namespace
@@ -258,8 +263,8 @@ namespace demfem::apps
       return dem::build_specimen<dim>(s.mat, s.vessel, &std::cerr, s.where);
     };
     std::cerr << "demfem calibrate: genesis (" << dim << "D, " << s.mat.type << ")\n";
-    const auto t_gen = Clock::now();
-    auto       first = std::make_unique<dem::Specimen<dim>>(build());
+    const auto   t_gen     = Clock::now();
+    auto         first     = std::make_unique<dem::Specimen<dim>>(build());
     const double genesis_s = seconds_since(t_gen);
     const double porosity  = first->porosity();
     const double n_grains  = double(first->n_grains());
@@ -272,29 +277,29 @@ namespace demfem::apps
     std::cerr << "demfem calibrate: " << n_grains << " grains, porosity " << porosity
               << ", genesis " << genesis_s << " s\n";
 
-    Json                                   tests_json;
+    Json                                      tests_json;
     std::map<std::string, dem::LabTestResult> results;
     for (std::size_t k = 0; k < s.tests.size(); ++k)
       {
-        const auto &t    = s.tests[k];
-        const auto  name = file_name(t.name);
-        auto        sp   = fresh();
-        dem::LabTestParams lp = s.lab;
-        lp.kind               = t.kind;
-        lp.ctype              = t.ctype;
+        const auto        &t    = s.tests[k];
+        const auto         name = file_name(t.name);
+        auto               sp   = fresh();
+        dem::LabTestParams lp   = s.lab;
+        lp.kind                 = t.kind;
+        lp.ctype                = t.ctype;
         if (t.ctype == dem::CompressionType::unconfined)
           lp.Pc = 0;
-        Progress                progress(t.name);
-        dem::LabCallbacks<dim>  cb;
-        double                  t_peak = 0, t_end = 0;
+        Progress               progress(t.name);
+        dem::LabCallbacks<dim> cb;
+        double                 t_peak = 0, t_end = 0;
         cb.progress = [&](const dem::LabProgress &g) { progress(g); };
         if (s.vtk)
           cb.snapshot = [&](const dem::Specimen<dim> &spec, const std::string &label) {
             (label == "peak" ? t_peak : t_end) = spec.model.time();
             write_snapshot(vtk_dir, name + "_" + label, spec, label == "end");
           };
-        const auto t_test = Clock::now();
-        auto       r      = dem::run_lab_test(*sp, lp, cb);
+        const auto   t_test = Clock::now();
+        auto         r      = dem::run_lab_test(*sp, lp, cb);
         const double test_s = seconds_since(t_test);
         if (s.vtk)
           for (const char *what : {"particles", "cracks"})
@@ -310,7 +315,8 @@ namespace demfem::apps
         const double        sign = t.kind == dem::TestKind::direct_tension ? 1 : -1;
         std::vector<double> x, y;
         for (const auto &h : r.history)
-          x.push_back(100 * sign * h.axial_strain), y.push_back(sign * h.axial_stress / 1e6);
+          x.push_back(100 * sign * h.axial_strain),
+              y.push_back(sign * h.axial_stress / 1e6);
         const std::string ylabel = t.kind == dem::TestKind::brazilian
                                        ? "F / (pi R t)  [MPa]  (Eq. 24)"
                                        : "axial stress (platen/grip)  [MPa]";
@@ -320,9 +326,12 @@ namespace demfem::apps
                          std::to_string(std::size_t(n_grains)) + " grains)",
                      "axial strain [%]", ylabel, x, y));
         Json j = result_json(r, dim);
-        j.num("run_time_s", test_s).num("strain_rate_1_s", lp.strain_rate).num("Pc_Pa", lp.Pc);
-        std::cerr << "demfem calibrate: " << t.name << ": peak " << r.peak / 1e6 << " MPa ("
-                  << r.ended_by << ", " << r.loading_steps << " steps, " << test_s << " s)\n";
+        j.num("run_time_s", test_s)
+            .num("strain_rate_1_s", lp.strain_rate)
+            .num("Pc_Pa", lp.Pc);
+        std::cerr << "demfem calibrate: " << t.name << ": peak " << r.peak / 1e6
+                  << " MPa (" << r.ended_by << ", " << r.loading_steps << " steps, "
+                  << test_s << " s)\n";
         if (s.rate_check)
           {
             auto               sp2 = fresh();
@@ -331,9 +340,9 @@ namespace demfem::apps
             l2.step_limit *= 2;
             Progress               progress2(t.name + " @ half rate");
             dem::LabCallbacks<dim> cb2;
-            cb2.progress = [&](const dem::LabProgress &g) { progress2(g); };
-            const auto r2  = dem::run_lab_test(*sp2, l2, cb2);
-            const double d = (r2.peak - r.peak) / r.peak;
+            cb2.progress    = [&](const dem::LabProgress &g) { progress2(g); };
+            const auto   r2 = dem::run_lab_test(*sp2, l2, cb2);
+            const double d  = (r2.peak - r.peak) / r.peak;
             j.num("peak_half_rate_Pa", r2.peak).num("peak_relative_change_half_rate", d);
             std::cerr << "demfem calibrate: " << t.name << " at half rate: peak "
                       << r2.peak / 1e6 << " MPa, relative change " << d << "\n";
@@ -344,13 +353,13 @@ namespace demfem::apps
 
     // material.json: the continuum's E, nu from the unconfined test (else
     // the triaxial one); strengths from their tests; null when not run.
-    const double nan  = std::numeric_limits<double>::quiet_NaN();
-    auto         get  = [&](const std::string &n) -> const dem::LabTestResult * {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    auto         get = [&](const std::string &n) -> const dem::LabTestResult         *{
       auto it = results.find(n);
       return it == results.end() ? nullptr : &it->second;
     };
     const dem::LabTestResult *el = get("ucs") ? get("ucs") : get("triaxial");
-    Json mat;
+    Json                      mat;
     mat.num("dim", dim)
         .num("n_grains", n_grains)
         .num("porosity", porosity)
@@ -365,17 +374,28 @@ namespace demfem::apps
         .num("direct_tension", get("direct tension") ? get("direct tension")->peak : nan)
         .num("crack_initiation", el ? el->crack_initiation : nan);
     Json units;
-    units.str("E", "Pa").str("nu", "1").str("E_plane_stress", "Pa").str("nu_plane_stress", "1")
-        .str("ucs", "Pa").str("triaxial_strength", "Pa").str("confining_pressure", "Pa")
-        .str("bts", "Pa").str("direct_tension", "Pa").str("crack_initiation", "Pa")
-        .str("porosity", "1").str("n_grains", "1");
+    units.str("E", "Pa")
+        .str("nu", "1")
+        .str("E_plane_stress", "Pa")
+        .str("nu_plane_stress", "1")
+        .str("ucs", "Pa")
+        .str("triaxial_strength", "Pa")
+        .str("confining_pressure", "Pa")
+        .str("bts", "Pa")
+        .str("direct_tension", "Pa")
+        .str("crack_initiation", "Pa")
+        .str("porosity", "1")
+        .str("n_grains", "1");
     mat.obj("units", units);
-    mat.str("elastic_constants",
-            dim == 2 ? "E, nu: plane-strain pair for the continuum (DESIGN 7: nu = nu'/(1+nu'), "
-                       "E = E'(1-nu^2)) from the plane-stress fit E', nu' (fistPkg Eq. 19)"
-                     : "E, nu: fistPkg Eq. 18");
+    mat.str(
+        "elastic_constants",
+        dim == 2
+            ? "E, nu: plane-strain pair for the continuum (DESIGN 7: nu = nu'/(1+nu'), "
+              "E = E'(1-nu^2)) from the plane-stress fit E', nu' (fistPkg Eq. 19)"
+            : "E, nu: fistPkg Eq. 18");
     mat.str("fit_window", "secant least squares between " + std::to_string(s.lab.fit_lo) +
-                              " and " + std::to_string(s.lab.fit_hi) + " of the peak deviator");
+                              " and " + std::to_string(s.lab.fit_hi) +
+                              " of the peak deviator");
     mat.obj("microparameters", microparameters(s.mat, s.vessel));
     dem::vtkout::write_text_atomically(s.out + "/material.json", mat.text() + "\n");
 

@@ -34,12 +34,12 @@ namespace demfem::dem
   {
     switch (k)
       {
-        case TestKind::compression:
-          return "compression";
-        case TestKind::brazilian:
-          return "brazilian";
-        default:
-          return "direct_tension";
+      case TestKind::compression:
+        return "compression";
+      case TestKind::brazilian:
+        return "brazilian";
+      default:
+        return "direct_tension";
       }
   }
 
@@ -67,11 +67,11 @@ namespace demfem::dem
       static constexpr int ax = dim - 1; // axial direction (fistPkg Fig. 20)
 
       Runner(Specimen<dim> &s, const LabTestParams &p, const LabCallbacks<dim> &cb)
-        : s_(s)
-        , m_(s.model)
-        , p_(p)
-        , cb_(cb)
-        , crack_base_(s.model.cracks.size())
+          : s_(s)
+          , m_(s.model)
+          , p_(p)
+          , cb_(cb)
+          , crack_base_(s.model.cracks.size())
       {
         r_.kind = p.kind;
         // Far enough that no grain reaches a removed wall during the test.
@@ -96,19 +96,19 @@ namespace demfem::dem
       }
 
     private:
-      Specimen<dim>            &s_;
-      Model<dim>               &m_;
-      const LabTestParams      &p_;
-      const LabCallbacks<dim>  &cb_;
-      LabTestResult             r_;
-      std::size_t               crack_base_, counted_ = 0;
-      std::size_t               n_ten_ = 0, n_shear_ = 0;
-      double                    far_ = 0;
+      Specimen<dim>             &s_;
+      Model<dim>                &m_;
+      const LabTestParams       &p_;
+      const LabCallbacks<dim>   &cb_;
+      LabTestResult              r_;
+      std::size_t                crack_base_, counted_ = 0;
+      std::size_t                n_ten_ = 0, n_shear_ = 0;
+      double                     far_ = 0;
       std::vector<std::uint32_t> gauge_, grip_top_, grip_bottom_;
-      double                    L0_ = 0;     // loading length (platen gap / grip distance)
-      double                    v_ = 0;      // speed of each platen / grip
-      std::int64_t              step0_ = 0;
-      double                    time0_ = 0;
+      double                     L0_ = 0; // loading length (platen gap / grip distance)
+      double                     v_  = 0; // speed of each platen / grip
+      std::int64_t               step0_ = 0;
+      double                     time0_ = 0;
 
       void count_cracks()
       {
@@ -139,9 +139,9 @@ namespace demfem::dem
                 if (cb_.progress)
                   {
                     LabProgress g;
-                    g.phase  = "seating";
-                    g.step   = n + 1;
-                    g.stress = servo ? servo->pressure(m_, ax) : 0;
+                    g.phase         = "seating";
+                    g.step          = n + 1;
+                    g.stress        = servo ? servo->pressure(m_, ax) : 0;
                     g.fraction_done = double(n) / p_.seat_step_limit;
                     cb_.progress(g);
                   }
@@ -176,7 +176,7 @@ namespace demfem::dem
         std::sort(gauge_.begin(), gauge_.end());
         gauge_.erase(std::unique(gauge_.begin(), gauge_.end()), gauge_.end());
         count_cracks();
-        counted_base_ten_ = n_ten_;
+        counted_base_ten_   = n_ten_;
         counted_base_shear_ = n_shear_;
       }
       std::size_t counted_base_ten_ = 0, counted_base_shear_ = 0;
@@ -212,9 +212,9 @@ namespace demfem::dem
         // Carve the disk (2D) or the cylinder with its axis along y (3D) of
         // radius R = min(W, H)/2 centred on the vessel (§5.6, Fig. 29).
         const Vec<dim> c = s_.vessel.center;
-        const double   R = 0.5 * std::min(s_.vessel.length(m_.walls, 0),
-                                        s_.vessel.length(m_.walls, ax));
-        r_.t             = dim == 2 ? 1.0 : s_.vessel.length(m_.walls, 1);
+        const double   R =
+            0.5 * std::min(s_.vessel.length(m_.walls, 0), s_.vessel.length(m_.walls, ax));
+        r_.t = dim == 2 ? 1.0 : s_.vessel.length(m_.walls, 1);
         std::vector<char> remove(m_.particles.size(), 0);
         for (std::size_t i = 0; i < m_.particles.size(); ++i)
           {
@@ -256,7 +256,7 @@ namespace demfem::dem
       // Grain-platen contacts: the grain-wall linear law with friction.
       void platen_friction()
       {
-        using Group = ContactGroup<dim, LinearLaw<dim>>;
+        using Group    = ContactGroup<dim, LinearLaw<dim>>;
         const auto *wg = dynamic_cast<const Group *>(&m_.group(s_.wall_group));
         if (!wg)
           throw InputError("lab test: platen friction needs a linear grain-wall law");
@@ -317,13 +317,13 @@ namespace demfem::dem
 
       Tensor<dim> region_average() const
       {
-        Tensor<dim> s = Tensor<dim>::Zero();
-        double      V = 0;
+        Tensor<dim> s     = Tensor<dim>::Zero();
+        double      V     = 0;
         const int   first = p_.kind == TestKind::brazilian ? 1 : 0;
         const int   last  = p_.kind == TestKind::brazilian ? 1 : 2;
         for (int i = first; i <= last; ++i)
           {
-            const auto  &reg = s_.vessel.regions[i];
+            const auto &reg = s_.vessel.regions[i];
             s += reg.volume() * region_stress(m_, reg);
             V += reg.volume();
           }
@@ -338,11 +338,12 @@ namespace demfem::dem
         h.time           = m_.time() - time0_;
         h.cracks_tension = n_ten_ - counted_base_ten_;
         h.cracks_shear   = n_shear_ - counted_base_shear_;
-        const Tensor<dim> eg = gauge_.size() > dim ? gauge_strain(m_, gauge_) : Tensor<dim>::Zero();
-        h.gauge_axial_strain = eg(ax, ax);
-        h.lateral_strain     = (eg.trace() - eg(ax, ax)) / (dim - 1);
-        h.volumetric_strain  = eg.trace();
-        const Tensor<dim> sr = region_average();
+        const Tensor<dim> eg =
+            gauge_.size() > dim ? gauge_strain(m_, gauge_) : Tensor<dim>::Zero();
+        h.gauge_axial_strain    = eg(ax, ax);
+        h.lateral_strain        = (eg.trace() - eg(ax, ax)) / (dim - 1);
+        h.volumetric_strain     = eg.trace();
+        const Tensor<dim> sr    = region_average();
         h.region_axial_stress   = sr(ax, ax);
         h.region_lateral_stress = (sr.trace() - sr(ax, ax)) / (dim - 1);
         if (p_.kind == TestKind::compression)
@@ -364,11 +365,11 @@ namespace demfem::dem
           }
         else if (p_.kind == TestKind::brazilian)
           {
-            const auto &W  = m_.walls;
+            const auto  &W = m_.walls;
             const double g = s_.vessel.length(W, ax);
             h.axial_strain = (g - L0_) / L0_; // Eq. 23
             // Eq. 22: F_a = (F_bottom - F_top)/2 along y, tension positive.
-            h.axial_force = 0.5 * (W.wall_force(s_.vessel.lo[ax])[ax] -
+            h.axial_force  = 0.5 * (W.wall_force(s_.vessel.lo[ax])[ax] -
                                    W.wall_force(s_.vessel.hi[ax])[ax]);
             h.axial_stress = -brazilian_strength(-h.axial_force, r_.R, r_.t);
             h.load         = -h.axial_force;
@@ -429,8 +430,9 @@ namespace demfem::dem
             const std::size_t nh = r_.history.size();
             const double      recent =
                 nh < 3 ? h.load
-                       : (r_.history[nh - 1].load + r_.history[nh - 2].load +
-                          r_.history[nh - 3].load) / 3;
+                            : (r_.history[nh - 1].load + r_.history[nh - 2].load +
+                          r_.history[nh - 3].load) /
+                             3;
             if (cracks > 0 && peak > 0 && recent < p_.load_fraction * peak)
               {
                 r_.ended_by = "post-peak";
@@ -486,15 +488,16 @@ namespace demfem::dem
         // stress wall based.
         std::vector<double> ea, er, sa, ew;
         for (std::size_t i = 0; i <= r_.peak_row; ++i)
-          if (H[i].load >= p_.fit_lo * r_.peak_load && H[i].load <= p_.fit_hi * r_.peak_load)
+          if (H[i].load >= p_.fit_lo * r_.peak_load &&
+              H[i].load <= p_.fit_hi * r_.peak_load)
             {
               ea.push_back(H[i].gauge_axial_strain);
               er.push_back(H[i].lateral_strain);
               sa.push_back(H[i].axial_stress);
               ew.push_back(H[i].axial_strain);
             }
-        const double E  = ls_slope(ea, sa);       // Eq. 18/19: d sigma_a / d eps_a
-        const double nu = -ls_slope(ea, er);      // -d eps_r / d eps_a
+        const double E  = ls_slope(ea, sa);  // Eq. 18/19: d sigma_a / d eps_a
+        const double nu = -ls_slope(ea, er); // -d eps_r / d eps_a
         r_.E_wall       = ls_slope(ew, sa);
         if (p_.ctype == CompressionType::uniaxial_strain)
           {
@@ -505,7 +508,7 @@ namespace demfem::dem
           r_.E = E, r_.nu = nu;
         else
           {
-            r_.E_ps  = E, r_.nu_ps = nu;
+            r_.E_ps = E, r_.nu_ps = nu;
             plane_stress_to_plane_strain(E, nu, r_.E, r_.nu);
           }
       }

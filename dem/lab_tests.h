@@ -32,16 +32,16 @@ namespace demfem::dem
   /// One recorded step (tension positive, SI units).
   struct HistoryRow
   {
-    std::int64_t step = 0;       ///< loading-phase step
-    double       time = 0;       ///< loading-phase time [s]
-    double       axial_strain   = 0; ///< platen/grip based (Eq. 23 for Brazilian)
-    double       lateral_strain = 0; ///< gauge based (mean of the lateral components)
+    std::int64_t step               = 0; ///< loading-phase step
+    double       time               = 0; ///< loading-phase time [s]
+    double       axial_strain       = 0; ///< platen/grip based (Eq. 23 for Brazilian)
+    double       lateral_strain     = 0; ///< gauge based (mean of the lateral components)
     double       gauge_axial_strain = 0;
-    double       volumetric_strain  = 0; ///< gauge based (trace)
-    double       axial_stress   = 0; ///< wall (platen/grip) based [Pa]
+    double       volumetric_strain  = 0;    ///< gauge based (trace)
+    double       axial_stress       = 0;    ///< wall (platen/grip) based [Pa]
     double       region_axial_stress   = 0; ///< measurement-region based [Pa]
     double       region_lateral_stress = 0; ///< measurement-region based [Pa]
-    double       axial_force = 0; ///< Brazilian: Eq. 22 (tension positive) [N]
+    double       axial_force           = 0; ///< Brazilian: Eq. 22 (tension positive) [N]
     std::size_t  cracks_tension = 0, cracks_shear = 0;
     /// The loading measure the test ends on (compression: deviator
     /// magnitude; Brazilian: |F_a|; tension: axial stress) [Pa or N].
@@ -51,29 +51,29 @@ namespace demfem::dem
   /// What a progress callback receives.
   struct LabProgress
   {
-    const char  *phase = "";
-    std::int64_t step  = 0;
-    double       stress = 0;  ///< current load measure (see HistoryRow::load)
-    double       strain = 0;
-    std::size_t  cracks = 0;
+    const char  *phase         = "";
+    std::int64_t step          = 0;
+    double       stress        = 0; ///< current load measure (see HistoryRow::load)
+    double       strain        = 0;
+    std::size_t  cracks        = 0;
     double       fraction_done = 0; ///< rough: max(strain / limit, post-peak drop)
   };
 
   struct LabTestParams
   {
-    TestKind        kind  = TestKind::compression;
-    CompressionType ctype = CompressionType::unconfined;
-    double Pc          = 0;    ///< confining pressure (compression positive) [Pa]
-    double strain_rate = 0.1;  ///< axial strain rate (> 0) [1/s] (§5.4)
-    double load_fraction = 0.7; ///< ends when load < fraction * peak (Table 10-12)
-    double strain_limit  = 0.02; ///< ends at |axial strain| above this
-    std::int64_t step_limit = 2000000; ///< loading-phase step limit
-    int    history_interval = 50; ///< steps between history rows
+    TestKind        kind        = TestKind::compression;
+    CompressionType ctype       = CompressionType::unconfined;
+    double          Pc          = 0;   ///< confining pressure (compression positive) [Pa]
+    double          strain_rate = 0.1; ///< axial strain rate (> 0) [1/s] (§5.4)
+    double       load_fraction  = 0.7; ///< ends when load < fraction * peak (Table 10-12)
+    double       strain_limit   = 0.02;    ///< ends at |axial strain| above this
+    std::int64_t step_limit     = 2000000; ///< loading-phase step limit
+    int          history_interval = 50;    ///< steps between history rows
     // seating (compression) / set-up (Brazilian) equilibrium
-    ServoParams  servo;           ///< v_limit 0: automatic (§Table 10: 10 a H)
-    double       ratio_limit = 1e-4; ///< ft_eq ratio limit for seating
+    ServoParams  servo;                  ///< v_limit 0: automatic (§Table 10: 10 a H)
+    double       ratio_limit     = 1e-4; ///< ft_eq ratio limit for seating
     std::int64_t seat_step_limit = 100000;
-    double grip_thickness = 0.1;  ///< direct tension: t_g / H
+    double       grip_thickness  = 0.1; ///< direct tension: t_g / H
     /// Brazilian platen friction. fistPkg §5.6 uses frictionless platens;
     /// a small 2D disk between frictionless platens can slide out sideways
     /// (neutral equilibrium), so a friction coefficient may be given.
@@ -92,26 +92,26 @@ namespace demfem::dem
   {
     TestKind                kind = TestKind::compression;
     std::vector<HistoryRow> history;
-    std::int64_t seating_steps = 0, loading_steps = 0;
-    std::string  ended_by;          ///< "post-peak", "strain limit", "step limit"
-    std::size_t  peak_row = 0;      ///< history index of the peak
-    double peak = 0;                ///< compression: peak axial stress magnitude [Pa];
-                                    ///< Brazilian: BTS (Eq. 24); tension: peak stress
-    double peak_load  = 0;          ///< peak of HistoryRow::load
-    double peak_force = 0;          ///< Brazilian: F_max [N]
-    double peak_strain = 0;         ///< |axial strain| at the peak
-    double crack_initiation = 0;    ///< axial-stress magnitude at crack initiation [Pa]
+    std::int64_t            seating_steps = 0, loading_steps = 0;
+    std::string             ended_by;     ///< "post-peak", "strain limit", "step limit"
+    std::size_t             peak_row = 0; ///< history index of the peak
+    double                  peak = 0; ///< compression: peak axial stress magnitude [Pa];
+                                      ///< Brazilian: BTS (Eq. 24); tension: peak stress
+    double peak_load             = 0; ///< peak of HistoryRow::load
+    double peak_force            = 0; ///< Brazilian: F_max [N]
+    double peak_strain           = 0; ///< |axial strain| at the peak
+    double crack_initiation      = 0; ///< axial-stress magnitude at crack initiation [Pa]
     double crack_initiation_load = 0; ///< load measure at crack initiation
     /// Elastic constants of the loading branch (compression only):
     /// 3D: Eq. 18 (E, nu); 2D: Eq. 19 plane stress (E_ps, nu_ps) and the
     /// plane-strain pair of DESIGN §7 in (E, nu). Uniaxial strain: E holds the
     /// constrained modulus and nu = 0.
-    double E = 0, nu = 0, E_ps = 0, nu_ps = 0;
-    double E_wall = 0;              ///< modulus from platen strain (incl. contact compliance)
+    double      E = 0, nu = 0, E_ps = 0, nu_ps = 0;
+    double      E_wall = 0; ///< modulus from platen strain (incl. contact compliance)
     std::size_t cracks_tension_peak = 0, cracks_shear_peak = 0;
     std::size_t cracks_tension = 0, cracks_shear = 0; ///< at the end
-    double R = 0, t = 0;            ///< Brazilian disk radius and thickness [m]
-    double area = 0;                ///< cross-section used for the axial stress [m^2]
+    double      R = 0, t = 0; ///< Brazilian disk radius and thickness [m]
+    double      area = 0;     ///< cross-section used for the axial stress [m^2]
   };
 
   /// Callbacks: progress (every history row) and state snapshots, called
@@ -130,7 +130,8 @@ namespace demfem::dem
 
   /// Plane-stress (Eq. 19) to plane-strain constants for the continuum
   /// (DESIGN §7): nu = nu'/(1 + nu'), E = E' (1 - nu^2).
-  inline void plane_stress_to_plane_strain(double E_ps, double nu_ps, double &E, double &nu)
+  inline void plane_stress_to_plane_strain(double E_ps, double nu_ps, double &E,
+                                           double &nu)
   {
     nu = nu_ps / (1 + nu_ps);
     E  = E_ps * (1 - nu * nu);

@@ -31,8 +31,8 @@ namespace
   std::string tiny_prm(const fs::path &out, const std::string &material_extra = "")
   {
     std::ostringstream s;
-    s << "subsection Problem\n  set dimension = 2\n  set output directory = " << out.string()
-      << "\n  set vtk = true\nend\n"
+    s << "subsection Problem\n  set dimension = 2\n  set output directory = "
+      << out.string() << "\n  set vtk = true\nend\n"
       << "subsection Material\n  set type = flatjointed\n"
          "  set size distribution = uniform 1.0e-3 1.6e-3 1\n"
          "  set number of grains = 150\n"
@@ -75,8 +75,9 @@ TEST_CASE("calibrate: tiny 2D material end to end", "[calibrate]")
   REQUIRE(r.exit_code == 0);
   const std::string text = read(out / "material.json");
   const auto        v    = json_numbers(text);
-  for (const char *k : {"E", "nu", "E_plane_stress", "nu_plane_stress", "ucs", "bts",
-                        "direct_tension", "crack_initiation", "porosity", "n_grains", "dim"})
+  for (const char *k :
+       {"E", "nu", "E_plane_stress", "nu_plane_stress", "ucs", "bts", "direct_tension",
+        "crack_initiation", "porosity", "n_grains", "dim"})
     {
       INFO("key " << k);
       REQUIRE(v.count(k) == 1);
@@ -86,7 +87,8 @@ TEST_CASE("calibrate: tiny 2D material end to end", "[calibrate]")
   // DESIGN §7: the continuum pair is the plane-strain map of the fit.
   const double nps = v.at("nu_plane_stress");
   CHECK(v.at("nu") == Approx(nps / (1 + nps)).epsilon(1e-12));
-  CHECK(v.at("E") == Approx(v.at("E_plane_stress") * (1 - v.at("nu") * v.at("nu"))).epsilon(1e-12));
+  CHECK(v.at("E") ==
+        Approx(v.at("E_plane_stress") * (1 - v.at("nu") * v.at("nu"))).epsilon(1e-12));
   // Strengths are positive and ordered as for rock: UCS > BTS, crack
   // initiation below the peak.
   CHECK(v.at("ucs") > v.at("bts"));
@@ -96,10 +98,10 @@ TEST_CASE("calibrate: tiny 2D material end to end", "[calibrate]")
   CHECK(v.at("crack_initiation") < v.at("ucs"));
   CHECK(v.at("porosity") > 0.05);
   CHECK(v.at("porosity") < 0.4);
-  for (const char *f : {"summary.json", "history_ucs.csv", "history_brazilian.csv",
-                        "history_direct_tension.csv", "ucs_stress_strain.svg",
-                        "vtk/ucs_particles.pvd", "vtk/ucs_peak_cracks.vtp",
-                        "vtk/specimen_particles.vtp"})
+  for (const char *f :
+       {"summary.json", "history_ucs.csv", "history_brazilian.csv",
+        "history_direct_tension.csv", "ucs_stress_strain.svg", "vtk/ucs_particles.pvd",
+        "vtk/ucs_peak_cracks.vtp", "vtk/specimen_particles.vtp"})
     {
       INFO("file " << f);
       CHECK(fs::is_regular_file(out / f));
@@ -107,8 +109,9 @@ TEST_CASE("calibrate: tiny 2D material end to end", "[calibrate]")
   // Same seed -> same material.
   const fs::path out2 = work_dir() / "tiny_out2";
   fs::remove_all(out2);
-  const auto r2 = run_demfem("calibrate " + prm.string() + " --set \"Problem/output directory=" +
-                             out2.string() + "\" --set \"Tests/tests=ucs\"");
+  const auto r2 = run_demfem("calibrate " + prm.string() +
+                             " --set \"Problem/output directory=" + out2.string() +
+                             "\" --set \"Tests/tests=ucs\"");
   REQUIRE(r2.exit_code == 0);
   const auto v2 = json_numbers(read(out2 / "material.json"));
   CHECK(v2.at("n_grains") == v.at("n_grains"));
@@ -122,13 +125,15 @@ TEST_CASE("calibrate: bad parameter files write nothing", "[calibrate]")
     const char *name, *extra, *expect1, *expect2;
   };
   const Case cases[] = {
-      {"fractions", "  set size distribution = uniform 1e-3 2e-3 0.6; uniform 2e-3 3e-3 0.3\n",
+      {"fractions",
+       "  set size distribution = uniform 1e-3 2e-3 0.6; uniform 2e-3 3e-3 0.3\n",
        "Material/size distribution", "sum to 1"},
       {"negative", "  set size distribution = uniform -1e-3 2e-3 1\n",
        "Material/size distribution (D_lo)", "allowed range"},
       {"unknown", "  set colour = red\n", "colour", "bad"},
-      {"fj_fractions", "  subsection Flat joint\n    set bonded fraction = 0.8\n"
-                       "    set gapped fraction = 0.5\n  end\n",
+      {"fj_fractions",
+       "  subsection Flat joint\n    set bonded fraction = 0.8\n"
+       "    set gapped fraction = 0.5\n  end\n",
        "Material/Flat joint/gapped fraction", "allowed range"},
   };
   for (const auto &c : cases)
@@ -136,8 +141,9 @@ TEST_CASE("calibrate: bad parameter files write nothing", "[calibrate]")
       INFO("case " << c.name);
       const fs::path out = work_dir() / (std::string("bad_") + c.name);
       fs::remove_all(out);
-      const fs::path prm = write(std::string("bad_") + c.name + ".prm", tiny_prm(out, c.extra));
-      const auto     r   = run_demfem("calibrate " + prm.string());
+      const fs::path prm =
+          write(std::string("bad_") + c.name + ".prm", tiny_prm(out, c.extra));
+      const auto r = run_demfem("calibrate " + prm.string());
       INFO(r.out);
       CHECK(r.exit_code != 0);
       CHECK(r.out.find(c.expect1) != std::string::npos);
@@ -151,7 +157,7 @@ TEST_CASE("calibrate: bad parameter files write nothing", "[calibrate]")
   // --set with a value outside the physical range names the key too.
   const fs::path out = work_dir() / "bad_set";
   const fs::path prm = write("ok.prm", tiny_prm(out));
-  const auto     r   = run_demfem("calibrate " + prm.string() + " --set \"Vessel/height=-1\"");
+  const auto r = run_demfem("calibrate " + prm.string() + " --set \"Vessel/height=-1\"");
   CHECK(r.exit_code != 0);
   CHECK(r.out.find("Vessel/height") != std::string::npos);
   CHECK_FALSE(fs::exists(out));

@@ -104,7 +104,8 @@ TEST_CASE("elastic scaling of the measured constants (2D)", "[labtests]")
   CHECK(a.cracks_tension + a.cracks_shear == 0);
 }
 
-TEST_CASE("wall, measurement and gauge quantities agree on an elastic specimen", "[labtests]")
+TEST_CASE("wall, measurement and gauge quantities agree on an elastic specimen",
+          "[labtests]")
 {
   // Uniaxial compression of an unbreakable specimen: the stress is uniform,
   // so the platen (wall) stress and the measurement-region stress agree;
@@ -116,7 +117,8 @@ TEST_CASE("wall, measurement and gauge quantities agree on an elastic specimen",
   INFO("wall " << h.axial_stress << " region " << h.region_axial_stress << " E_wall "
                << r.E_wall << " E_ps " << r.E_ps);
   INFO("wall " << h.axial_stress << " region " << h.region_axial_stress << " lateral "
-                << h.region_lateral_stress << " E_wall " << r.E_wall << " E_ps " << r.E_ps);
+               << h.region_lateral_stress << " E_wall " << r.E_wall << " E_ps "
+               << r.E_ps);
   CHECK(h.region_axial_stress == Approx(h.axial_stress).epsilon(0.10));
   CHECK(std::abs(h.region_lateral_stress) < 0.1 * std::abs(h.axial_stress));
   CHECK(r.E_wall < r.E_ps * 1.02);
@@ -139,11 +141,11 @@ TEST_CASE("Brazilian test: Eq. 24 and measurement stress vs platen forces", "[la
   set_grain_count<2>(p, v, 350);
   Specimen<2>   s = build_specimen<2>(p, v);
   LabTestParams l;
-  l.kind             = TestKind::brazilian;
-  l.strain_rate      = 0.5;
-  l.strain_limit     = 2e-4;
-  l.platen_friction  = 0.5;
-  l.history_interval = 20;
+  l.kind                = TestKind::brazilian;
+  l.strain_rate         = 0.5;
+  l.strain_limit        = 2e-4;
+  l.platen_friction     = 0.5;
+  l.history_interval    = 20;
   const LabTestResult r = run_lab_test(s, l);
   REQUIRE(r.R > 0);
   CHECK(r.peak == Approx(brazilian_strength(r.peak_force, r.R, 1.0)).epsilon(1e-12));
@@ -151,8 +153,8 @@ TEST_CASE("Brazilian test: Eq. 24 and measurement stress vs platen forces", "[la
 
   // Platens stopped (run_lab_test does that): let the disk settle.
   s.model.cycle(3000);
-  const auto &m = s.model;
-  Tensor<2>   ext = Tensor<2>::Zero();
+  const auto &m     = s.model;
+  Tensor<2>   ext   = Tensor<2>::Zero();
   double      Fwall = 0;
   for (int g = 0; g < m.n_groups(); ++g)
     for (std::size_t k = 0; k < m.group(g).size(); ++k)
