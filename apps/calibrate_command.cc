@@ -7,6 +7,7 @@
 
 #include "apps/calibrate.h"
 #include "apps/commands.h"
+#include "apps/prm_cli.h"
 #include "dem/lab_tests.h"
 
 #include <chrono>
@@ -197,50 +198,7 @@ namespace demfem::apps
       prm.leave_subsection();
     }
 
-    // "Section/sub/key=value" -> prm.set inside the sections.
-    void apply_override(ParameterHandler &prm, const std::string &arg)
-    {
-      const auto eq = arg.find('=');
-      AssertThrow(eq != std::string::npos && eq > 0,
-                  ExcMessage("--set expects \"Section/key=value\", got \"" + arg + "\""));
-      const std::string        path = arg.substr(0, eq), value = arg.substr(eq + 1);
-      std::vector<std::string> parts;
-      std::stringstream        ss(path);
-      for (std::string p; std::getline(ss, p, '/');)
-        parts.push_back(p);
-      AssertThrow(parts.size() >= 2, ExcMessage("--set \"" + arg +
-                                                "\": the key needs its section, e.g. "
-                                                "\"Material/seed=2\""));
-      std::size_t entered = 0;
-      try
-        {
-          for (; entered + 1 < parts.size(); ++entered)
-            prm.enter_subsection(parts[entered]);
-          prm.set(parts.back(), value);
-        }
-      catch (...)
-        {
-          for (std::size_t i = 0; i < entered; ++i)
-            prm.leave_subsection();
-          throw;
-        }
-      for (std::size_t i = 0; i < entered; ++i)
-        prm.leave_subsection();
-    }
 
-    std::string exception_text(const std::exception &e)
-    {
-      if (const auto *d = dynamic_cast<const ExceptionBase *>(&e))
-        {
-          std::ostringstream s;
-          d->print_info(s);
-          std::string t = s.str();
-          const auto  b = t.find_first_not_of(" \n\t");
-          const auto  l = t.find_last_not_of(" \n\t");
-          return b == std::string::npos ? d->get_exc_name() : t.substr(b, l - b + 1);
-        }
-      return e.what();
-    }
 
     using Settings = CalibrateSettings;
 
@@ -481,63 +439,19 @@ namespace demfem::apps
   {
     try
       {
-        std::string              file;
-        std::vector<std::string> overrides;
-        bool                     print = false;
-        for (int i = 1; i < argc; ++i)
-          {
-            const std::string a = argv[i];
-            if (a == "--help" || a == "-h")
-              {
-                std::cout << usage;
-                return 0;
-              }
-            else if (a == "--print-parameters")
-              print = true;
-            else if (a == "--set")
-              {
-                AssertThrow(i + 1 < argc, ExcMessage("--set needs an argument"));
-                overrides.emplace_back(argv[++i]);
-              }
-            else if (a.rfind("--set=", 0) == 0)
-              overrides.push_back(a.substr(6));
-            else if (a.rfind("-", 0) == 0)
-              {
-                AssertThrow(false, ExcMessage("unknown option '" + a + "' (see --help)"));
-              }
-            else
-              {
-                AssertThrow(file.empty(),
-                            ExcMessage("more than one parameter file given"));
-                file = a;
-              }
-          }
+        std::string      file;
         ParameterHandler prm;
         declare_parameters(prm);
-        if (!file.empty())
+        switch (read_parameters(argc, argv, prm, usage, file))
           {
-            AssertThrow(fs::is_regular_file(file),
-                        ExcMessage("parameter file '" + file + "' does not exist"));
-            prm.parse_input(file);
-          }
-        else
-          {
-            AssertThrow(print,
-                        ExcMessage(std::string("no parameter file given\n") + usage));
-          }
-        for (const auto &o : overrides)
-          try
-            {
-              apply_override(prm, o);
-            }
-          catch (const std::exception &e)
-            {
-              AssertThrow(false, ExcMessage("--set \"" + o + "\": " + exception_text(e)));
-            }
-        if (print)
-          {
-            prm.print_parameters(std::cout, ParameterHandler::Text);
-            return 0;
+            case PrmAction::help:
+              std::cout << usage;
+              return 0;
+            case PrmAction::print:
+              prm.print_parameters(std::cout, ParameterHandler::Text);
+              return 0;
+            case PrmAction::run:
+              break;
           }
         const Settings s = read_settings(prm, file);
         return s.dim == 2 ? run_calibration<2>(s) : run_calibration<3>(s);
