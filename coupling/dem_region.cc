@@ -218,6 +218,21 @@ namespace demfem::coupling
           const std::size_t k = m.group(g).size() - 1;
           m.reassign(dem::ContactRef{g, k}, m.group(g).is_wall[k] ? G.wall : G.linear);
         }
+    // Rattlers (grains without a bond, left loose by the frictionless
+    // packing) are removed: they carry no stress and would drift into the
+    // excavation, spoiling the wall convergence.
+    {
+      std::vector<char> bonded(P.size(), 0);
+      for (const auto &pr : pairs)
+        bonded[pr.i] = bonded[pr.j] = 1;
+      std::vector<char> rm(P.size(), 0);
+      std::size_t       n_rm = 0;
+      for (std::size_t i = 0; i < P.size(); ++i)
+        n_rm += (rm[i] = !bonded[i]);
+      if (n_rm > 0)
+        m.remove_particles(rm);
+      G.n_rattlers = n_rm;
+    }
     m.set_default_law(G.linear, G.wall);
     m.local_damping = p.damping;
     m.invalidate_contacts();
@@ -230,7 +245,8 @@ namespace demfem::coupling
     m.reset_energy_baseline();
     if (progress)
       *progress << "DEM region: " << G.n_bonds << " flat joints in " << G.bonds.size()
-                << " groups, " << walls_touching.size() << " grains on the ring\n";
+                << " groups, " << walls_touching.size() << " grains on the ring, "
+                << G.n_rattlers << " rattlers removed\n";
     return G;
   }
 

@@ -57,6 +57,7 @@ namespace demfem::coupling
     int              linear = -1, wall = -1;      ///< new grain-grain / grain-ring contacts
     std::vector<int> bonds;                       ///< flat-joint groups (binned by L)
     std::size_t      n_bonds = 0;
+    std::size_t      n_rattlers = 0;                ///< unbonded grains removed
   };
 
   /// Fills `model` (which must already hold the closed ring of wall facets

@@ -348,7 +348,8 @@ namespace demfem::coupling
           }
         s << "  \"variant\": \"wall-facets\",\n  \"scheme\": \"explicit\",\n"
           << "  \"n_particles\": " << r.n_particles << ",\n  \"n_contacts\": " << r.n_contacts
-          << ",\n  \"n_fem_dofs\": " << r.n_fem_dofs << ",\n  \"steps\": " << r.steps
+          << ",\n  \"n_fem_dofs\": " << r.n_fem_dofs << ",\n  \"steps\": " << r.steps - step0
+          << ",\n  \"packing_steps\": " << step0
           << ",\n  \"timestep_s\": " << num(m.dt()) << ",\n  \"wall_time_s\": "
           << num(r.wall_time_s) << ",\n  \"cracks_total\": " << r.cracks_total
           << ",\n  \"cracks_tensile\": " << r.cracks_tensile << ",\n  \"cracks_shear\": "
