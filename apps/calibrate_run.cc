@@ -214,7 +214,7 @@ namespace demfem::apps
                         const dem::Specimen<dim> &sp, bool contacts)
     {
       dem::vtkout::write_particles(dir + "/" + base + "_particles.vtp", sp.model);
-      dem::vtkout::write_cracks(dir + "/" + base + "_cracks.vtp", sp.model.cracks);
+      dem::vtkout::write_cracks(dir + "/" + base + "_cracks.vtp", sp.model.current_cracks());
       if (contacts)
         dem::vtkout::write_contacts(dir + "/" + base + "_contacts.vtp", sp.model);
     }

@@ -288,6 +288,9 @@ namespace demfem::dem
         column("strength", [](const Cr &r) { return r.strength; });
         column("step", [](const Cr &r) { return r.step; });
         column("time", [](const Cr &r) { return r.time; });
+        column("offset", [](const Cr &r) { return r.offset; });
+        column("gap_break", [](const Cr &r) { return r.gap_break; });
+        column("contact_gap_break", [](const Cr &r) { return r.contact_gap_break; });
       }
     }
 
@@ -437,7 +440,8 @@ namespace demfem::dem
         std::vector<std::int64_t> id1, id2, step;
         std::vector<int>          element, mode;
         std::vector<Vec<dim>>     position, normal;
-        std::vector<double>       size, gap, strength, time;
+        std::vector<double>       size, gap, strength, time, gap_break, contact_gap_break;
+        std::vector<Vec<dim>>     offset;
         read_data<std::int64_t>(c, g, "id1", id1, 1);
         const std::size_t n = id1.size();
         read_rows<std::int64_t>(c, g, "id2", id2, n);
@@ -450,6 +454,9 @@ namespace demfem::dem
         read_rows<double>(c, g, "strength", strength, n);
         read_rows<std::int64_t>(c, g, "step", step, n);
         read_rows<double>(c, g, "time", time, n);
+        read_rows<double>(c, g, "offset", offset, n);
+        read_rows<double>(c, g, "gap_break", gap_break, n);
+        read_rows<double>(c, g, "contact_gap_break", contact_gap_break, n);
         cracks.resize(n);
         for (std::size_t k = 0; k < n; ++k)
           {
@@ -458,6 +465,8 @@ namespace demfem::dem
             r.position = position[k], r.normal = normal[k];
             r.size = size[k], r.gap = gap[k], r.strength = strength[k];
             r.step = step[k], r.time = time[k];
+            r.offset = offset[k], r.gap_break = gap_break[k];
+            r.contact_gap_break = contact_gap_break[k];
           }
       }
       Handle     g            = open_group(c, file, "model");

@@ -295,8 +295,11 @@ namespace demfem::dem
                 else
                   t = Vec<2>(-n[1], n[0]), c.position = g.xc[k] + e.r_t * t;
                 c.normal   = n;
+                c.offset   = c.position - g.xc[k];
                 c.size     = e.size;
                 c.gap      = e.gap;
+                c.gap_break         = e.gap;
+                c.contact_gap_break = g.gap[k];
                 c.strength = e.strength;
                 c.step     = step_;
                 c.time     = time_;
@@ -508,6 +511,69 @@ namespace demfem::dem
     if (nf == 0 || nc == 0 || con == 0)
       return 0;
     return (unb / nf) / (con / nc);
+  }
+
+  template <int dim>
+  std::vector<CrackRecord<dim>> Model<dim>::current_cracks() const
+  {
+    std::vector<CrackRecord<dim>> out = cracks;
+    if (out.empty())
+      return out;
+    std::unordered_map<std::int64_t, std::uint32_t> where;
+    where.reserve(particles.size());
+    for (std::size_t i = 0; i < particles.size(); ++i)
+      where.emplace(particles.id[i], static_cast<std::uint32_t>(i));
+    for (auto &c : out)
+      {
+        const auto a = where.find(c.id1);
+        if (a == where.end())
+          continue;
+        const std::uint32_t i  = a->second;
+        const double        R1 = particles.radius[i];
+        Vec<dim>            d;
+        double              R2 = 0;
+        if (c.id2 < 0)
+          {
+            const std::size_t facet = static_cast<std::size_t>(-1 - c.id2);
+            if (facet >= walls.n_facets())
+              continue;
+            std::array<double, dim> wgt;
+            d = walls.closest_point(facet, particles.x[i], wgt) - particles.x[i];
+          }
+        else
+          {
+            const auto b = where.find(c.id2);
+            if (b == where.end())
+              continue;
+            d  = particles.x[b->second] - particles.x[i];
+            R2 = particles.radius[b->second];
+          }
+        const double dist = d.norm();
+        if (!(dist > 0))
+          continue;
+        const Vec<dim> n   = d / dist;
+        const double   gap = dist - R1 - R2;
+        // Minimal rotation taking the old normal to the new one.
+        Vec<dim> off = c.offset;
+        if constexpr (dim == 2)
+          {
+            const double ang = std::atan2(cross2(c.normal, n), c.normal.dot(n));
+            const double cs = std::cos(ang), sn = std::sin(ang);
+            off = Vec<2>(cs * c.offset[0] - sn * c.offset[1], sn * c.offset[0] + cs * c.offset[1]);
+          }
+        else
+          {
+            const Vec<3> axis = c.normal.cross(n);
+            const double sn = axis.norm(), cs = c.normal.dot(n);
+            if (sn > 1e-15)
+              off = Eigen::AngleAxisd(std::atan2(sn, cs), axis / sn) * c.offset;
+          }
+        c.offset   = off;
+        c.normal   = n;
+        c.position = particles.x[i] + (R1 + 0.5 * gap) * n + off;
+        c.gap      = c.gap_break + (gap - c.contact_gap_break);
+      }
+    return out;
   }
 
   template <int dim>

@@ -25,6 +25,12 @@ namespace demfem::dem
     double       strength = 0;     ///< strength exceeded [stress or force]
     std::int64_t step     = 0;
     double       time     = 0;
+    /// Kept to follow the material after breakage (fistPkg §3.4): element
+    /// centroid relative to the contact location, element gap and contact
+    /// gap at breakage.
+    Vec<dim>     offset      = Vec<dim>::Zero();
+    double       gap_break   = 0;
+    double       contact_gap_break = 0;
   };
 
   /// Start or end of slip at a contact element.
@@ -129,6 +135,14 @@ namespace demfem::dem
     /// loop). Indices change; particle ids do not. Opt-in: call it after
     /// setup when no particle indices are held outside the model.
     void reorder_by_cell();
+
+    /// The cracks with their current geometry (memo footnote 3, fistPkg
+    /// §3.4): position and normal follow the current contact plane of the
+    /// two pieces (the centroid offset turns with the normal, by the minimal
+    /// rotation from the normal at breakage) and the gap grows with the
+    /// pieces' separation since breakage. `cracks` keeps the geometry at
+    /// breakage; cracks whose particles were removed keep it too.
+    std::vector<CrackRecord<dim>> current_cracks() const;
 
     /// Removes particles (contacts to them are deleted first).
     void remove_particles(const std::vector<char> &remove);

@@ -230,3 +230,45 @@ TEST_CASE("reordering particles by cell does not change the physics", "[engine][
   // Only the summation order of contact forces differs: round-off level.
   CHECK(diff <= 1e-9 * moved);
 }
+
+#include "dem/flat_joint_law.h"
+
+TEST_CASE("cracks follow the material after breakage (fistPkg §3.4)", "[engine][cracks]")
+{
+  Model<2> m;
+  m.particles.add(Vec<2>(0, 0), 1.0, 2650);
+  m.particles.add(Vec<2>(2, 0), 1.0, 2650);
+  for (auto &f : m.particles.fixity)
+    f = fix_all;
+  FlatJointLaw<2>::Params fp;
+  fp.Nr = 2, fp.kn = 1e9, fp.ks = 5e8, fp.ten = 1e5, fp.coh = 1e9, fp.bonded = true;
+  m.install(0, 1, m.add_law<FlatJointLaw<2>>(fp));
+  m.set_timestep(1e-3);
+  m.particles.v[1] = Vec<2>(1e-3, 0); // open 1e-6 per step; breaks at 1e-4
+  for (int s = 0; s < 400 && m.cracks.empty(); ++s)
+    m.step();
+  REQUIRE(m.cracks.size() == 2); // both elements break in tension together
+  const auto   before = m.cracks; // geometry at breakage
+  const double g_brk = (m.particles.x[1] - m.particles.x[0]).norm() - 2.0;
+  // Move the pair rigidly: turn it by 90 degrees about particle 0 and open
+  // the contact by a further 0.1.
+  m.particles.x[1] = Vec<2>(0, 2.0 + g_brk + 0.1);
+  const auto now = m.current_cracks();
+  for (std::size_t k = 0; k < 2; ++k)
+    {
+      const auto &c = now[k];
+      // Tolerances: the break happens within one step of 1e-6 opening, and
+      // g_brk measures the gap at the end of that step (1e-6 absolute).
+      CHECK(c.normal[0] == Approx(0).margin(1e-12));
+      CHECK(c.normal[1] == Approx(1).epsilon(1e-12));
+      CHECK(c.gap == Approx(before[k].gap_break + 0.1).margin(2e-6));
+      // The element offset (along t = z x n) turned with the pair: for the
+      // original n = +x, t = +y; now n = +y, t = -x.
+      // Element centroids sit at rho = +-R/2 (memo Eq. 13, R = 1, Nr = 2).
+      CHECK(std::abs(before[k].offset[1]) == Approx(0.5).epsilon(1e-12));
+      const double xc_y = 1.0 + 0.5 * (g_brk + 0.1);
+      CHECK(c.position[1] == Approx(xc_y).margin(1e-6));
+      // Offset rho along +y before the quarter turn, along -x after it.
+      CHECK(c.position[0] == Approx(-before[k].offset[1]).margin(1e-12));
+    }
+}
