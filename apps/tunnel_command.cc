@@ -62,9 +62,10 @@ namespace demfem::apps
       prm.leave_subsection();
 
       prm.enter_subsection("Continuum");
-      prm.declare_entry("mesh", "generate", Patterns::Anything(),
-                        "'generate': graded annulus from DEM region/radius to outer radius "
-                        "(the only choice for the coupled run)");
+      prm.declare_entry(
+          "mesh", "generate", Patterns::Anything(),
+          "'generate': graded annulus from DEM region/radius to outer radius "
+          "(the only choice for the coupled run)");
       prm.declare_entry("outer radius", "30.0", Patterns::Double(),
                         "Far-field radius R [m] (> 2 x DEM region/radius); fixed");
       prm.declare_entry("young modulus", "60e9", Patterns::Double(),
@@ -109,20 +110,24 @@ namespace demfem::apps
       prm.declare_entry("fj Nr", "2", Patterns::Integer(1, 64), "Elements per joint");
       prm.declare_entry("lnm emod", "20e9", Patterns::Double(),
                         "E* of non-bonded contacts [Pa]");
-      prm.declare_entry("lnm krat", "1.5", Patterns::Double(), "kappa* of non-bonded contacts");
+      prm.declare_entry("lnm krat", "1.5", Patterns::Double(),
+                        "kappa* of non-bonded contacts");
       prm.declare_entry("lnm fric", "0.5", Patterns::Double(), "Friction, non-bonded");
       prm.declare_entry("seed", "10000", Patterns::Integer(0), "Packing seed");
       prm.leave_subsection();
 
       prm.enter_subsection("Coupling");
-      prm.declare_entry("variant", "wall-facets", Patterns::Selection("slaved-layer|wall-facets"),
+      prm.declare_entry("variant", "wall-facets",
+                        Patterns::Selection("slaved-layer|wall-facets"),
                         "wall-facets (implemented); slaved-layer is not implemented yet");
-      prm.declare_entry("scheme", "explicit", Patterns::Selection("explicit|quasi-static"),
+      prm.declare_entry("scheme", "explicit",
+                        Patterns::Selection("explicit|quasi-static"),
                         "explicit (implemented); quasi-static is not implemented yet");
       prm.declare_entry("subcycles", "1", Patterns::Integer(1, 1000),
                         "DEM steps per continuum step");
-      prm.declare_entry("timestep safety", "0.8", Patterns::Double(),
-                        "dt = safety x min(DEM critical, continuum critical / subcycles)");
+      prm.declare_entry(
+          "timestep safety", "0.8", Patterns::Double(),
+          "dt = safety x min(DEM critical, continuum critical / subcycles)");
       prm.declare_entry("relaxation", "1.0", Patterns::Double(),
                         "Relaxation of the quasi-static scheme (unused by explicit)");
       prm.declare_entry("equilibrium ratio", "1e-3", Patterns::Double(),
@@ -181,7 +186,8 @@ namespace demfem::apps
         }
       catch (const std::exception &e)
         {
-          AssertThrow(false, ExcMessage(key + ": '" + file + "' is not valid JSON: " + e.what()));
+          AssertThrow(
+              false, ExcMessage(key + ": '" + file + "' is not valid JSON: " + e.what()));
         }
       return t;
     }
@@ -190,23 +196,26 @@ namespace demfem::apps
     {
       coupling::TunnelParams s;
       prm.enter_subsection("Problem");
-      AssertThrow(prm.get_integer("dimension") == 2,
-                  ExcMessage("Problem/dimension: the coupled tunnel run is implemented for 2 "
-                             "only (3D slab / tunnel section: not done yet)"));
+      AssertThrow(
+          prm.get_integer("dimension") == 2,
+          ExcMessage("Problem/dimension: the coupled tunnel run is implemented for 2 "
+                     "only (3D slab / tunnel section: not done yet)"));
       s.output_directory = prm.get("output directory");
       prm.leave_subsection();
 
       prm.enter_subsection("Tunnel");
       s.tunnel_radius = prm.get_double("radius");
-      s.sigma0 << prm.get_double("in situ stress xx"), prm.get_double("in situ stress xy"),
-          prm.get_double("in situ stress xy"), prm.get_double("in situ stress yy");
+      s.sigma0 << prm.get_double("in situ stress xx"),
+          prm.get_double("in situ stress xy"), prm.get_double("in situ stress xy"),
+          prm.get_double("in situ stress yy");
       s.stages = prm.get_integer("excavation stages");
       prm.leave_subsection();
 
       prm.enter_subsection("Continuum");
-      AssertThrow(prm.get("mesh") == "generate",
-                  ExcMessage("Continuum/mesh: the coupled run generates its mesh around the "
-                             "DEM region; only 'generate' is allowed"));
+      AssertThrow(
+          prm.get("mesh") == "generate",
+          ExcMessage("Continuum/mesh: the coupled run generates its mesh around the "
+                     "DEM region; only 'generate' is allowed"));
       s.continuum.outer_radius  = prm.get_double("outer radius");
       s.continuum.young_modulus = prm.get_double("young modulus");
       s.continuum.poisson_ratio = prm.get_double("poisson ratio");
@@ -218,25 +227,25 @@ namespace demfem::apps
       prm.leave_subsection();
 
       prm.enter_subsection("DEM region");
-      auto &r            = s.region;
-      r.radius           = prm.get_double("radius");
-      const auto dmat    = prm.get("material file");
-      r.breakable        = prm.get_bool("breakable");
-      const auto gd      = prm.get("grain diameter");
-      r.d_lo             = prm.get_double("grain diameter min");
-      r.d_hi             = prm.get_double("grain diameter max");
-      r.density          = prm.get_double("density");
-      r.emod             = prm.get_double("emod");
-      r.krat             = prm.get_double("krat");
-      r.fric             = prm.get_double("fric");
-      r.fj_ten           = prm.get_double("fj ten");
-      r.fj_coh           = prm.get_double("fj coh");
-      r.fj_fa            = prm.get_double("fj fa");
-      r.fj_Nr            = prm.get_integer("fj Nr");
-      r.lnm_emod         = prm.get_double("lnm emod");
-      r.lnm_krat         = prm.get_double("lnm krat");
-      r.lnm_fric         = prm.get_double("lnm fric");
-      r.seed             = prm.get_integer("seed");
+      auto &r         = s.region;
+      r.radius        = prm.get_double("radius");
+      const auto dmat = prm.get("material file");
+      r.breakable     = prm.get_bool("breakable");
+      const auto gd   = prm.get("grain diameter");
+      r.d_lo          = prm.get_double("grain diameter min");
+      r.d_hi          = prm.get_double("grain diameter max");
+      r.density       = prm.get_double("density");
+      r.emod          = prm.get_double("emod");
+      r.krat          = prm.get_double("krat");
+      r.fric          = prm.get_double("fric");
+      r.fj_ten        = prm.get_double("fj ten");
+      r.fj_coh        = prm.get_double("fj coh");
+      r.fj_fa         = prm.get_double("fj fa");
+      r.fj_Nr         = prm.get_integer("fj Nr");
+      r.lnm_emod      = prm.get_double("lnm emod");
+      r.lnm_krat      = prm.get_double("lnm krat");
+      r.lnm_fric      = prm.get_double("lnm fric");
+      r.seed          = prm.get_integer("seed");
       prm.leave_subsection();
       if (!dmat.empty())
         {
@@ -245,7 +254,8 @@ namespace demfem::apps
             {
               AssertThrow(t.get<int>("dim") == 2,
                           ExcMessage("DEM region/material file '" + dmat +
-                                     "': incompatible dimension " + t.get<std::string>("dim") +
+                                     "': incompatible dimension " +
+                                     t.get<std::string>("dim") +
                                      " (the tunnel run is 2D)"));
               const auto &m = t.get_child("microparameters");
               AssertThrow(m.get<std::string>("type", "flatjointed") == "flatjointed",
@@ -305,23 +315,26 @@ namespace demfem::apps
             }
           catch (const boost::property_tree::ptree_error &e)
             {
-              AssertThrow(false, ExcMessage("Continuum/material file '" + cmat +
-                                            "': need numeric \"E\" and \"nu\": " + e.what()));
+              AssertThrow(false,
+                          ExcMessage("Continuum/material file '" + cmat +
+                                     "': need numeric \"E\" and \"nu\": " + e.what()));
             }
         }
 
       prm.enter_subsection("Coupling");
-      AssertThrow(prm.get("variant") == "wall-facets",
-                  ExcMessage("Coupling/variant: 'slaved-layer' is not implemented yet; use "
-                             "'wall-facets'"));
-      AssertThrow(prm.get("scheme") == "explicit",
-                  ExcMessage("Coupling/scheme: 'quasi-static' is not implemented yet; use "
-                             "'explicit'"));
-      s.coupling.subcycles  = prm.get_integer("subcycles");
-      s.coupling.safety     = prm.get_double("timestep safety");
-      s.ratio_tolerance     = prm.get_double("equilibrium ratio");
-      s.ramp_steps          = prm.get_integer("ramp steps");
-      s.phase_step_limit    = prm.get_integer("step limit");
+      AssertThrow(
+          prm.get("variant") == "wall-facets",
+          ExcMessage("Coupling/variant: 'slaved-layer' is not implemented yet; use "
+                     "'wall-facets'"));
+      AssertThrow(
+          prm.get("scheme") == "explicit",
+          ExcMessage("Coupling/scheme: 'quasi-static' is not implemented yet; use "
+                     "'explicit'"));
+      s.coupling.subcycles = prm.get_integer("subcycles");
+      s.coupling.safety    = prm.get_double("timestep safety");
+      s.ratio_tolerance    = prm.get_double("equilibrium ratio");
+      s.ramp_steps         = prm.get_integer("ramp steps");
+      s.phase_step_limit   = prm.get_integer("step limit");
       AssertThrow(s.ratio_tolerance > 0,
                   ExcMessage("Coupling/equilibrium ratio must be > 0"));
       prm.leave_subsection();
@@ -378,7 +391,8 @@ namespace demfem::apps
               }
             else
               {
-                AssertThrow(file.empty(), ExcMessage("more than one parameter file given"));
+                AssertThrow(file.empty(),
+                            ExcMessage("more than one parameter file given"));
                 file = a;
               }
           }
@@ -391,7 +405,8 @@ namespace demfem::apps
             prm.parse_input(file);
           }
         else
-          AssertThrow(print, ExcMessage(std::string("no parameter file given\n") + usage));
+          AssertThrow(print,
+                      ExcMessage(std::string("no parameter file given\n") + usage));
         for (const auto &o : overrides)
           try
             {

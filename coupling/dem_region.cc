@@ -68,7 +68,8 @@ namespace demfem::coupling
     }
   } // namespace
 
-  RegionGroups build_disk_region(dem::Model<2> &m, const RegionParams &p, std::ostream *progress)
+  RegionGroups build_disk_region(dem::Model<2> &m, const RegionParams &p,
+                                 std::ostream *progress)
   {
     p.validate("DEM region");
     using LN = dem::LinearLaw<2>;
@@ -76,7 +77,8 @@ namespace demfem::coupling
     auto &P  = m.particles;
     auto &W  = m.walls;
     if (W.n_facets() < 8)
-      throw std::runtime_error("build_disk_region: the model needs the ring of wall facets");
+      throw std::runtime_error(
+          "build_disk_region: the model needs the ring of wall facets");
     // Largest circle inside the ring polygon (chords lie inside the circle).
     double inner = p.radius;
     for (const auto &f : W.facet)
@@ -97,7 +99,8 @@ namespace demfem::coupling
     const double s0 = 0.5;
     for (double r : radii)
       {
-        const double rho = std::sqrt(uniform(gen)) * (inner - r), th = 2 * M_PI * uniform(gen);
+        const double rho = std::sqrt(uniform(gen)) * (inner - r),
+                     th  = 2 * M_PI * uniform(gen);
         P.add(Vec<2>(rho * std::cos(th), rho * std::sin(th)), s0 * r, p.density, 0);
       }
 
@@ -172,7 +175,7 @@ namespace demfem::coupling
     {
       std::uint32_t i, j;
     };
-    std::vector<Pair> pairs;
+    std::vector<Pair>                                    pairs;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> walls_touching;
     for (int g : {G.pack, G.pack_wall})
       {
@@ -186,8 +189,8 @@ namespace demfem::coupling
     const double huge = 1e30; // unbreakable bonds (verification)
     for (const auto &pr : pairs)
       {
-        const double    L = P.radius[pr.i] + P.radius[pr.j];
-        const long long b = std::llround(std::log(L) / std::log(1.01));
+        const double    L  = P.radius[pr.i] + P.radius[pr.j];
+        const long long b  = std::llround(std::log(L) / std::log(1.01));
         auto            it = bins.find(b);
         if (it == bins.end())
           {
@@ -202,7 +205,7 @@ namespace demfem::coupling
             q.coh    = p.breakable ? p.fj_coh : huge;
             q.fa     = p.fj_fa;
             q.bonded = true;
-            it       = bins.emplace(b, m.add_law<FJ>(q, "DEM region (flat joints)")).first;
+            it = bins.emplace(b, m.add_law<FJ>(q, "DEM region (flat joints)")).first;
             G.bonds.push_back(it->second);
           }
         m.install(pr.i, pr.j, it->second);

@@ -37,7 +37,7 @@ namespace demfem::coupling
     double        emod      = 4e9; ///< E* of the flat joints [Pa]
     double        krat      = 1.5;
     double        fric      = 0.6;
-    double        igap      = 0;   ///< installation gap [m]
+    double        igap      = 0; ///< installation gap [m]
     int           fj_Nr     = 2;
     double        fj_ten    = 10e6; ///< tensile strength [Pa]
     double        fj_coh    = 60e6; ///< cohesion [Pa]
@@ -46,18 +46,18 @@ namespace demfem::coupling
     double        wall_fric = 1.0;  ///< grain-ring friction (shear transfer)
 
     /// Throws dem::InputError naming the key (prefixed by `where`).
-    void validate(const std::string &where) const;
+    void   validate(const std::string &where) const;
     double mean_diameter() const { return 0.5 * (d_lo + d_hi); }
   };
 
   /// Law groups of the built region.
   struct RegionGroups
   {
-    int              pack = -1, pack_wall = -1;  ///< packing (frictionless linear)
-    int              linear = -1, wall = -1;      ///< new grain-grain / grain-ring contacts
-    std::vector<int> bonds;                       ///< flat-joint groups (binned by L)
-    std::size_t      n_bonds = 0;
-    std::size_t      n_rattlers = 0;                ///< unbonded grains removed
+    int              pack = -1, pack_wall = -1; ///< packing (frictionless linear)
+    int              linear = -1, wall = -1;    ///< new grain-grain / grain-ring contacts
+    std::vector<int> bonds;                     ///< flat-joint groups (binned by L)
+    std::size_t      n_bonds    = 0;
+    std::size_t      n_rattlers = 0; ///< unbonded grains removed
   };
 
   /// Fills `model` (which must already hold the closed ring of wall facets
@@ -70,5 +70,6 @@ namespace demfem::coupling
   /// Love-Weber average stress (tension positive) over the grain-grain
   /// contacts whose contact point lies in the disk |x - c| < r, divided by
   /// the disk area (unit thickness).
-  Eigen::Matrix2d region_stress(const dem::Model<2> &model, const dem::Vec<2> &c, double r);
+  Eigen::Matrix2d region_stress(const dem::Model<2> &model, const dem::Vec<2> &c,
+                                double r);
 } // namespace demfem::coupling

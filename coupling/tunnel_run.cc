@@ -31,7 +31,8 @@ namespace demfem::coupling
                             " m) must be smaller than half of Continuum/outer radius (" +
                             std::to_string(continuum.outer_radius) + " m)");
     dem::check_range(w, "Continuum/young modulus", continuum.young_modulus, 0, inf, true);
-    dem::check_range(w, "Continuum/poisson ratio", continuum.poisson_ratio, -1, 0.5, true, true);
+    dem::check_range(w, "Continuum/poisson ratio", continuum.poisson_ratio, -1, 0.5, true,
+                     true);
     dem::check_range(w, "Tunnel/excavation stages", stages, 1, 1000);
     dem::check_range(w, "Coupling/subcycles", coupling.subcycles, 1, 1000);
     dem::check_range(w, "Coupling/timestep safety", coupling.safety, 0, 100, true);
@@ -61,26 +62,28 @@ namespace demfem::coupling
 
     struct Runner
     {
-      const TunnelParams &p;
-      std::ostream       &out;
-      WallFacetModel      m;
-      std::string         dir;
-      std::ofstream       history;
-      int                 frame = 0;
+      const TunnelParams                                      &p;
+      std::ostream                                            &out;
+      WallFacetModel                                           m;
+      std::string                                              dir;
+      std::ofstream                                            history;
+      int                                                      frame = 0;
       std::vector<std::pair<double, std::vector<std::string>>> frames;
       std::vector<Vec<2>> ref; // positions by id at excavation start
-      bool                excavated = false;
-      std::string         phase     = "build";
+      bool                excavated            = false;
+      std::size_t         cracks_before        = 0; // cracks before the excavation
+      std::string         phase                = "build";
       std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
-      std::int64_t        budget = 0; // expected coupled steps for the ETA (upper bound)
-      std::int64_t        step0  = 0; // steps of the packing
+      std::int64_t budget = 0; // expected coupled steps for the ETA (upper bound)
+      std::int64_t step0  = 0; // steps of the packing
 
       Runner(const TunnelParams &pp, std::ostream &o)
           : p(pp)
           , out(o)
           , m(pp.region, pp.continuum, pp.coupling, MPI_COMM_WORLD)
           , dir(pp.output_directory)
-      {}
+      {
+      }
 
       std::size_t cracks(int mode) const
       {
@@ -92,7 +95,7 @@ namespace demfem::coupling
 
       // Mean inward radial displacement of the grains within one mean
       // diameter of the wall since excavation started; count in n.
-      double convergence(std::size_t *n = nullptr,
+      double convergence(std::size_t                        *n    = nullptr,
                          std::vector<std::array<double, 4>> *rows = nullptr) const
       {
         if (!excavated)
@@ -121,29 +124,41 @@ namespace demfem::coupling
 
       double damage_depth() const
       {
+        // Cracks formed from the excavation on (isolated cracks of the
+        // in-situ loading are not excavation damage).
         double d = 0;
-        for (const auto &c : m.dem.cracks)
-          d = std::max(d, c.position.norm() - p.tunnel_radius);
+        for (std::size_t k = cracks_before; k < m.dem.cracks.size(); ++k)
+          d = std::max(d, m.dem.cracks[k].position.norm() - p.tunnel_radius);
         return d;
+      }
+
+      // Cracks within two mean grain diameters of the coupling ring: damage
+      // there is influenced by the interface (diagnostic).
+      std::size_t near_interface() const
+      {
+        std::size_t n = 0;
+        for (const auto &c : m.dem.cracks)
+          n += c.position.norm() > p.region.radius - 2 * p.region.mean_diameter();
+        return n;
       }
 
       void write_frame()
       {
         if (!p.write_vtk)
           return;
-        const double t    = m.dem.time();
-        const auto   pf   = frame_name("particles", frame, ".vtp");
-        const auto   bf   = frame_name("bonds", frame, ".vtp");
-        const auto   cf   = frame_name("cracks", frame, ".vtp");
-        const auto   uf   = frame_name("continuum", frame, ".vtu");
+        const double t  = m.dem.time();
+        const auto   pf = frame_name("particles", frame, ".vtp");
+        const auto   bf = frame_name("bonds", frame, ".vtp");
+        const auto   cf = frame_name("cracks", frame, ".vtp");
+        const auto   uf = frame_name("continuum", frame, ".vtu");
         dem::vtkout::write_particles(dir + "/" + pf, m.dem);
         dem::vtkout::write_contacts(dir + "/" + bf, m.dem);
         dem::vtkout::write_cracks(dir + "/" + cf, m.dem.cracks);
         {
           dealii::DataOut<2> data_out;
           data_out.attach_dof_handler(m.continuum().get_dof_handler());
-          std::vector<dealii::DataComponentInterpretation::DataComponentInterpretation> ci(
-              2, dealii::DataComponentInterpretation::component_is_part_of_vector);
+          std::vector<dealii::DataComponentInterpretation::DataComponentInterpretation>
+              ci(2, dealii::DataComponentInterpretation::component_is_part_of_vector);
           dealii::Vector<double> u(m.continuum().displacement());
           data_out.add_data_vector(u, std::vector<std::string>(2, "displacement"),
                                    dealii::DataOut<2>::type_dof_data, ci);
@@ -159,7 +174,8 @@ namespace demfem::coupling
         for (int s = 0; s < 4; ++s)
           {
             std::ostringstream x;
-            x << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n"
+            x << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" "
+                 "version=\"0.1\">\n"
                  "<Collection>\n";
             for (const auto &f : frames)
               x << "<DataSet timestep=\"" << std::setprecision(17) << f.first
@@ -172,8 +188,8 @@ namespace demfem::coupling
              "<Collection>\n";
         for (const auto &f : frames)
           for (int s = 0; s < 4; ++s)
-            x << "<DataSet timestep=\"" << std::setprecision(17) << f.first << "\" part=\""
-              << s << "\" file=\"" << f.second[s] << "\"/>\n";
+            x << "<DataSet timestep=\"" << std::setprecision(17) << f.first
+              << "\" part=\"" << s << "\" file=\"" << f.second[s] << "\"/>\n";
         x << "</Collection>\n</VTKFile>\n";
         dem::vtkout::write_text_atomically(dir + "/tunnel.pvd", x.str());
       }
@@ -185,10 +201,11 @@ namespace demfem::coupling
         const double kef = m.continuum_kinetic_energy();
         const auto   F   = D.walls.wall_force(m.ring_wall());
         history << D.step_count() << "," << num(D.time()) << "," << phase << ","
-                << num(m.get_load_factor()) << "," << num(ur) << "," << num(D.kinetic_energy())
-                << "," << num(D.strain_energy()) << "," << num(kef) << "," << cracks(-1) << ","
-                << cracks(0) << "," << cracks(1) << "," << num(m.imbalance_last()) << ","
-                << num(convergence()) << "," << num(F[0]) << "," << num(F[1]) << "\n";
+                << num(m.get_load_factor()) << "," << num(ur) << ","
+                << num(D.kinetic_energy()) << "," << num(D.strain_energy()) << ","
+                << num(kef) << "," << cracks(-1) << "," << cracks(0) << "," << cracks(1)
+                << "," << num(m.imbalance_last()) << "," << num(convergence()) << ","
+                << num(F[0]) << "," << num(F[1]) << "\n";
       }
 
       void progress_line(double ur)
@@ -264,10 +281,11 @@ namespace demfem::coupling
           }
         m.dem.remove_particles(rm);
         m.dem.reset_energy_baseline();
-        excavated = true;
+        excavated     = true;
+        cracks_before = m.dem.cracks.size();
         for (int s = 1; s <= p.stages; ++s)
           {
-            phase            = "excavation " + std::to_string(s) + "/" + std::to_string(p.stages);
+            phase = "excavation " + std::to_string(s) + "/" + std::to_string(p.stages);
             const double rem = 1.0 - double(s) / p.stages;
             for (std::size_t i = 0; i < P.size(); ++i)
               P.f_ext[i] = rem * fex[P.id[i]];
@@ -284,10 +302,10 @@ namespace demfem::coupling
         out << "demfem tunnel: building the DEM region and the continuum" << std::endl;
         m.build(&out);
         m.set_insitu(p.sigma0);
-        r.n_fem_dofs = m.n_fem_dofs();
+        r.n_fem_dofs          = m.n_fem_dofs();
         r.mean_grain_diameter = p.region.mean_diameter();
-        budget = p.ramp_steps + p.phase_step_limit * (2 + p.stages);
-        step0  = m.dem.step_count();
+        budget                = p.ramp_steps + p.phase_step_limit * (2 + p.stages);
+        step0                 = m.dem.step_count();
         history.open(dir + "/history.csv");
         history << "step,time,phase,load_factor,unbalanced_ratio,dem_kinetic_energy,"
                    "dem_strain_energy,continuum_kinetic_energy,cracks,cracks_tensile,"
@@ -300,7 +318,8 @@ namespace demfem::coupling
             cycle(p.ramp_steps, p.ramp_steps + p.phase_step_limit, [&](std::int64_t n) {
               m.set_load_factor(std::min(1.0, double(n) / p.ramp_steps));
             });
-            r.region_stress_before = region_stress(m.dem, Vec<2>::Zero(), 0.5 * p.region.radius);
+            r.region_stress_before =
+                region_stress(m.dem, Vec<2>::Zero(), 0.5 * p.region.radius);
             write_frame();
             excavate();
             phase = "equilibrium";
@@ -317,13 +336,13 @@ namespace demfem::coupling
           write_frame();
         history.close();
 
-        r.n_particles   = m.dem.particles.size();
-        r.n_contacts    = m.dem.n_contacts();
-        r.steps         = m.dem.step_count();
-        r.cracks_total  = cracks(-1);
-        r.cracks_tensile = cracks(0);
-        r.cracks_shear  = cracks(1);
-        r.damage_zone_depth = damage_depth();
+        r.n_particles                   = m.dem.particles.size();
+        r.n_contacts                    = m.dem.n_contacts();
+        r.steps                         = m.dem.step_count();
+        r.cracks_total                  = cracks(-1);
+        r.cracks_tensile                = cracks(0);
+        r.cracks_shear                  = cracks(1);
+        r.damage_zone_depth             = damage_depth();
         r.interface_force_imbalance_max = m.imbalance_max();
         std::vector<std::array<double, 4>> rows;
         r.wall_convergence_mean = convergence(&r.n_wall_particles, &rows);
@@ -347,19 +366,26 @@ namespace demfem::coupling
             s << "  \"diagnosis\": \"" << d << "\",\n";
           }
         s << "  \"variant\": \"wall-facets\",\n  \"scheme\": \"explicit\",\n"
-          << "  \"n_particles\": " << r.n_particles << ",\n  \"n_contacts\": " << r.n_contacts
-          << ",\n  \"n_fem_dofs\": " << r.n_fem_dofs << ",\n  \"steps\": " << r.steps - step0
-          << ",\n  \"packing_steps\": " << step0
-          << ",\n  \"timestep_s\": " << num(m.dt()) << ",\n  \"wall_time_s\": "
-          << num(r.wall_time_s) << ",\n  \"cracks_total\": " << r.cracks_total
-          << ",\n  \"cracks_tensile\": " << r.cracks_tensile << ",\n  \"cracks_shear\": "
-          << r.cracks_shear << ",\n  \"damage_zone_depth\": " << num(r.damage_zone_depth)
+          << "  \"n_particles\": " << r.n_particles
+          << ",\n  \"n_contacts\": " << r.n_contacts
+          << ",\n  \"n_fem_dofs\": " << r.n_fem_dofs
+          << ",\n  \"steps\": " << r.steps - step0 << ",\n  \"packing_steps\": " << step0
+          << ",\n  \"timestep_s\": " << num(m.dt())
+          << ",\n  \"wall_time_s\": " << num(r.wall_time_s)
+          << ",\n  \"cracks_total\": " << r.cracks_total
+          << ",\n  \"cracks_tensile\": " << r.cracks_tensile
+          << ",\n  \"cracks_shear\": " << r.cracks_shear
+          << ",\n  \"damage_zone_depth\": " << num(r.damage_zone_depth)
+          << ",\n  \"cracks_before_excavation\": " << cracks_before
+          << ",\n  \"cracks_near_interface\": " << near_interface()
           << ",\n  \"wall_convergence_mean\": " << num(r.wall_convergence_mean)
           << ",\n  \"wall_particles\": " << r.n_wall_particles
           << ",\n  \"interface_force_imbalance_max\": "
-          << num(r.interface_force_imbalance_max) << ",\n  \"region_stress_before_excavation\": ["
-          << num(r.region_stress_before(0, 0)) << ", " << num(r.region_stress_before(1, 1))
-          << ", " << num(r.region_stress_before(0, 1)) << "]\n}\n";
+          << num(r.interface_force_imbalance_max)
+          << ",\n  \"region_stress_before_excavation\": ["
+          << num(r.region_stress_before(0, 0)) << ", "
+          << num(r.region_stress_before(1, 1)) << ", "
+          << num(r.region_stress_before(0, 1)) << "]\n}\n";
         dem::vtkout::write_text_atomically(dir + "/summary.json", s.str());
         return r;
       }

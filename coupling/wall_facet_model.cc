@@ -14,7 +14,8 @@ namespace demfem::coupling
 {
   using dem::Vec;
 
-  WallFacetModel::WallFacetModel(const RegionParams &region, const ContinuumParams &continuum,
+  WallFacetModel::WallFacetModel(const RegionParams    &region,
+                                 const ContinuumParams &continuum,
                                  const CouplingParams &coupling, MPI_Comm comm)
       : rp(region)
       , cp(continuum)
@@ -25,11 +26,13 @@ namespace demfem::coupling
     const double inf = HUGE_VAL;
     dem::check_range("Continuum", "young modulus", cp.young_modulus, 0, inf, true);
     dem::check_range("Continuum", "poisson ratio", cp.poisson_ratio, -1, 0.5, true, true);
-    dem::check_range("Continuum", "outer radius", cp.outer_radius, 2 * rp.radius, inf, true);
+    dem::check_range("Continuum", "outer radius", cp.outer_radius, 2 * rp.radius, inf,
+                     true);
     dem::check_range("Coupling", "subcycles", kp.subcycles, 1, 1000);
     dem::check_range("Coupling", "timestep safety", kp.safety, 0, 100, true);
     if (dealii::Utilities::MPI::n_mpi_processes(comm) != 1)
-      throw dem::InputError("the wall-facet coupling runs on one MPI rank (run without mpirun)");
+      throw dem::InputError(
+          "the wall-facet coupling runs on one MPI rank (run without mpirun)");
   }
 
   WallFacetModel::~WallFacetModel() = default;
@@ -72,7 +75,7 @@ namespace demfem::coupling
     fem_->setup();
 
     // Ring of facets over the interface vertices, in angular order.
-    const auto &pts = fem_->interface_vertices();
+    const auto              &pts = fem_->interface_vertices();
     std::vector<std::size_t> order(pts.size());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](auto a, auto b) {
@@ -89,8 +92,8 @@ namespace demfem::coupling
     for (auto k : order)
       ring_vertex[k] = dem.walls.add_vertex(X0[k]);
     for (std::size_t a = 0; a < order.size(); ++a)
-      dem.walls.add_facet(wall_id, {ring_vertex[order[a]],
-                                    ring_vertex[order[(a + 1) % order.size()]]});
+      dem.walls.add_facet(
+          wall_id, {ring_vertex[order[a]], ring_vertex[order[(a + 1) % order.size()]]});
     accum.assign(pts.size(), Vec<2>::Zero());
 
     groups = build_disk_region(dem, rp, progress);
@@ -114,7 +117,7 @@ namespace demfem::coupling
   {
     // Plane-strain in-situ strain of the continuum: eps = ((1 + nu)/E)
     // (sigma - nu tr(sigma) I) in plane.
-    sigma0 = s0;
+    sigma0         = s0;
     const double E = cp.young_modulus, nu = cp.poisson_ratio;
     eps0 = (1 + nu) / E * (s0 - nu * s0.trace() * Eigen::Matrix2d::Identity());
   }
@@ -153,11 +156,12 @@ namespace demfem::coupling
       }
     // Force balance: what the continuum holds minus the preload must equal
     // the mean of the forces the grains exerted on the ring (contact sums).
-    const auto   held = fem_->interface_force_sum();
+    const auto   held    = fem_->interface_force_sum();
     const Vec<2> dem_sum = inv * accum_contacts;
-    const double diff = std::hypot(held[0] - pre[0] - dem_sum[0], held[1] - pre[1] - dem_sum[1]);
-    imb_last          = accum_abs > 0 ? diff / (inv * accum_abs) : 0.0;
-    imb_max           = std::max(imb_max, imb_last);
+    const double diff =
+        std::hypot(held[0] - pre[0] - dem_sum[0], held[1] - pre[1] - dem_sum[1]);
+    imb_last = accum_abs > 0 ? diff / (inv * accum_abs) : 0.0;
+    imb_max  = std::max(imb_max, imb_last);
 
     fem_->step(kp.subcycles * dt_);
 

@@ -65,8 +65,8 @@ namespace demfem::coupling
     void build(std::ostream *progress = nullptr);
 
     /// In-situ stress (tension positive) and its load factor (ramp).
-    void set_insitu(const Eigen::Matrix2d &sigma0);
-    void set_load_factor(double f) { load_factor = f; }
+    void   set_insitu(const Eigen::Matrix2d &sigma0);
+    void   set_load_factor(double f) { load_factor = f; }
     double get_load_factor() const { return load_factor; }
 
     /// One DEM step (and a continuum step every `subcycles` DEM steps).
@@ -78,21 +78,21 @@ namespace demfem::coupling
     double fem_critical() const { return fem_crit; }
     /// Largest relative interface force imbalance |sum DEM - sum FEM| /
     /// sum |vertex force| seen so far, and the latest one.
-    double imbalance_max() const { return imb_max; }
-    double imbalance_last() const { return imb_last; }
-    double continuum_kinetic_energy() const;
+    double      imbalance_max() const { return imb_max; }
+    double      imbalance_last() const { return imb_last; }
+    double      continuum_kinetic_energy() const;
     std::size_t n_fem_dofs() const;
 
-    dem::Model<2>                 dem;
-    RegionGroups                  groups;
-    fem::ExplicitDynamics<2>     &continuum() { return *fem_; }
+    dem::Model<2>                   dem;
+    RegionGroups                    groups;
+    fem::ExplicitDynamics<2>       &continuum() { return *fem_; }
     const fem::ExplicitDynamics<2> &continuum() const { return *fem_; }
     const dealii::parallel::distributed::Triangulation<2> &triangulation() const
     {
       return tria;
     }
     const RegionParams &region_params() const { return rp; }
-    int ring_wall() const { return wall_id; }
+    int                 ring_wall() const { return wall_id; }
 
   private:
     RegionParams                                    rp;
@@ -101,21 +101,21 @@ namespace demfem::coupling
     dealii::parallel::distributed::Triangulation<2> tria;
     std::unique_ptr<fem::ExplicitDynamics<2>>       fem_;
     int                                             wall_id = -1;
-    std::vector<int>                  ring_vertex;  // FEM interface index -> wall vertex
-    std::vector<dem::Vec<2>>          X0;           // reference positions (FEM order)
-    std::vector<dem::Vec<2>>          preload_unit; // -int N sigma0 n ds per vertex
-    std::vector<dem::Vec<2>>          accum;        // summed vertex forces (FEM order)
-    dem::Vec<2>                       accum_contacts = dem::Vec<2>::Zero();
-    double                            accum_abs = 0;
-    unsigned int                      n_accum   = 0;
-    double load_factor = 0, dt_ = 0, dem_crit = 0, fem_crit = 0;
-    double imb_max = 0, imb_last = 0;
-    double last_fem_ke = 0;
-    int    fem_growth  = 0;
-    std::int64_t n_steps = 0;
+    std::vector<int>         ring_vertex;  // FEM interface index -> wall vertex
+    std::vector<dem::Vec<2>> X0;           // reference positions (FEM order)
+    std::vector<dem::Vec<2>> preload_unit; // -int N sigma0 n ds per vertex
+    std::vector<dem::Vec<2>> accum;        // summed vertex forces (FEM order)
+    dem::Vec<2>              accum_contacts = dem::Vec<2>::Zero();
+    double                   accum_abs      = 0;
+    unsigned int             n_accum        = 0;
+    double                   load_factor = 0, dt_ = 0, dem_crit = 0, fem_crit = 0;
+    double                   imb_max = 0, imb_last = 0;
+    double                   last_fem_ke = 0;
+    int                      fem_growth  = 0;
+    std::int64_t             n_steps     = 0;
     Eigen::Matrix2d sigma0 = Eigen::Matrix2d::Zero(), eps0 = Eigen::Matrix2d::Zero();
     double          applied_factor = 0;
     bool            far_moving     = false;
-    void   fem_step();
+    void            fem_step();
   };
 } // namespace demfem::coupling

@@ -106,7 +106,7 @@ namespace demfem::fem
     // Ghost cells are searched too: an owned dof may lie only on boundary
     // faces of cells owned by another rank.
     std::map<types::global_dof_index, unsigned int> fixed;
-    std::vector<types::global_dof_index> face_dofs(fe.n_dofs_per_face());
+    std::vector<types::global_dof_index>            face_dofs(fe.n_dofs_per_face());
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (!cell->is_artificial())
         for (const auto &face : cell->face_iterators())

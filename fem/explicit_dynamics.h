@@ -101,8 +101,8 @@ namespace demfem::fem
 
     dealii::TrilinosWrappers::SparseMatrix       stiffness;
     dealii::TrilinosWrappers::MPI::Vector        mass, u, v, f_ext, work;
-    std::vector<dealii::types::global_dof_index> fixed_dofs; // owned only
-    std::vector<double>                          fixed_velocity; // same order
+    std::vector<dealii::types::global_dof_index> fixed_dofs;      // owned only
+    std::vector<double>                          fixed_velocity;  // same order
     std::vector<unsigned int>                    fixed_component; // same order
 
     std::vector<dealii::Point<dim>>                               iface_points;

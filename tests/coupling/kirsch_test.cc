@@ -77,10 +77,10 @@ TEST_CASE("wall facets: excavation convergence of an embedded elastic region vs 
     s0 << -p - q, 0, 0, -p + q;
     m.set_insitu(s0);
     load(m, 2000, 8000);
-    const Eigen::Matrix2d s  = region_stress(m.dem, dem::Vec<2>::Zero(), 0.7);
-    const auto [em, ed]      = ring_strain(m);
-    lg                       = 0.25 * s.trace() / em;
-    G                        = 0.25 * (s(0, 0) - s(1, 1)) / ed;
+    const Eigen::Matrix2d s = region_stress(m.dem, dem::Vec<2>::Zero(), 0.7);
+    const auto [em, ed]     = ring_strain(m);
+    lg                      = 0.25 * s.trace() / em;
+    G                       = 0.25 * (s(0, 0) - s(1, 1)) / ed;
   }
   const double lambda = lg - G;
   const double nu     = lambda / (2 * (lambda + G));
@@ -95,9 +95,9 @@ TEST_CASE("wall facets: excavation convergence of an embedded elastic region vs 
   m.build();
   m.set_insitu(-p * Eigen::Matrix2d::Identity());
   load(m, 2000, 8000);
-  const auto   u_before = m.continuum().interface_displacements();
-  const double a        = 0.45;
-  auto        &P        = m.dem.particles;
+  const auto               u_before = m.continuum().interface_displacements();
+  const double             a        = 0.45;
+  auto                    &P        = m.dem.particles;
   std::vector<dem::Vec<2>> ref(*std::max_element(P.id.begin(), P.id.end()) + 1); // by id
   for (std::size_t i = 0; i < P.size(); ++i)
     ref[P.id[i]] = P.x[i];
@@ -109,10 +109,10 @@ TEST_CASE("wall facets: excavation convergence of an embedded elastic region vs 
   load(m, 1, 12000);
 
   // Interface ring (r = b): continuum nodal displacement change.
-  const auto  u_after = m.continuum().interface_displacements();
-  const auto &pts     = m.continuum().interface_vertices();
-  const double b      = m.region_params().radius;
-  double       ub     = 0;
+  const auto   u_after = m.continuum().interface_displacements();
+  const auto  &pts     = m.continuum().interface_vertices();
+  const double b       = m.region_params().radius;
+  double       ub      = 0;
   for (std::size_t k = 0; k < pts.size(); ++k)
     ub += ((u_after[k] - u_before[k]) * pts[k]) / pts[k].norm();
   ub /= pts.size();
@@ -136,12 +136,12 @@ TEST_CASE("wall facets: excavation convergence of an embedded elastic region vs 
   uw /= n;
   // Least-squares fit u_r = C / r over the grains between two diameters from
   // the wall and two from the interface (Kirsch: C = -p a^2 / (2 G)).
-  double sxy = 0, sxx = 0;
+  double              sxy = 0, sxx = 0;
   std::vector<double> wall_values;
   for (std::size_t i = 0; i < P.size(); ++i)
     {
-      const dem::Vec<2> X = ref[P.id[i]];
-      const double      r = X.norm();
+      const dem::Vec<2> X  = ref[P.id[i]];
+      const double      r  = X.norm();
       const double      ur = (P.x[i] - X).dot(X / r);
       if (r < a + d)
         wall_values.push_back(ur * r / a);
@@ -154,8 +154,8 @@ TEST_CASE("wall facets: excavation convergence of an embedded elastic region vs 
   std::sort(wall_values.begin(), wall_values.end());
   const double C = sxy / sxx, C_kirsch = -p * a * a / (2 * G);
   INFO("fit C " << C << " vs Kirsch " << C_kirsch << "; wall grains min/median/max "
-                << wall_values.front() << " " << wall_values[wall_values.size() / 2] << " "
-                << wall_values.back());
+                << wall_values.front() << " " << wall_values[wall_values.size() / 2]
+                << " " << wall_values.back());
   const double uw_kirsch = -p * a / (2 * G);
   INFO("interface u_r " << ub << " vs Kirsch " << ub_kirsch << "; wall grains (" << n
                         << ") u_r r/a " << uw << " vs Kirsch " << uw_kirsch

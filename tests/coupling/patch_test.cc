@@ -21,7 +21,7 @@ namespace
   struct Measured
   {
     Eigen::Matrix2d centre, rim; // stress in the centre disk and in a ring
-    double          eps = 0;     // mean radial strain of the interface
+    double          eps  = 0;    // mean radial strain of the interface
     double          ring = 0, whole = 0;
   };
 
@@ -50,10 +50,10 @@ namespace
     out.centre = region_stress(m.dem, dem::Vec<2>::Zero(), 0.6);
     // Annulus 0.6 < r < 0.85 = disk(0.85) - disk(0.6), area-weighted.
     const Eigen::Matrix2d s85 = region_stress(m.dem, dem::Vec<2>::Zero(), 0.85);
-    out.rim = (s85 * 0.85 * 0.85 - out.centre * 0.36) / (0.85 * 0.85 - 0.36);
-    const auto   u   = m.continuum().interface_displacements();
-    const auto  &pts = m.continuum().interface_vertices();
-    double       s   = 0;
+    out.rim         = (s85 * 0.85 * 0.85 - out.centre * 0.36) / (0.85 * 0.85 - 0.36);
+    const auto  u   = m.continuum().interface_displacements();
+    const auto &pts = m.continuum().interface_vertices();
+    double      s   = 0;
     for (std::size_t k = 0; k < u.size(); ++k)
       s += (u[k] * pts[k]) / pts[k].norm_square();
     out.eps = s / u.size();
@@ -62,7 +62,7 @@ namespace
     for (std::size_t v = 0; v < m.dem.walls.vertex.size(); ++v)
       sr -= m.dem.walls.vertex[v] * m.dem.walls.vertex_force[v].transpose();
     sr /= M_PI;
-    out.ring = 0.5 * sr.trace();
+    out.ring  = 0.5 * sr.trace();
     out.whole = 0.5 * region_stress(m.dem, dem::Vec<2>::Zero(), 1.2).trace();
     INFO("final unbalanced ratio " << m.dem.unbalanced_ratio());
     CHECK(m.dem.unbalanced_ratio() < 1e-3);
@@ -76,18 +76,21 @@ TEST_CASE("wall facets: embedded elastic patch test, hydrostatic far field", "[c
   const double p  = 10e6;
   const double nu = 0.25;
   // Run 1: a guess of the continuum's constants.
-  const Measured m1  = run(20e9, nu, p);
-  const double   lg  = 0.5 * m1.centre.trace() / 2 / m1.eps; // lambda + G = sigma_m / (2 eps)
-  const double   E2  = lg * 2 * (1 + nu) * (1 - 2 * nu);
+  const Measured m1 = run(20e9, nu, p);
+  const double   lg =
+      0.5 * m1.centre.trace() / 2 / m1.eps; // lambda + G = sigma_m / (2 eps)
+  const double E2 = lg * 2 * (1 + nu) * (1 - 2 * nu);
   INFO("run 1: centre stress " << m1.centre(0, 0) << ", " << m1.centre(1, 1) << ", "
                                << m1.centre(0, 1) << "; ring strain " << m1.eps
                                << "; lambda+G of the region " << lg << " -> E " << E2);
   REQUIRE(lg > 0);
-  const Measured m2  = run(E2, nu, p);
-  const double   sm  = 0.5 * m2.centre.trace();
-  const double   dev = std::hypot(0.5 * (m2.centre(0, 0) - m2.centre(1, 1)), m2.centre(0, 1));
-  const double   rim = 0.5 * m2.rim.trace();
-  INFO("ring-force mean stress " << m1.ring << " / " << m2.ring << ", whole-region Love " << m1.whole << " / " << m2.whole);
+  const Measured m2 = run(E2, nu, p);
+  const double   sm = 0.5 * m2.centre.trace();
+  const double   dev =
+      std::hypot(0.5 * (m2.centre(0, 0) - m2.centre(1, 1)), m2.centre(0, 1));
+  const double rim = 0.5 * m2.rim.trace();
+  INFO("ring-force mean stress " << m1.ring << " / " << m2.ring << ", whole-region Love "
+                                 << m1.whole << " / " << m2.whole);
   INFO("run 2: centre mean stress " << sm << " (applied " << -p << "), deviator " << dev
                                     << ", rim mean stress " << rim);
   CHECK(std::abs(sm + p) < 0.02 * p);   // region stress = applied (issue 5: 2 %)

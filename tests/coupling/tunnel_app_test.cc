@@ -20,9 +20,11 @@ namespace
 
   Run run(const std::string &args)
   {
-    const std::string log = std::filesystem::temp_directory_path() / "demfem_tunnel_test.log";
-    const std::string cmd = std::string(DEMFEM_EXE) + " tunnel " + std::string(DEMFEM_SOURCE_DIR) +
-                            "/apps/examples/tunnel_2d.prm " + args + " > " + log + " 2>&1";
+    const std::string log =
+        std::filesystem::temp_directory_path() / "demfem_tunnel_test.log";
+    const std::string cmd =
+        std::string(DEMFEM_EXE) + " tunnel " + std::string(DEMFEM_SOURCE_DIR) +
+        "/apps/examples/tunnel_2d.prm " + args + " > " + log + " 2>&1";
     const int status = std::system(cmd.c_str());
     Run       r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -42,18 +44,23 @@ namespace
   }
 
   // Small and fast variant of the example.
-  const std::string small = " --set \"DEM region/radius=1.0\" --set \"Tunnel/radius=0.4\" "
-                            "--set \"DEM region/grain diameter min=0.08\" "
-                            "--set \"DEM region/grain diameter max=0.12\" "
-                            "--set \"Continuum/outer radius=10\" --set \"Output/interval=0\" ";
+  const std::string small =
+      " --set \"DEM region/radius=1.0\" --set \"Tunnel/radius=0.4\" "
+      "--set \"DEM region/grain diameter min=0.08\" "
+      "--set \"DEM region/grain diameter max=0.12\" "
+      "--set \"Continuum/outer radius=10\" --set \"Output/interval=0\" ";
 } // namespace
 
-TEST_CASE("tunnel: a time-step safety far above 1 is detected and reported", "[coupling][app]")
+TEST_CASE("tunnel: a time-step safety far above 1 is detected and reported",
+          "[coupling][app]")
 {
-  const std::string dir = std::filesystem::temp_directory_path() / "demfem_tunnel_diverge";
+  const std::string dir =
+      std::filesystem::temp_directory_path() / "demfem_tunnel_diverge";
   std::filesystem::remove_all(dir);
-  const Run r = run(small + "--set \"Coupling/timestep safety=5\" --set \"Problem/output directory=" +
-                    dir + "\"");
+  const Run r =
+      run(small +
+          "--set \"Coupling/timestep safety=5\" --set \"Problem/output directory=" + dir +
+          "\"");
   INFO(r.text);
   CHECK(r.code == 2);
   CHECK(r.text.find("diverged") != std::string::npos);
@@ -69,7 +76,8 @@ TEST_CASE("tunnel: a time-step safety far above 1 is detected and reported", "[c
     }
 }
 
-TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing", "[coupling][app]")
+TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing",
+          "[coupling][app]")
 {
   const std::string dir = std::filesystem::temp_directory_path() / "demfem_tunnel_bad";
   std::filesystem::remove_all(dir);
@@ -78,8 +86,8 @@ TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing", "[coupl
   {
     std::string args, key;
   } cases[] = {
-      {"--set \"DEM region/radius=20\"", "DEM region/radius"},       // larger than the domain
-      {"--set \"Tunnel/radius=2.4\"", "Tunnel/radius"},              // tunnel larger than region
+      {"--set \"DEM region/radius=20\"", "DEM region/radius"}, // larger than the domain
+      {"--set \"Tunnel/radius=3.4\"", "Tunnel/radius"}, // tunnel larger than region
       {"--set \"DEM region/material file=/no/such.json\"", "DEM region/material file"},
       {"--set \"Problem/dimension=3\"", "Problem/dimension"},
       {"--set \"Continuum/poisson ratio=0.7\"", "poisson ratio"},
