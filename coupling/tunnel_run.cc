@@ -1,5 +1,8 @@
 #include "coupling/tunnel_run.h"
 
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q.h>
 #include <deal.II/numerics/data_out.h>
 
 #include "dem/vtk_output.h"
@@ -162,6 +165,32 @@ namespace demfem::coupling
           dealii::Vector<double> u(m.continuum().displacement());
           data_out.add_data_vector(u, std::vector<std::string>(2, "displacement"),
                                    dealii::DataOut<2>::type_dof_data, ci);
+          // Total stress per cell (both sides start stress-free, so sigma(u)
+          // is the total stress; plane strain), at the cell centre.
+          const auto  &dh = m.continuum().get_dof_handler();
+          const double E = p.continuum.young_modulus, nu = p.continuum.poisson_ratio;
+          const double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+          dealii::Vector<double> sxx(dh.get_triangulation().n_active_cells()), syy(sxx),
+              sxy(sxx);
+          dealii::MappingQ<2>  mapping(1);
+          dealii::QMidpoint<2> q;
+          dealii::FEValues<2>  fv(mapping, dh.get_fe(), q, dealii::update_gradients);
+          std::vector<std::vector<dealii::Tensor<1, 2>>> g(
+              1, std::vector<dealii::Tensor<1, 2>>(2));
+          for (const auto &cell : dh.active_cell_iterators())
+            {
+              fv.reinit(cell);
+              fv.get_function_gradients(u, g);
+              const double exx = g[0][0][0], eyy = g[0][1][1],
+                           exy = 0.5 * (g[0][0][1] + g[0][1][0]);
+              const auto c     = cell->active_cell_index();
+              sxx[c]           = lam * (exx + eyy) + 2 * mu * exx;
+              syy[c]           = lam * (exx + eyy) + 2 * mu * eyy;
+              sxy[c]           = 2 * mu * exy;
+            }
+          data_out.add_data_vector(sxx, "stress_xx", dealii::DataOut<2>::type_cell_data);
+          data_out.add_data_vector(syy, "stress_yy", dealii::DataOut<2>::type_cell_data);
+          data_out.add_data_vector(sxy, "stress_xy", dealii::DataOut<2>::type_cell_data);
           data_out.build_patches();
           std::ostringstream text;
           data_out.write_vtu(text);
