@@ -8,4 +8,5 @@ namespace demfem::apps
   int run_fem(int argc, char **argv);
   int run_tunnel(int argc, char **argv);
   int run_calibrate(int argc, char **argv);
+  int run_study(int argc, char **argv);
 } // namespace demfem::apps

@@ -25,6 +25,7 @@ namespace
     {"fem", demfem::apps::run_fem, "continuum-only run (e.g. Kirsch hole)"},
     {"tunnel", demfem::apps::run_tunnel, "coupled DEM-continuum tunnel excavation run"},
     {"bench", demfem::apps::run_bench, "performance benchmarks"},
+    {"study", demfem::apps::run_study, "speed-versus-accuracy sweep and stability map"},
   };
 
   void print_help()

@@ -1,0 +1,83 @@
+#pragma once
+// `demfem study` (issue 6): speed-versus-accuracy sweep of the elastic
+// embedded tunnel, stability map of the scheme settings, and right-sizing of
+// the DEM region by a Kirsch elastic pre-analysis.
+#include <deal.II/base/parameter_handler.h>
+
+#include "coupling/tunnel_run.h"
+
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace demfem::apps::study
+{
+  /// The keys of the tunnel .prm (copy of apps/tunnel_command.cc; see
+  /// study_prm.cc) with 'DEM region/radius' accepting 'auto'.
+  void declare_tunnel_parameters(dealii::ParameterHandler &prm);
+  /// Reads them; region.radius < 0 means 'auto'. Not validated (per run).
+  coupling::TunnelParams read_tunnel_settings(dealii::ParameterHandler &prm);
+
+  /// The `Study` subsection: the values to sweep and the right-sizing
+  /// criterion. An empty list keeps the value of the tunnel keys.
+  struct Settings
+  {
+    std::vector<std::optional<double>> radius_factors; ///< x tunnel radius; nullopt: auto
+    std::vector<double>                resolutions;    ///< a/d
+    std::vector<unsigned int>          subcycles;
+    std::vector<double>                safeties;
+    double damage_fraction = 0.4; ///< damage initiation: sigma1 - sigma3 >= this x UCS
+    double ucs             = 0;   ///< [Pa]; 0: "ucs" of the DEM region's material file
+    double margin_grains   = 3;   ///< auto radius = damage radius + this x d
+  };
+  void declare_study_parameters(dealii::ParameterHandler &prm);
+  /// `material_file`: 'DEM region/material file' (for its "ucs").
+  Settings read_study_settings(dealii::ParameterHandler &prm,
+                               const std::string        &material_file);
+
+  // --- Kirsch (plane strain, linear elastic, infinite medium; tension positive)
+
+  /// Mean over theta of the excavation-induced inward radial displacement of
+  /// the wall r = a: u = -a (sxx + syy) / (4 G), G = E / (2 (1 + nu)).
+  double kirsch_mean_convergence(const Eigen::Matrix2d &sigma0, double a, double E,
+                                 double nu);
+  /// In-plane differential stress sigma1 - sigma3 of the Kirsch field at
+  /// (r, theta), theta from the x axis.
+  double kirsch_differential_stress(const Eigen::Matrix2d &sigma0, double a, double r,
+                                    double theta);
+  /// Largest r with max_theta (sigma1 - sigma3) >= threshold (a if none).
+  /// Throws dem::InputError if the far field itself reaches the threshold.
+  double kirsch_damage_radius(const Eigen::Matrix2d &sigma0, double a, double threshold);
+
+  struct AutoRadius
+  {
+    double threshold = 0, damage_radius = 0, radius = 0;
+  };
+  /// Right-sizing: region radius = damage radius + margin_grains x d, and at
+  /// least a + 4 d (the tunnel run needs >= 3 grains around the tunnel).
+  AutoRadius auto_region_radius(const Eigen::Matrix2d &sigma0, double a, double ucs,
+                                double fraction, double margin_grains, double d);
+
+  // --- results
+
+  struct Row
+  {
+    int          index         = 0;
+    double       region_radius = 0, region_factor = 0, resolution = 0, grain_d = 0;
+    bool         region_auto = false;
+    unsigned int subcycles   = 1;
+    double       safety      = 0;
+    std::string  status; ///< stable | unstable | invalid
+    std::string  diagnosis;
+    coupling::TunnelResult result;
+    double                 kirsch = 0, error = 0; ///< error: relative, signed
+    bool                   pareto = false;
+  };
+
+  /// Marks the stable rows on the Pareto front of (wall time, |error|).
+  void mark_pareto(std::vector<Row> &rows);
+  void write_csv(const std::string &file, const std::vector<Row> &rows);
+  /// Wall time versus |error| (log-log), Pareto front marked; plain SVG.
+  void write_chart(const std::string &file, const std::vector<Row> &rows);
+} // namespace demfem::apps::study

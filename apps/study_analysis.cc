@@ -1,0 +1,250 @@
+// Closed forms, Pareto front, CSV and SVG chart of `demfem study` (issue 6).
+#include "apps/study.h"
+#include "dem/types.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace demfem::apps::study
+{
+  namespace
+  {
+    // Principal stresses S1 >= S2 of the in-plane in-situ stress and the
+    // angle of the S1 axis from x.
+    void principal(const Eigen::Matrix2d &s, double &s1, double &s2, double &phi)
+    {
+      const double c = 0.5 * (s(0, 0) + s(1, 1));
+      const double r = std::hypot(0.5 * (s(0, 0) - s(1, 1)), s(0, 1));
+      s1             = c + r;
+      s2             = c - r;
+      phi            = 0.5 * std::atan2(2 * s(0, 1), s(0, 0) - s(1, 1));
+    }
+  } // namespace
+
+  double kirsch_mean_convergence(const Eigen::Matrix2d &sigma0, double a, double E,
+                                 double nu)
+  {
+    // Kirsch excavation-induced displacement of the wall r = a (plane
+    // strain, tension and outward positive, S1 along t = 0):
+    //   u_r = a/(4G) [(S1+S2) + (S1-S2)(3 - 4 nu) cos 2t];
+    // the cos 2t term averages to zero over the wall, so the mean inward
+    // displacement is -a (S1+S2)/(4G). nu enters only through G, which is the
+    // same for the plane-strain pair (E', nu') and the 3D pair (E, nu).
+    const double G = E / (2 * (1 + nu));
+    return -a * (sigma0(0, 0) + sigma0(1, 1)) / (4 * G);
+  }
+
+  double kirsch_differential_stress(const Eigen::Matrix2d &sigma0, double a, double r,
+                                    double theta)
+  {
+    double s1, s2, phi;
+    principal(sigma0, s1, s2, phi);
+    const double m = 0.5 * (s1 + s2), d = 0.5 * (s1 - s2);
+    const double p2 = (a / r) * (a / r), p4 = p2 * p2, t = 2 * (theta - phi);
+    // Kirsch field (tension positive), S1 along the rotated x axis.
+    const double srr = m * (1 - p2) + d * (1 - 4 * p2 + 3 * p4) * std::cos(t);
+    const double stt = m * (1 + p2) - d * (1 + 3 * p4) * std::cos(t);
+    const double srt = -d * (1 + 2 * p2 - 3 * p4) * std::sin(t);
+    return std::hypot(srr - stt, 2 * srt); // sigma1 - sigma3 in the plane
+  }
+
+  double kirsch_damage_radius(const Eigen::Matrix2d &sigma0, double a, double threshold)
+  {
+    double s1, s2, phi;
+    principal(sigma0, s1, s2, phi);
+    if (s1 - s2 >= threshold)
+      throw dem::InputError(
+          "Study/damage threshold: the far-field differential stress " +
+          std::to_string(s1 - s2) + " Pa already reaches the damage threshold " +
+          std::to_string(threshold) +
+          " Pa: the whole rock mass is damaged and no finite DEM region encloses "
+          "it; set 'DEM region/radius' to a number");
+    auto g = [&](double r) {
+      double mx = 0;
+      for (int k = 0; k <= 180; ++k) // theta in [phi, phi + pi/2] covers cos, sin
+        mx = std::max(mx,
+                      kirsch_differential_stress(sigma0, a, r, phi + k * M_PI / 360.0));
+      return mx - threshold;
+    };
+    // The field tends to s1 - s2 < threshold: scan outward on a geometric grid
+    // up to 1000 a, then bisect the last crossing.
+    const int n    = 4000;
+    double    last = -1;
+    for (int i = 0; i <= n; ++i)
+      {
+        const double r = a * std::pow(1000.0, double(i) / n);
+        if (g(r) >= 0)
+          last = r;
+      }
+    if (last < 0)
+      return a;
+    double lo = last, hi = last * std::pow(1000.0, 1.0 / n);
+    for (int it = 0; it < 60; ++it)
+      {
+        const double mid        = 0.5 * (lo + hi);
+        (g(mid) >= 0 ? lo : hi) = mid;
+      }
+    return 0.5 * (lo + hi);
+  }
+
+  AutoRadius auto_region_radius(const Eigen::Matrix2d &sigma0, double a, double ucs,
+                                double fraction, double margin_grains, double d)
+  {
+    if (!(ucs > 0))
+      throw dem::InputError("DEM region/radius = auto needs the UCS: set Study/ucs "
+                            "[Pa] (> 0) or a DEM region/material file with \"ucs\"");
+    AutoRadius r;
+    r.threshold     = fraction * ucs;
+    r.damage_radius = kirsch_damage_radius(sigma0, a, r.threshold);
+    r.radius        = std::max(r.damage_radius + margin_grains * d, a + 4 * d);
+    return r;
+  }
+
+  void mark_pareto(std::vector<Row> &rows)
+  {
+    for (auto &p : rows)
+      {
+        p.pareto = p.status == "stable";
+        for (const auto &q : rows)
+          if (p.pareto && &q != &p && q.status == "stable" &&
+              q.result.wall_time_s <= p.result.wall_time_s &&
+              std::abs(q.error) <= std::abs(p.error) &&
+              (q.result.wall_time_s < p.result.wall_time_s ||
+               std::abs(q.error) < std::abs(p.error)))
+            p.pareto = false;
+      }
+  }
+
+  namespace
+  {
+    // Numbers are written only when finite (no NaN in the outputs).
+    std::string num(double v, bool defined = true)
+    {
+      if (!defined || !std::isfinite(v))
+        return "";
+      std::ostringstream s;
+      s << std::setprecision(6) << v;
+      return s.str();
+    }
+
+    std::string quoted(const std::string &t)
+    {
+      std::string q = "\"";
+      for (char c : t)
+        q += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
+      return q + "\"";
+    }
+  } // namespace
+
+  void write_csv(const std::string &file, const std::vector<Row> &rows)
+  {
+    std::ofstream o(file);
+    o << "run,region_radius_m,region_factor,region_auto,a_over_d,grain_diameter_m,"
+         "subcycles,timestep_safety,status,n_particles,steps,wall_time_s,"
+         "wall_convergence_m,kirsch_convergence_m,error_rel,pareto,diagnosis\n";
+    for (const auto &r : rows)
+      {
+        const bool ok  = r.status == "stable";
+        const bool ran = r.status != "invalid";
+        o << r.index << "," << num(r.region_radius) << "," << num(r.region_factor) << ","
+          << (r.region_auto ? "yes" : "no") << "," << num(r.resolution) << ","
+          << num(r.grain_d) << "," << r.subcycles << "," << num(r.safety) << ","
+          << r.status << "," << (ran ? std::to_string(r.result.n_particles) : "") << ","
+          << (ran ? std::to_string(r.result.steps) : "") << ","
+          << num(r.result.wall_time_s, ran) << ","
+          << num(r.result.wall_convergence_mean, ok) << "," << num(r.kirsch) << ","
+          << num(r.error, ok) << "," << (r.pareto ? "yes" : "no") << ","
+          << quoted(r.diagnosis) << "\n";
+      }
+  }
+
+  void write_chart(const std::string &file, const std::vector<Row> &rows)
+  {
+    std::vector<const Row *> pts;
+    for (const auto &r : rows)
+      if (r.status == "stable" && std::isfinite(r.error) && r.result.wall_time_s > 0)
+        pts.push_back(&r);
+    const double W = 720, H = 480, L = 80, R = 200, T = 40, B = 60;
+    // log-log axes over whole decades; |error| floored at 1e-4 (0.01 %)
+    auto   ey = [](const Row *r) { return std::max(std::abs(r->error), 1e-4); };
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (const auto *p : pts)
+      {
+        x0 = std::min(x0, std::log10(p->result.wall_time_s));
+        x1 = std::max(x1, std::log10(p->result.wall_time_s));
+        y0 = std::min(y0, std::log10(ey(p)));
+        y1 = std::max(y1, std::log10(ey(p)));
+      }
+    if (pts.empty())
+      x0 = x1 = y0 = y1 = 0;
+    x0 = std::floor(x0), y0 = std::floor(y0), x1 = std::max(std::ceil(x1), x0 + 1),
+    y1     = std::max(std::ceil(y1), y0 + 1);
+    auto X = [&](double t) { return L + (W - L - R) * (std::log10(t) - x0) / (x1 - x0); };
+    auto Y = [&](double e) {
+      return H - B - (H - T - B) * (std::log10(e) - y0) / (y1 - y0);
+    };
+
+    std::ofstream o(file);
+    o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+      << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+      << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+      << "<text x=\"" << L
+      << "\" y=\"24\" font-size=\"15\">demfem study: wall time "
+         "versus error of the wall convergence against Kirsch</text>\n";
+    for (int k = int(x0); k <= int(x1); ++k) // decade grid
+      o << "<line x1=\"" << X(std::pow(10, k)) << "\" y1=\"" << T << "\" x2=\""
+        << X(std::pow(10, k)) << "\" y2=\"" << H - B << "\" stroke=\"#ddd\"/>\n"
+        << "<text x=\"" << X(std::pow(10, k)) << "\" y=\"" << H - B + 16
+        << "\" text-anchor=\"middle\">1e" << k << "</text>\n";
+    for (int k = int(y0); k <= int(y1); ++k)
+      o << "<line x1=\"" << L << "\" y1=\"" << Y(std::pow(10, k)) << "\" x2=\"" << W - R
+        << "\" y2=\"" << Y(std::pow(10, k)) << "\" stroke=\"#ddd\"/>\n"
+        << "<text x=\"" << L - 6 << "\" y=\"" << Y(std::pow(10, k)) + 4
+        << "\" text-anchor=\"end\">" << 100 * std::pow(10, k) << " %</text>\n";
+    o << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << W - L - R
+      << "\" height=\"" << H - T - B << "\" fill=\"none\" stroke=\"black\"/>\n"
+      << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 20
+      << "\" text-anchor=\"middle\">wall-clock time [s]</text>\n"
+      << "<text transform=\"translate(20," << (T + H - B) / 2
+      << ") rotate(-90)\" text-anchor=\"middle\">|error| of mean wall "
+         "convergence</text>\n";
+    std::vector<const Row *> front;
+    for (const auto *p : pts)
+      if (p->pareto)
+        front.push_back(p);
+    std::sort(front.begin(), front.end(), [](const Row *a, const Row *b) {
+      return a->result.wall_time_s < b->result.wall_time_s;
+    });
+    if (front.size() > 1)
+      {
+        o << "<polyline fill=\"none\" stroke=\"#c00\" stroke-width=\"1.5\" points=\"";
+        for (const auto *p : front)
+          o << X(p->result.wall_time_s) << "," << Y(ey(p)) << " ";
+        o << "\"/>\n";
+      }
+    for (const auto *p : pts)
+      o << "<circle cx=\"" << X(p->result.wall_time_s) << "\" cy=\"" << Y(ey(p))
+        << "\" r=\"" << (p->pareto ? 5 : 3.5) << "\" fill=\""
+        << (p->pareto ? "#c00" : "#36c") << "\"><title>run " << p->index
+        << ": b/a=" << p->region_factor << " a/d=" << p->resolution
+        << " k=" << p->subcycles << " safety=" << p->safety << "</title></circle>\n";
+    for (const auto *p : front) // label the front
+      o << "<text x=\"" << X(p->result.wall_time_s) + 7 << "\" y=\"" << Y(ey(p)) - 5
+        << "\" font-size=\"10\" fill=\"#c00\">b/a " << std::setprecision(3)
+        << p->region_factor << ", a/d " << p->resolution << ", k " << p->subcycles
+        << ", s " << p->safety << "</text>\n";
+    const auto n_bad = rows.size() - pts.size();
+    o << "<circle cx=\"" << W - R + 20 << "\" cy=\"" << T + 10
+      << "\" r=\"5\" fill=\"#c00\"/><text x=\"" << W - R + 30 << "\" y=\"" << T + 14
+      << "\">Pareto front</text>\n"
+      << "<circle cx=\"" << W - R + 20 << "\" cy=\"" << T + 30
+      << "\" r=\"3.5\" fill=\"#36c\"/><text x=\"" << W - R + 30 << "\" y=\"" << T + 34
+      << "\">stable run</text>\n"
+      << "<text x=\"" << W - R + 12 << "\" y=\"" << T + 56 << "\">" << n_bad
+      << " unstable/invalid run(s)</text>\n<text x=\"" << W - R + 12 << "\" y=\""
+      << T + 70 << "\">not plotted (study.csv)</text>\n</svg>\n";
+  }
+} // namespace demfem::apps::study

@@ -1,0 +1,128 @@
+// `demfem study` (issue 6): small sweeps of apps/examples/study_2d.prm
+// (a = 0.4 m, hydrostatic 10 MPa, region b = 2.5 a, a few hundred grains).
+#include <catch2/catch.hpp>
+
+#include "run_command.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using demfem::testing::json_numbers;
+using demfem::testing::run_demfem;
+
+namespace
+{
+  const std::string example =
+      "study " + std::string(DEMFEM_SOURCE_DIR) + "/apps/examples/study_2d.prm";
+
+  std::string read(const std::string &f)
+  {
+    std::ifstream     in(f);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+
+  // study.csv as rows of fields (the diagnosis, quoted, is the last field
+  // and is not split).
+  std::vector<std::vector<std::string>> csv(const std::string &f)
+  {
+    std::vector<std::vector<std::string>> rows;
+    std::ifstream                         in(f);
+    for (std::string line; std::getline(in, line);)
+      {
+        std::vector<std::string> row;
+        const auto               q = line.find('"');
+        std::stringstream        ss(line.substr(0, q));
+        for (std::string t; std::getline(ss, t, ',');)
+          row.push_back(t);
+        rows.push_back(row);
+      }
+    return rows;
+  }
+
+  std::string dir(const std::string &name)
+  {
+    const auto d = std::filesystem::temp_directory_path() / ("demfem_study_" + name);
+    std::filesystem::remove_all(d);
+    return d.string();
+  }
+
+  // Kirsch mean wall convergence for hydrostatic p: u = p a / (2 G).
+  const double p = 10e6, a = 0.4, G = 16.3e9 / (2 * 1.11);
+  const double u_kirsch = p * a / (2 * G);
+} // namespace
+
+TEST_CASE("study: time-step safety beyond the limit is detected as unstable, no NaN",
+          "[study]")
+{
+  // The explicit scheme is stable for safety < 1 (dt below the critical
+  // step); 1.5 exceeds it by half, and the engine's energy-balance /
+  // continuum-growth checks must stop the run. Subcycles 1 and 20: dt is
+  // scaled by 1/k for the continuum, so both are stable at safety 0.8.
+  const std::string d = dir("stability");
+  const auto        r = run_demfem(
+             example + " --set \"Problem/output directory=" + d +
+             "\" --set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
+                    "--set \"Study/subcycles=1,20\" --set \"Study/timestep safety factors=0.8,1.5\"");
+  INFO(r.out);
+  REQUIRE(r.exit_code == 0);
+  const auto rows = csv(d + "/study.csv");
+  REQUIRE(rows.size() == 5); // header + 2 x 2 runs
+  for (std::size_t i = 1; i < rows.size(); ++i)
+    {
+      const bool beyond = std::stod(rows[i][7]) > 1;
+      CHECK(rows[i][8] == (beyond ? "unstable" : "stable"));
+    }
+  const std::string text = read(d + "/study.csv") + read(d + "/summary.json");
+  CHECK(text.find("nan") == std::string::npos);
+  CHECK(text.find("inf") == std::string::npos);
+  const auto s = json_numbers(read(d + "/summary.json"));
+  CHECK(s.at("timestep_safety_largest_stable") == Approx(0.8));
+  CHECK(s.at("timestep_safety_smallest_unstable") == Approx(1.5));
+  CHECK(s.at("subcycles_largest_stable") == Approx(20));
+  CHECK(s.at("unstable") == 2);
+}
+
+TEST_CASE("study: DEM region/radius = auto encloses the Kirsch damage zone", "[study]")
+{
+  // Hydrostatic p: sigma1 - sigma3 = 2 p a^2 / r^2 (Kirsch), so the zone
+  // where it reaches 0.4 UCS ends at r* = a sqrt(2 p / (0.4 UCS)). UCS = 25
+  // MPa: r* = a sqrt(2) = 0.5657 m; region = r* + 3 d, d = a / 4.
+  const std::string d = dir("auto");
+  const auto        r = run_demfem(
+             example + " --set \"Problem/output directory=" + d +
+             "\" --set \"Study/region radius factors=auto\" --set \"Study/grain resolutions=4\" "
+                    "--set \"Study/subcycles=1\" --set \"Study/timestep safety factors=0.8\" "
+                    "--set \"Study/ucs=25e6\"");
+  INFO(r.out);
+  REQUIRE(r.exit_code == 0);
+  const auto   s      = json_numbers(read(d + "/summary.json"));
+  const double rstar  = a * std::sqrt(2 * p / (0.4 * 25e6));
+  const double dgrain = a / 4;
+  CHECK(s.at("auto_damage_threshold_Pa") == Approx(10e6));
+  CHECK(s.at("auto_damage_radius_m") == Approx(rstar).epsilon(1e-6));
+  CHECK(s.at("auto_region_radius_m") == Approx(rstar + 3 * dgrain).epsilon(1e-6));
+  CHECK(s.at("auto_region_radius_m") > rstar + 2 * dgrain); // encloses zone + 2 grains
+  const auto rows = csv(d + "/study.csv");
+  REQUIRE(rows.size() == 2);
+  CHECK(rows[1][3] == "yes");
+  CHECK(std::stod(rows[1][1]) == Approx(rstar + 3 * dgrain).epsilon(1e-5));
+  CHECK(rows[1][8] == "stable");
+  CHECK(r.out.find("damage zone") != std::string::npos); // the choice is printed
+}
+
+TEST_CASE("study: a bad sweep value is rejected naming the key, nothing written",
+          "[study]")
+{
+  const std::string d = dir("bad");
+  const auto        r = run_demfem(example + " --set \"Problem/output directory=" + d +
+                                   "\" --set \"Study/grain resolutions=3,x\"");
+  CHECK(r.exit_code == 1);
+  CHECK(r.out.find("Study/grain resolutions") != std::string::npos);
+  CHECK(!std::filesystem::exists(d));
+}
