@@ -156,7 +156,7 @@ namespace demfem::coupling
         const auto   uf = frame_name("continuum", frame, ".vtu");
         dem::vtkout::write_particles(dir + "/" + pf, m.dem);
         dem::vtkout::write_contacts(dir + "/" + bf, m.dem);
-        dem::vtkout::write_cracks(dir + "/" + cf, m.dem.cracks);
+        dem::vtkout::write_cracks(dir + "/" + cf, m.dem.current_cracks());
         {
           dealii::DataOut<2> data_out;
           data_out.attach_dof_handler(m.continuum().get_dof_handler());
