@@ -6,6 +6,7 @@
 
 #include "coupling/tunnel_run.h"
 
+#include <cstdint>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -27,6 +28,7 @@ namespace demfem::apps::study
     std::vector<double>                resolutions;    ///< a/d
     std::vector<unsigned int>          subcycles;
     std::vector<double>                safeties;
+    std::vector<std::uint64_t>         seeds; ///< packing seeds (error averages)
     double damage_fraction = 0.4; ///< damage initiation: sigma1 - sigma3 >= this x UCS
     double ucs             = 0;   ///< [Pa]; 0: "ucs" of the DEM region's material file
     double margin_grains   = 3;   ///< auto radius = damage radius + this x d
@@ -63,13 +65,14 @@ namespace demfem::apps::study
 
   struct Row
   {
-    int          index         = 0;
-    double       region_radius = 0, region_factor = 0, resolution = 0, grain_d = 0;
-    bool         region_auto = false;
-    unsigned int subcycles   = 1;
-    double       safety      = 0;
-    std::string  status; ///< stable | unstable | invalid
-    std::string  diagnosis;
+    int           index         = 0;
+    double        region_radius = 0, region_factor = 0, resolution = 0, grain_d = 0;
+    bool          region_auto = false;
+    unsigned int  subcycles   = 1;
+    double        safety      = 0;
+    std::uint64_t seed        = 0;
+    std::string   status; ///< stable | unstable | invalid
+    std::string   diagnosis;
     coupling::TunnelResult result;
     double                 kirsch = 0, error = 0; ///< error: relative, signed
     bool                   pareto = false;

@@ -144,7 +144,7 @@ namespace demfem::apps::study
     std::ofstream o(file);
     o << "run,region_radius_m,region_factor,region_auto,a_over_d,grain_diameter_m,"
          "subcycles,timestep_safety,status,n_particles,steps,wall_time_s,"
-         "wall_convergence_m,kirsch_convergence_m,error_rel,pareto,diagnosis\n";
+         "wall_convergence_m,kirsch_convergence_m,error_rel,pareto,seed,diagnosis\n";
     for (const auto &r : rows)
       {
         const bool ok  = r.status == "stable";
@@ -156,7 +156,7 @@ namespace demfem::apps::study
           << (ran ? std::to_string(r.result.steps) : "") << ","
           << num(r.result.wall_time_s, ran) << ","
           << num(r.result.wall_convergence_mean, ok) << "," << num(r.kirsch) << ","
-          << num(r.error, ok) << "," << (r.pareto ? "yes" : "no") << ","
+          << num(r.error, ok) << "," << (r.pareto ? "yes" : "no") << "," << r.seed << ","
           << quoted(r.diagnosis) << "\n";
       }
   }

@@ -37,7 +37,8 @@ namespace demfem::apps
         "Speed versus accuracy of the coupled tunnel model (2D): runs the elastic\n"
         "embedded tunnel (unbreakable bonds) for every combination of the values\n"
         "listed in the Study subsection (region radius factors x tunnel radius,\n"
-        "grain resolutions a/d, subcycles, time-step safety factors); the other\n"
+        "grain resolutions a/d, subcycles, time-step safety factors, packing\n"
+        "seeds); the other\n"
         "keys are those of `demfem tunnel`. 'DEM region/radius = auto' sizes the\n"
         "region from a Kirsch pre-analysis (sigma1 - sigma3 >= Study/damage\n"
         "threshold x UCS, plus Study/margin grains). Writes study.csv,\n"
@@ -130,6 +131,9 @@ namespace demfem::apps
         std::vector<unsigned int> ks = st.subcycles;
         if (ks.empty())
           ks.push_back(base.coupling.subcycles);
+        std::vector<std::uint64_t> seeds = st.seeds;
+        if (seeds.empty())
+          seeds.push_back(base.region.seed);
         std::vector<double> ss = st.safeties;
         if (ss.empty())
           ss.push_back(base.coupling.safety);
@@ -164,64 +168,69 @@ namespace demfem::apps
           for (const double r : res)
             for (const unsigned int k : ks)
               for (const double s : ss)
-                {
-                  study::Row row;
-                  row.index                = int(rows.size());
-                  coupling::TunnelParams p = base;
-                  row.region_auto          = !f;
-                  p.region.radius          = f ? *f * a : autos[r].radius;
-                  const double d           = a / r;
-                  const double scale       = d / base.region.mean_diameter();
-                  p.region.d_lo            = base.region.d_lo * scale;
-                  p.region.d_hi            = base.region.d_hi * scale;
-                  p.coupling.subcycles     = k;
-                  p.coupling.safety        = s;
-                  std::ostringstream dir;
-                  dir << out << "/run_" << std::setw(3) << std::setfill('0') << row.index;
-                  p.output_directory = dir.str();
-                  row.region_radius  = p.region.radius;
-                  row.region_factor  = p.region.radius / a;
-                  row.resolution     = r;
-                  row.grain_d        = d;
-                  row.subcycles      = k;
-                  row.safety         = s;
-                  row.kirsch         = kirsch;
-                  std::ostringstream log;
-                  try
-                    {
-                      p.validate("parameter file");
-                      row.result    = coupling::run_tunnel(p, log);
-                      row.status    = row.result.diverged ? "unstable" : "stable";
-                      row.diagnosis = row.result.diagnosis;
-                      row.error =
-                          row.result.diverged
-                              ? 0.0
-                              : (row.result.wall_convergence_mean - kirsch) / kirsch;
-                      if (!std::isfinite(row.error))
-                        row.status = "unstable", row.error = 0,
-                        row.diagnosis = "non-finite wall convergence";
-                    }
-                  catch (const std::exception &e)
-                    {
-                      // a combination the tunnel run rejects (e.g. region
-                      // too small for the grains) is recorded, not fatal
-                      row.status    = "invalid";
-                      row.diagnosis = exception_text(e);
-                    }
-                  if (std::filesystem::is_directory(p.output_directory))
-                    std::ofstream(p.output_directory + "/log.txt") << log.str();
-                  std::cout << "run " << row.index << ": b/a " << row.region_factor
-                            << ", a/d " << r << ", k " << k << ", safety " << s << ": "
-                            << row.status;
-                  if (row.status == "stable")
-                    std::cout << ", " << row.result.n_particles << " grains, "
-                              << row.result.steps << " steps, " << row.result.wall_time_s
-                              << " s, error " << 100 * row.error << " %";
-                  else
-                    std::cout << " (" << row.diagnosis << ")";
-                  std::cout << std::endl;
-                  rows.push_back(row);
-                }
+                for (const std::uint64_t seed : seeds)
+                  {
+                    study::Row row;
+                    row.index                = int(rows.size());
+                    coupling::TunnelParams p = base;
+                    row.region_auto          = !f;
+                    p.region.radius          = f ? *f * a : autos[r].radius;
+                    const double d           = a / r;
+                    const double scale       = d / base.region.mean_diameter();
+                    p.region.d_lo            = base.region.d_lo * scale;
+                    p.region.d_hi            = base.region.d_hi * scale;
+                    p.coupling.subcycles     = k;
+                    p.coupling.safety        = s;
+                    p.region.seed            = seed;
+                    row.seed                 = seed;
+                    std::ostringstream dir;
+                    dir << out << "/run_" << std::setw(3) << std::setfill('0')
+                        << row.index;
+                    p.output_directory = dir.str();
+                    row.region_radius  = p.region.radius;
+                    row.region_factor  = p.region.radius / a;
+                    row.resolution     = r;
+                    row.grain_d        = d;
+                    row.subcycles      = k;
+                    row.safety         = s;
+                    row.kirsch         = kirsch;
+                    std::ostringstream log;
+                    try
+                      {
+                        p.validate("parameter file");
+                        row.result    = coupling::run_tunnel(p, log);
+                        row.status    = row.result.diverged ? "unstable" : "stable";
+                        row.diagnosis = row.result.diagnosis;
+                        row.error =
+                            row.result.diverged
+                                ? 0.0
+                                : (row.result.wall_convergence_mean - kirsch) / kirsch;
+                        if (!std::isfinite(row.error))
+                          row.status = "unstable", row.error = 0,
+                          row.diagnosis = "non-finite wall convergence";
+                      }
+                    catch (const std::exception &e)
+                      {
+                        // a combination the tunnel run rejects (e.g. region
+                        // too small for the grains) is recorded, not fatal
+                        row.status    = "invalid";
+                        row.diagnosis = exception_text(e);
+                      }
+                    if (std::filesystem::is_directory(p.output_directory))
+                      std::ofstream(p.output_directory + "/log.txt") << log.str();
+                    std::cout << "run " << row.index << ": b/a " << row.region_factor
+                              << ", a/d " << r << ", k " << k << ", safety " << s
+                              << ", seed " << seed << ": " << row.status;
+                    if (row.status == "stable")
+                      std::cout << ", " << row.result.n_particles << " grains, "
+                                << row.result.steps << " steps, "
+                                << row.result.wall_time_s << " s, error "
+                                << 100 * row.error << " %";
+                    else
+                      std::cout << " (" << row.diagnosis << ")";
+                    std::cout << std::endl;
+                    rows.push_back(row);
+                  }
 
         study::mark_pareto(rows);
         study::write_csv(out + "/study.csv", rows);

@@ -333,6 +333,10 @@ namespace demfem::apps::study
     prm.declare_entry("timestep safety factors", "", Patterns::Anything(),
                       "Comma-separated time-step safety factors. Empty: "
                       "Coupling/timestep safety");
+    prm.declare_entry("seeds", "", Patterns::Anything(),
+                      "Comma-separated packing seeds: repeats each setting on other "
+                      "packings (the error of a coarse region depends on its packing). "
+                      "Empty: DEM region/seed");
     prm.declare_entry("damage threshold", "0.4", Patterns::Double(0),
                       "Right-sizing: damage initiates where sigma1 - sigma3 >= this x "
                       "UCS (Martin et al. 1999)");
@@ -393,6 +397,8 @@ namespace demfem::apps::study
       s.subcycles.push_back(static_cast<unsigned int>(number("subcycles", t, 1, 1000)));
     for (const auto &t : split(prm.get("timestep safety factors")))
       s.safeties.push_back(number("timestep safety factors", t, 1e-3, 100));
+    for (const auto &t : split(prm.get("seeds")))
+      s.seeds.push_back(static_cast<std::uint64_t>(number("seeds", t, 0, 1e15)));
     s.damage_fraction = prm.get_double("damage threshold");
     s.ucs             = prm.get_double("ucs");
     s.margin_grains   = prm.get_double("margin grains");
