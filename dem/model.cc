@@ -148,9 +148,16 @@ namespace demfem::dem
       auto it = index_.find(key(i, j, wall));
       if (it != index_.end())
         seen[it->second.group][it->second.index] = 1;
-      else if (!wall && default_ball_ >= 0)
+      else if (!wall)
         {
-          ContactRef c{default_ball_, groups_[default_ball_]->add(i, j, false, particles, walls)};
+          const int g = new_contact_law ? new_contact_law(particles, i, j) : -1;
+          const int group = g >= 0 ? g : default_ball_;
+          if (group < 0)
+            return;
+          if (group >= n_groups())
+            throw InputError("Model: new-contact rule returned unknown law group " +
+                             std::to_string(group));
+          ContactRef c{group, groups_[group]->add(i, j, false, particles, walls)};
           index_[key(i, j, false)] = c;
           seen[c.group].push_back(1);
         }
@@ -373,6 +380,9 @@ namespace demfem::dem
   {
     if (rebuild_needed())
       detect_contacts();
+    if (auto_dt_ && !(dt_ > 0))
+      if (const double crit = critical_timestep(); std::isfinite(crit))
+        dt_ = safety_factor * crit;
     if (!(dt_ > 0))
       throw InputError("Model::step: no time step (no contacts to estimate it from; set one)");
     compute_forces();

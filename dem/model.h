@@ -73,6 +73,11 @@ namespace demfem::dem
 
     /// Law group that new contacts receive (-1: none created).
     void set_default_law(int ball_ball_group, int ball_wall_group);
+    /// Optional rule for new ball-ball contacts: returns the law group for
+    /// the pair (i, j), or -1 to use the default (e.g. the smooth-joint law
+    /// for pairs across a joint plane, fistPkg §2.8). Called once per new
+    /// contact, never per step.
+    std::function<int(const Particles<dim> &, std::uint32_t, std::uint32_t)> new_contact_law;
 
     /// Creates (or replaces) the contact between particles i and j with the
     /// law of `group`; returns where it lives.
