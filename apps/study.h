@@ -76,9 +76,11 @@ namespace demfem::apps::study
     coupling::TunnelResult result;
     double                 kirsch = 0, error = 0; ///< error: relative, signed
     bool                   pareto = false;
+    double final_ratio  = -1;    ///< last unbalanced ratio (history.csv); -1 unknown
+    bool   equilibrated = false; ///< final ratio <= Coupling/equilibrium ratio
   };
 
-  /// Marks the stable rows on the Pareto front of (wall time, |error|).
+  /// Marks the stable, equilibrated rows on the Pareto front of (wall time, |error|).
   void mark_pareto(std::vector<Row> &rows);
   void write_csv(const std::string &file, const std::vector<Row> &rows);
   /// Wall time versus |error| (log-log), Pareto front marked; plain SVG.

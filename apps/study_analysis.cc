@@ -107,9 +107,9 @@ namespace demfem::apps::study
   {
     for (auto &p : rows)
       {
-        p.pareto = p.status == "stable";
+        p.pareto = p.status == "stable" && p.equilibrated;
         for (const auto &q : rows)
-          if (p.pareto && &q != &p && q.status == "stable" &&
+          if (p.pareto && &q != &p && q.status == "stable" && q.equilibrated &&
               q.result.wall_time_s <= p.result.wall_time_s &&
               std::abs(q.error) <= std::abs(p.error) &&
               (q.result.wall_time_s < p.result.wall_time_s ||
@@ -144,7 +144,8 @@ namespace demfem::apps::study
     std::ofstream o(file);
     o << "run,region_radius_m,region_factor,region_auto,a_over_d,grain_diameter_m,"
          "subcycles,timestep_safety,status,n_particles,steps,wall_time_s,"
-         "wall_convergence_m,kirsch_convergence_m,error_rel,pareto,seed,diagnosis\n";
+         "wall_convergence_m,kirsch_convergence_m,error_rel,pareto,seed,equilibrated,"
+         "final_ratio,diagnosis\n";
     for (const auto &r : rows)
       {
         const bool ok  = r.status == "stable";
@@ -157,7 +158,9 @@ namespace demfem::apps::study
           << num(r.result.wall_time_s, ran) << ","
           << num(r.result.wall_convergence_mean, ok) << "," << num(r.kirsch) << ","
           << num(r.error, ok) << "," << (r.pareto ? "yes" : "no") << "," << r.seed << ","
-          << quoted(r.diagnosis) << "\n";
+          << (ok ? (r.equilibrated ? "yes" : "no") : "") << ","
+          << num(r.final_ratio, ok && r.final_ratio >= 0) << "," << quoted(r.diagnosis)
+          << "\n";
       }
   }
 
@@ -165,7 +168,8 @@ namespace demfem::apps::study
   {
     std::vector<const Row *> pts;
     for (const auto &r : rows)
-      if (r.status == "stable" && std::isfinite(r.error) && r.result.wall_time_s > 0)
+      if (r.status == "stable" && r.equilibrated && std::isfinite(r.error) &&
+          r.result.wall_time_s > 0)
         pts.push_back(&r);
     const double W = 720, H = 480, L = 80, R = 200, T = 40, B = 60;
     // log-log axes over whole decades; |error| floored at 1e-4 (0.01 %)
@@ -244,7 +248,8 @@ namespace demfem::apps::study
       << "\" r=\"3.5\" fill=\"#36c\"/><text x=\"" << W - R + 30 << "\" y=\"" << T + 34
       << "\">stable run</text>\n"
       << "<text x=\"" << W - R + 12 << "\" y=\"" << T + 56 << "\">" << n_bad
-      << " unstable/invalid run(s)</text>\n<text x=\"" << W - R + 12 << "\" y=\""
-      << T + 70 << "\">not plotted (study.csv)</text>\n</svg>\n";
+      << " unstable, invalid or</text>\n<text x=\"" << W - R + 12 << "\" y=\"" << T + 70
+      << "\">unequilibrated run(s)</text>\n<text x=\"" << W - R + 12 << "\" y=\""
+      << T + 84 << "\">not plotted (study.csv)</text>\n</svg>\n";
   }
 } // namespace demfem::apps::study

@@ -77,6 +77,10 @@ TEST_CASE("study: time-step safety beyond the limit is detected as unstable, no 
     {
       const bool beyond = std::stod(rows[i][7]) > 1;
       CHECK(rows[i][8] == (beyond ? "unstable" : "stable"));
+      // a stable run is flagged equilibrated exactly when its final
+      // unbalanced ratio met Coupling/equilibrium ratio (1e-3)
+      if (!beyond)
+        CHECK((rows[i][17] == "yes") == (std::stod(rows[i][18]) <= 1e-3));
     }
   const std::string text = read(d + "/study.csv") + read(d + "/summary.json");
   CHECK(text.find("nan") == std::string::npos);
@@ -150,6 +154,8 @@ TEST_CASE("study: the error against Kirsch falls as the grain resolution rises",
   for (std::size_t i = 1; i < rows.size(); ++i)
     {
       REQUIRE(rows[i][8] == "stable");
+      REQUIRE(rows[i][17] == "yes"); // equilibrated: the error is meaningful
+      CHECK(std::stod(rows[i][18]) <= 1e-3);
       // the Kirsch column is the closed form p a / (2 G)
       CHECK(std::stod(rows[i][13]) == Approx(u_kirsch).epsilon(1e-5));
       err[std::stod(rows[i][4]) > 4] += std::abs(std::stod(rows[i][14])) / 2;
