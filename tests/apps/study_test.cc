@@ -5,6 +5,7 @@
 #include "run_command.h"
 
 #include <cmath>
+#include <cstdlib> // setenv
 #include <filesystem>
 #include <fstream>
 #include <sstream>
