@@ -1,6 +1,8 @@
 #pragma once
 // Settings shared by the parts of `demfem calibrate` (calibrate_command.cc
 // reads and validates them; calibrate_run.cc runs the genesis and the tests).
+#include "dem/smooth_joint_law.h"
+#include <array>
 #include "dem/lab_tests.h"
 
 #include <string>
@@ -27,6 +29,12 @@ namespace demfem::apps
     std::vector<TestSpec> tests;
     dem::LabTestParams    lab;
     bool                  rate_check = false;
+    /// Smooth-jointed interface (fistPkg §2.8): plane through joint_point
+    /// with the orientation and properties of joint_sj (3D uses all three
+    /// coordinates, 2D the first two).
+    bool                                joint = false;
+    std::array<double, 3>               joint_point{{0, 0, 0}};
+    dem::SmoothJointLaw<3>::Params      joint_sj;
   };
 
   /// Runs the calibration (creates the output directory); returns the exit code.

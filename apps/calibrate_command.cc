@@ -155,6 +155,25 @@ namespace demfem::apps
                         "n_c; < 0: Table 7 default");
       prm.leave_subsection();
 
+      prm.enter_subsection("Joint");
+      prm.declare_entry("enabled", "false", Patterns::Bool(),
+                        "insert a smooth-jointed interface (fistPkg §2.8) after genesis");
+      prm.declare_entry("point", "0, 0, 0", Patterns::List(Patterns::Double(), 2, 3),
+                        "a point of the joint plane [m] (x, y[, z]), relative to the vessel centre");
+      prm.declare_entry("dip", "0", Patterns::Double(0, 360), "dip angle [deg] (seed 001 Eq. 1)");
+      prm.declare_entry("dip direction", "0", Patterns::Double(0, 180),
+                        "dip direction [deg] (3D)");
+      prm.declare_entry("normal stiffness", "1e13", Patterns::Double(0), "sj_kn [Pa/m]");
+      prm.declare_entry("shear stiffness", "1e13", Patterns::Double(0), "sj_ks [Pa/m]");
+      prm.declare_entry("friction", "0.5", Patterns::Double(0), "sj_fric");
+      prm.declare_entry("dilation angle", "0", Patterns::Double(0, 89.999), "sj_da [deg]");
+      prm.declare_entry("bonded", "false", Patterns::Bool(), "bond the joint (S_j = 3)");
+      prm.declare_entry("tensile strength", "0", Patterns::Double(0), "sj_ten [Pa]");
+      prm.declare_entry("cohesion", "0", Patterns::Double(0), "sj_coh [Pa]");
+      prm.declare_entry("friction angle", "0", Patterns::Double(0, 89.999), "sj_fa [deg]");
+      prm.declare_entry("radius multiplier", "1", Patterns::Double(0), "sj_rmul");
+      prm.leave_subsection();
+
       prm.enter_subsection("Tests");
       prm.declare_entry(
           "tests", "ucs, brazilian, direct tension",
@@ -391,6 +410,29 @@ namespace demfem::apps
       check(where, "Packing/ratio limit", m.ratio_limit, 0, 1, true);
       if (m.cloud_porosity >= 0)
         check(where, "Packing/cloud porosity", m.cloud_porosity, 0, 1, true, true);
+      prm.leave_subsection();
+
+      prm.enter_subsection("Joint");
+      s.joint = prm.get_bool("enabled");
+      {
+        const auto pt = Utilities::split_string_list(prm.get("point"));
+        for (std::size_t a = 0; a < pt.size() && a < 3; ++a)
+          s.joint_point[a] = Utilities::string_to_double(pt[a]);
+      }
+      auto &sj    = s.joint_sj;
+      sj.dip      = prm.get_double("dip");
+      sj.ddir     = prm.get_double("dip direction");
+      sj.sj_kn    = prm.get_double("normal stiffness");
+      sj.sj_ks    = prm.get_double("shear stiffness");
+      sj.sj_fric  = prm.get_double("friction");
+      sj.sj_da    = prm.get_double("dilation angle");
+      sj.bonded   = prm.get_bool("bonded");
+      sj.sj_ten   = prm.get_double("tensile strength");
+      sj.sj_coh   = prm.get_double("cohesion");
+      sj.sj_fa    = prm.get_double("friction angle");
+      sj.sj_rmul  = prm.get_double("radius multiplier");
+      if (s.joint)
+        sj.validate(where + ", subsection Joint");
       prm.leave_subsection();
 
       auto &l = s.lab;

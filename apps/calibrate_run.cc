@@ -9,6 +9,7 @@
 #include "dem/linear_law.h"
 #include "dem/measurement.h"
 #include "dem/parallel_bond_law.h"
+#include "dem/joint_insertion.h"
 #include "dem/smooth_joint_law.h"
 #include "dem/vtk_output.h"
 
@@ -206,6 +207,7 @@ namespace demfem::apps
         }
       dem::read_checkpoint(m, checkpoint, nullptr);
       m.set_default_law(s.linear_group, s.wall_group);
+      m.new_contact_law = s.model.new_contact_law; // e.g. the smooth-joint rule
       return c;
     }
 
@@ -260,7 +262,24 @@ namespace demfem::apps
       fs::create_directories(vtk_dir);
 
     auto build = [&]() {
-      return dem::build_specimen<dim>(s.mat, s.vessel, &std::cerr, s.where);
+      auto sp = dem::build_specimen<dim>(s.mat, s.vessel, &std::cerr, s.where);
+      if (s.joint)
+        {
+          // Smooth-jointed interface through the vessel centre + point.
+          dem::JointPlane<dim> plane;
+          plane.sj.sj_kn = s.joint_sj.sj_kn, plane.sj.sj_ks = s.joint_sj.sj_ks;
+          plane.sj.sj_fric = s.joint_sj.sj_fric, plane.sj.sj_da = s.joint_sj.sj_da;
+          plane.sj.sj_ten = s.joint_sj.sj_ten, plane.sj.sj_coh = s.joint_sj.sj_coh;
+          plane.sj.sj_fa = s.joint_sj.sj_fa, plane.sj.sj_rmul = s.joint_sj.sj_rmul;
+          plane.sj.dip = s.joint_sj.dip, plane.sj.ddir = s.joint_sj.ddir;
+          plane.sj.bonded = s.joint_sj.bonded;
+          for (int a = 0; a < dim; ++a)
+            plane.point[a] = sp.vessel.center[a] + s.joint_point[a];
+          int        group = -1;
+          const auto n     = dem::insert_smooth_joint(sp.model, plane, group, s.where);
+          std::cerr << "demfem calibrate: smooth joint inserted at " << n << " contacts\n";
+        }
+      return sp;
     };
     std::cerr << "demfem calibrate: genesis (" << dim << "D, " << s.mat.type << ")\n";
     const auto   t_gen     = Clock::now();

@@ -162,3 +162,31 @@ TEST_CASE("calibrate: bad parameter files write nothing", "[calibrate]")
   CHECK(r.out.find("Vessel/height") != std::string::npos);
   CHECK_FALSE(fs::exists(out));
 }
+
+TEST_CASE("calibrate: a specimen with a smooth-jointed interface is weaker", "[calibrate][joint]")
+{
+  // fistPkg §2.8: a frictional joint inclined at 60 degrees to the loading
+  // axis (dip 30: n_j = (sin 30, cos 30)) through the centre; mu = 0.2
+  // (11 degrees) is below the plane's inclination to the load, so the
+  // joint slips before the bonded material fails: lower UCS than intact.
+  auto ucs = [](const std::string &name, bool joint) {
+    const fs::path out = work_dir() / name;
+    fs::remove_all(out);
+    std::string prm = tiny_prm(out);
+    prm += "subsection Joint\n  set enabled = " + std::string(joint ? "true" : "false") +
+           "\n  set dip = 30\n  set friction = 0.2\n  set normal stiffness = 4e13\n"
+           "  set shear stiffness = 2e13\nend\n";
+    const auto p = write(name + ".prm", prm);
+    const auto r = run_demfem("calibrate " + p.string() + " --set \"Tests/tests=ucs\"");
+    INFO(r.out);
+    REQUIRE(r.exit_code == 0);
+    if (joint)
+      CHECK_THAT(r.out, Catch::Contains("smooth joint inserted at"));
+    return json_numbers(read(out / "material.json"))["ucs"];
+  };
+  const double intact  = ucs("intact", false);
+  const double jointed = ucs("jointed", true);
+  WARN("UCS intact " << intact << " Pa, jointed " << jointed << " Pa");
+  CHECK(intact > 0);
+  CHECK(jointed < 0.8 * intact);
+}
