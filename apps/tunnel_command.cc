@@ -1,7 +1,8 @@
 // `demfem tunnel FILE.prm`: the coupled excavation-damage run (issue 5,
 // DESIGN §5-6). Every input is validated before the output directory is
 // created, so a bad input writes nothing. Exit codes: 0 done, 1 bad input
-// or error, 2 the run diverged (diagnosis printed and in summary.json).
+// or error, 2 the run diverged (diagnosis printed and in summary.json),
+// 130 / 143 stopped by SIGINT / SIGTERM after writing a checkpoint.
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
@@ -13,6 +14,7 @@
 #include "apps/prm_cli.h"
 #include "coupling/tunnel_run.h"
 
+#include <csignal>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -27,14 +29,21 @@ namespace demfem::apps
 
     const char *usage =
         "usage: demfem tunnel FILE.prm [--set \"Section/key=value\"]... "
-        "[--print-parameters] [--help]\n"
+        "[--restart CHECKPOINT.h5] [--print-parameters] [--help]\n"
         "\n"
         "Coupled DEM-continuum tunnel excavation (2D): a bonded-grain region of\n"
         "radius 'DEM region/radius' around the tunnel is embedded in an explicit\n"
         "elastic continuum through a ring of wall facets; in-situ stress ramp,\n"
         "equilibrium, excavation (in stages), equilibrium. Writes summary.json,\n"
         "history.csv, wall_displacement.csv and VTK series (particles, bonds,\n"
-        "cracks, continuum; tunnel.pvd opens all) into Problem/output directory.\n";
+        "cracks, continuum; tunnel.pvd opens all) into Problem/output directory.\n"
+        "Every 'Output/checkpoint interval' steps (0: never) and at the end it writes\n"
+        "checkpoint.h5 there; Ctrl-C (SIGINT) or SIGTERM writes one and stops.\n"
+        "--restart continues from a checkpoint written with the same parameters\n"
+        "(output directory and checkpoint interval may differ) as if never stopped.\n";
+
+    /// Async-signal-safe: only sets the flag the run polls at step boundaries.
+    extern "C" void on_stop_signal(int sig) { coupling::tunnel_stop_requested = sig; }
 
     void declare_parameters(ParameterHandler &prm)
     {
@@ -143,10 +152,10 @@ namespace demfem::apps
       prm.declare_entry("interval", "1000", Patterns::Integer(0),
                         "Steps between VTK frames (0: phase ends only)");
       prm.declare_entry("checkpoint interval", "20000", Patterns::Integer(0),
-                        "Steps between checkpoints (checkpoints not implemented yet)");
+                        "Steps between checkpoints (HDF5 checkpoint.h5 in the output "
+                        "directory, written atomically); 0: none");
       prm.leave_subsection();
     }
-
 
     boost::property_tree::ptree read_json(const std::string &key, const std::string &file)
     {
@@ -312,7 +321,8 @@ namespace demfem::apps
                   ExcMessage("Coupling/equilibrium ratio must be > 0"));
       prm.leave_subsection();
       prm.enter_subsection("Output");
-      s.vtk_interval = prm.get_integer("interval");
+      s.vtk_interval        = prm.get_integer("interval");
+      s.checkpoint_interval = prm.get_integer("checkpoint interval");
       prm.leave_subsection();
       s.validate("parameter file"); // throws dem::InputError naming the key
       return s;
@@ -325,22 +335,50 @@ namespace demfem::apps
     Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
     try
       {
-        std::string      file;
+        std::string      file, restart;
         ParameterHandler prm;
         declare_parameters(prm);
-        switch (read_parameters(argc, argv, prm, usage, file))
+        // --restart FILE is ours; the rest is the shared .prm command line.
+        std::vector<char *> args;
+        for (int i = 0; i < argc; ++i)
+          if (std::string(argv[i]) == "--restart")
+            {
+              AssertThrow(i + 1 < argc,
+                          ExcMessage("--restart needs a checkpoint file name"));
+              restart = argv[++i];
+            }
+          else
+            args.push_back(argv[i]);
+        args.push_back(nullptr);
+        switch (read_parameters(int(args.size()) - 1, args.data(), prm, usage, file))
           {
-            case PrmAction::help:
-              std::cout << usage;
-              return 0;
-            case PrmAction::print:
-              prm.print_parameters(std::cout, ParameterHandler::Text);
-              return 0;
-            case PrmAction::run:
-              break;
+          case PrmAction::help:
+            std::cout << usage;
+            return 0;
+          case PrmAction::print:
+            prm.print_parameters(std::cout, ParameterHandler::Text);
+            return 0;
+          case PrmAction::run:
+            break;
           }
-        const coupling::TunnelParams s = read_settings(prm);
-        const auto                   r = coupling::run_tunnel(s, std::cout);
+        coupling::TunnelParams s = read_settings(prm);
+        {
+          std::ostringstream text; // the parameters after --set overrides
+          prm.print_parameters(text, ParameterHandler::ShortPRM);
+          s.prm_text = text.str();
+        }
+        s.restart_file = restart;
+        std::signal(SIGINT, on_stop_signal);
+        std::signal(SIGTERM, on_stop_signal);
+        const auto r = coupling::run_tunnel(s, std::cout);
+        if (r.interrupted)
+          {
+            const int sig = coupling::tunnel_stop_requested;
+            std::cout << "demfem tunnel: stopped at step " << r.steps
+                      << " on request; continue with: demfem tunnel " << file
+                      << " --restart " << r.checkpoint << std::endl;
+            return sig == SIGTERM ? 143 : 130;
+          }
         if (r.diverged)
           {
             std::cerr << "demfem tunnel: the run diverged: " << r.diagnosis

@@ -5,6 +5,7 @@
 #include <deal.II/fe/mapping_q.h>
 #include <deal.II/numerics/data_out.h>
 
+#include "dem/checkpoint.h"
 #include "dem/vtk_output.h"
 
 #include <chrono>
@@ -17,6 +18,8 @@
 namespace demfem::coupling
 {
   using dem::Vec;
+
+  volatile std::sig_atomic_t tunnel_stop_requested = 0;
 
   void TunnelParams::validate(const std::string &w) const
   {
@@ -63,6 +66,34 @@ namespace demfem::coupling
       return s.str();
     }
 
+    /// Thrown at a step boundary after the stop checkpoint was written.
+    struct Interrupted
+    {
+    };
+
+    /// The .prm text without the keys that do not change the results
+    /// (output directory, checkpoint interval): what a restart compares.
+    std::string physics_text(const std::string &prm)
+    {
+      std::istringstream in(prm);
+      std::string        line, r;
+      while (std::getline(in, line))
+        if (line.find("output directory") == std::string::npos &&
+            line.find("checkpoint interval") == std::string::npos)
+          r += line + "\n";
+      return r;
+    }
+
+    std::string meta_get(const std::map<std::string, std::string> &m,
+                         const std::string &k, const std::string &file)
+    {
+      const auto it = m.find(k);
+      if (it == m.end())
+        throw dem::InputError("restart: checkpoint " + file + " has no entry '" + k +
+                              "' (not written by demfem tunnel?)");
+      return it->second;
+    }
+
     struct Runner
     {
       const TunnelParams                                      &p;
@@ -79,6 +110,16 @@ namespace demfem::coupling
       std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
       std::int64_t budget = 0; // expected coupled steps for the ETA (upper bound)
       std::int64_t step0  = 0; // steps of the packing
+      // Checkpoint / restart state (DESIGN §8): the workflow position is the
+      // phase index (0 in-situ, 1..stages excavation stage, stages+1
+      // equilibrium, stages+2 done) and the iteration n of its cycle loop.
+      int                 phase_index = 0;
+      bool                resuming    = false;
+      std::int64_t        resume_n    = 1;
+      double              resume_peak = 0;
+      std::vector<Vec<2>> fex; // forces of the removed grains, by id
+      Eigen::Matrix2d     stress_before = Eigen::Matrix2d::Zero();
+      std::string         last_checkpoint;
 
       Runner(const TunnelParams &pp, std::ostream &o)
           : p(pp)
@@ -254,9 +295,33 @@ namespace demfem::coupling
       template <class Load>
       void cycle(std::int64_t min_steps, std::int64_t limit, Load load)
       {
-        double ke_peak = 0;
-        for (std::int64_t n = 1; n <= limit; ++n)
+        double       ke_peak = 0;
+        std::int64_t n0      = 1;
+        const bool   resumed = resuming;
+        if (resuming)
           {
+            n0       = resume_n;
+            ke_peak  = resume_peak;
+            resuming = false;
+          }
+        for (std::int64_t n = n0; n <= limit; ++n)
+          {
+            // Step boundary: the state is "about to run iteration n".
+            if (!(resumed && n == n0)) // the checkpoint we resumed from
+              {
+                const auto s0 = m.dem.step_count();
+                const bool stop =
+                    tunnel_stop_requested != 0 || s0 - step0 == p.stop_at_step;
+                if (stop || (p.checkpoint_interval > 0 && n > 1 &&
+                             s0 % p.checkpoint_interval == 0))
+                  checkpoint(n, ke_peak);
+                if (stop)
+                  {
+                    out << "demfem tunnel: interrupted at step " << s0
+                        << "; checkpoint written to " << last_checkpoint << std::endl;
+                    throw Interrupted{};
+                  }
+              }
             load(n);
             m.step();
             const auto s = m.dem.step_count();
@@ -282,43 +347,140 @@ namespace demfem::coupling
         progress_line(m.dem.unbalanced_ratio());
       }
 
-      void excavate()
+      void checkpoint(std::int64_t n, double ke_peak)
+      {
+        std::map<std::string, std::string> md = m.save_state();
+        std::vector<double>                r, f;
+        for (const auto &x : ref)
+          r.insert(r.end(), {x[0], x[1]});
+        for (const auto &x : fex)
+          f.insert(f.end(), {x[0], x[1]});
+        std::ostringstream fr;
+        fr << std::setprecision(17);
+        for (const auto &x : frames)
+          fr << x.first << " " << x.second[0] << " " << x.second[1] << " " << x.second[2]
+             << " " << x.second[3] << "\n";
+        md["prm"]               = p.prm_text;
+        md["run.phase"]         = phase;
+        md["run.phase_index"]   = std::to_string(phase_index);
+        md["run.n"]             = std::to_string(n);
+        md["run.step"]          = std::to_string(m.dem.step_count());
+        md["run.ke_peak"]       = encode_doubles({ke_peak});
+        md["run.excavated"]     = excavated ? "1" : "0";
+        md["run.cracks_before"] = std::to_string(cracks_before);
+        md["run.ref"]           = encode_doubles(r);
+        md["run.fex"]           = encode_doubles(f);
+        md["run.stress_before"] =
+            encode_doubles({stress_before(0, 0), stress_before(0, 1), stress_before(1, 0),
+                            stress_before(1, 1)});
+        md["run.frames"] = fr.str();
+        history.flush();
+        last_checkpoint = dir + "/checkpoint.h5";
+        dem::write_checkpoint(m.dem, last_checkpoint, md);
+      }
+
+      void restore(const std::string &file)
+      {
+        std::map<std::string, std::string> md;
+        dem::read_checkpoint(m.dem, file, &md);
+        m.load_state(md);
+        auto geti = [&](const std::string &k) {
+          return std::stoll(meta_get(md, k, file));
+        };
+        auto vecs = [&](const std::string &k) {
+          const auto          v = decode_doubles(meta_get(md, k, file), k);
+          std::vector<Vec<2>> r(v.size() / 2);
+          for (std::size_t i = 0; i < r.size(); ++i)
+            r[i] = Vec<2>(v[2 * i], v[2 * i + 1]);
+          return r;
+        };
+        phase       = meta_get(md, "run.phase", file);
+        phase_index = int(geti("run.phase_index"));
+        resume_n    = geti("run.n");
+        resume_peak = decode_doubles(meta_get(md, "run.ke_peak", file), "ke_peak").at(0);
+        excavated   = geti("run.excavated") != 0;
+        cracks_before = std::size_t(geti("run.cracks_before"));
+        ref           = vecs("run.ref");
+        fex           = vecs("run.fex");
+        const auto sb = decode_doubles(meta_get(md, "run.stress_before", file), "stress");
+        if (sb.size() != 4)
+          throw dem::InputError("restart: checkpoint " + file + ": damaged entry");
+        stress_before << sb[0], sb[1], sb[2], sb[3];
+        std::istringstream fr(meta_get(md, "run.frames", file));
+        std::string        line;
+        frames.clear();
+        while (std::getline(fr, line))
+          {
+            std::istringstream       ls(line);
+            double                   t;
+            std::vector<std::string> f(4);
+            ls >> t >> f[0] >> f[1] >> f[2] >> f[3];
+            frames.push_back({t, f});
+          }
+        frame    = int(frames.size());
+        resuming = true;
+        // history.csv: keep the rows up to the checkpoint's step.
+        const std::int64_t step = geti("run.step");
+        std::ifstream      in(dir + "/history.csv");
+        std::string        kept, l;
+        bool               header = true;
+        while (std::getline(in, l))
+          {
+            if (header || std::stoll(l.substr(0, l.find(','))) <= step)
+              kept += l + "\n";
+            header = false;
+          }
+        in.close();
+        history.open(dir + "/history.csv", std::ios::trunc);
+        history << kept;
+        out << "demfem tunnel: restarted from " << file << " at step " << step << " ("
+            << phase << ")" << std::endl;
+      }
+
+      void excavate(int start)
       {
         auto        &P = m.dem.particles;
         const double a = p.tunnel_radius;
-        ref.assign(P.size() ? *std::max_element(P.id.begin(), P.id.end()) + 1 : 0,
-                   Vec<2>::Zero());
-        for (std::size_t i = 0; i < P.size(); ++i)
-          ref[P.id[i]] = P.x[i];
-        std::vector<char> rm(P.size(), 0);
-        for (std::size_t i = 0; i < P.size(); ++i)
-          rm[i] = P.x[i].norm() < a;
-        // Forces the removed grains exerted on the remaining ones, by id.
-        std::vector<Vec<2>> fex(ref.size(), Vec<2>::Zero());
-        for (int g = 0; g < m.dem.n_groups(); ++g)
+        if (start == 0)
           {
-            const auto &grp = m.dem.group(g);
-            for (std::size_t k = 0; k < grp.size(); ++k)
-              if (!grp.is_wall[k])
-                {
-                  const auto i = grp.end1[k], j = grp.end2[k];
-                  if (rm[i] && !rm[j])
-                    fex[P.id[j]] += grp.force[k];
-                  else if (rm[j] && !rm[i])
-                    fex[P.id[i]] -= grp.force[k];
-                }
+            ref.assign(P.size() ? *std::max_element(P.id.begin(), P.id.end()) + 1 : 0,
+                       Vec<2>::Zero());
+            for (std::size_t i = 0; i < P.size(); ++i)
+              ref[P.id[i]] = P.x[i];
+            std::vector<char> rm(P.size(), 0);
+            for (std::size_t i = 0; i < P.size(); ++i)
+              rm[i] = P.x[i].norm() < a;
+            // Forces the removed grains exerted on the remaining ones, by id.
+            fex.assign(ref.size(), Vec<2>::Zero());
+            for (int g = 0; g < m.dem.n_groups(); ++g)
+              {
+                const auto &grp = m.dem.group(g);
+                for (std::size_t k = 0; k < grp.size(); ++k)
+                  if (!grp.is_wall[k])
+                    {
+                      const auto i = grp.end1[k], j = grp.end2[k];
+                      if (rm[i] && !rm[j])
+                        fex[P.id[j]] += grp.force[k];
+                      else if (rm[j] && !rm[i])
+                        fex[P.id[i]] -= grp.force[k];
+                    }
+              }
+            m.dem.remove_particles(rm);
+            m.dem.reset_energy_baseline();
+            excavated     = true;
+            cracks_before = m.dem.cracks.size();
           }
-        m.dem.remove_particles(rm);
-        m.dem.reset_energy_baseline();
-        excavated     = true;
-        cracks_before = m.dem.cracks.size();
-        for (int s = 1; s <= p.stages; ++s)
+        for (int s = std::max(1, start); s <= p.stages; ++s)
           {
+            phase_index = s;
             phase = "excavation " + std::to_string(s) + "/" + std::to_string(p.stages);
             const double rem = 1.0 - double(s) / p.stages;
-            for (std::size_t i = 0; i < P.size(); ++i)
-              P.f_ext[i] = rem * fex[P.id[i]];
-            m.dem.reset_energy_baseline();
+            if (!resuming) // a resumed stage has its loads in the checkpoint
+              {
+                for (std::size_t i = 0; i < P.size(); ++i)
+                  P.f_ext[i] = rem * fex[P.id[i]];
+                m.dem.reset_energy_baseline();
+              }
             cycle(200, p.phase_step_limit, [](std::int64_t) {});
             write_frame();
           }
@@ -327,6 +489,29 @@ namespace demfem::coupling
       TunnelResult run()
       {
         TunnelResult r;
+        if (!p.restart_file.empty())
+          {
+            // Refuse a foreign checkpoint before anything is written.
+            const auto        md  = dem::read_checkpoint_metadata(p.restart_file);
+            const std::string was = physics_text(meta_get(md, "prm", p.restart_file)),
+                              now = physics_text(p.prm_text);
+            if (was != now)
+              {
+                // Name the first differing line of the two texts.
+                std::istringstream a(was), b(now);
+                std::string        la, lb;
+                while (std::getline(a, la) && std::getline(b, lb) && la == lb)
+                  {
+                  }
+                throw dem::InputError(
+                    "restart: the checkpoint " + p.restart_file +
+                    " was written with different parameters (its stored .prm text, "
+                    "after --set overrides, differs from this run's; only Problem/output "
+                    "directory and Output/checkpoint interval may change): first "
+                    "difference: '" +
+                    lb + "' here, '" + la + "' in the checkpoint");
+              }
+          }
         std::filesystem::create_directories(dir);
         out << "demfem tunnel: building the DEM region and the continuum" << std::endl;
         m.build(&out);
@@ -335,24 +520,48 @@ namespace demfem::coupling
         r.mean_grain_diameter = p.region.mean_diameter();
         budget                = p.ramp_steps + p.phase_step_limit * (2 + p.stages);
         step0                 = m.dem.step_count();
-        history.open(dir + "/history.csv");
-        history << "step,time,phase,load_factor,unbalanced_ratio,dem_kinetic_energy,"
-                   "dem_strain_energy,continuum_kinetic_energy,cracks,cracks_tensile,"
-                   "cracks_shear,interface_force_imbalance,wall_convergence_mean,"
-                   "ring_force_x,ring_force_y\n";
-        write_frame();
+        if (!p.restart_file.empty())
+          restore(p.restart_file);
+        else
+          {
+            history.open(dir + "/history.csv");
+            history << "step,time,phase,load_factor,unbalanced_ratio,dem_kinetic_energy,"
+                       "dem_strain_energy,continuum_kinetic_energy,cracks,cracks_tensile,"
+                       "cracks_shear,interface_force_imbalance,wall_convergence_mean,"
+                       "ring_force_x,ring_force_y\n";
+            write_frame();
+          }
+        const int start = phase_index;
         try
           {
-            phase = "in-situ";
-            cycle(p.ramp_steps, p.ramp_steps + p.phase_step_limit, [&](std::int64_t n) {
-              m.set_load_factor(std::min(1.0, double(n) / p.ramp_steps));
-            });
-            r.region_stress_before =
-                region_stress(m.dem, Vec<2>::Zero(), 0.5 * p.region.radius);
-            write_frame();
-            excavate();
-            phase = "equilibrium";
-            cycle(0, p.phase_step_limit, [](std::int64_t) {});
+            if (start == 0)
+              {
+                phase = "in-situ";
+                cycle(p.ramp_steps, p.ramp_steps + p.phase_step_limit,
+                      [&](std::int64_t n) {
+                        m.set_load_factor(std::min(1.0, double(n) / p.ramp_steps));
+                      });
+                stress_before =
+                    region_stress(m.dem, Vec<2>::Zero(), 0.5 * p.region.radius);
+                write_frame();
+              }
+            if (start <= p.stages)
+              excavate(start);
+            if (start <= p.stages + 1)
+              {
+                phase_index = p.stages + 1;
+                phase       = "equilibrium";
+                cycle(0, p.phase_step_limit, [](std::int64_t) {});
+              }
+            phase_index = p.stages + 2;
+          }
+        catch (const Interrupted &)
+          {
+            history.close();
+            r.interrupted = true;
+            r.checkpoint  = last_checkpoint;
+            r.steps       = m.dem.step_count();
+            return r;
           }
         catch (const dem::InstabilityError &e)
           {
@@ -362,8 +571,15 @@ namespace demfem::coupling
                 << std::endl;
           }
         if (!r.diverged)
-          write_frame();
+          {
+            write_frame();
+            if (p.checkpoint_interval > 0) // final state, e.g. to continue
+              checkpoint(0, 0);
+          }
         history.close();
+        r.region_stress_before = stress_before;
+        r.checkpoint           = last_checkpoint;
+        r.positions            = m.dem.particles.x;
 
         r.n_particles                   = m.dem.particles.size();
         r.n_contacts                    = m.dem.n_contacts();

@@ -7,6 +7,7 @@
 // wall_displacement.csv and VTK series (.pvd per series and a combined one).
 #include "coupling/wall_facet_model.h"
 
+#include <csignal>
 #include <cstdint>
 #include <ostream>
 #include <string>
@@ -28,6 +29,18 @@ namespace demfem::coupling
     std::int64_t vtk_interval = 1000; ///< steps between VTK frames (0: phase ends only)
     std::int64_t history_interval = 100;
     bool         write_vtk        = true;
+    /// Steps between checkpoints (output_directory/checkpoint.h5, written
+    /// atomically; also written at the end of the run); 0: none (DESIGN §8).
+    std::int64_t checkpoint_interval = 0;
+    /// Checkpoint to continue from ("" : fresh run). It must have been
+    /// written with the same prm_text (output directory and checkpoint
+    /// interval excepted), else dem::InputError names it.
+    std::string restart_file;
+    /// The full parameter text after overrides, stored in checkpoints.
+    std::string prm_text;
+    /// Testing aid: behave as if interrupted (SIGINT) after this many
+    /// coupled steps (packing steps not counted; -1: never).
+    std::int64_t stop_at_step = -1;
 
     /// Checks the geometry (tunnel inside the region by >= 3 grains, region
     /// inside the continuum) and every sub-parameter; throws dem::InputError.
@@ -49,7 +62,16 @@ namespace demfem::coupling
     Eigen::Matrix2d region_stress_before =
         Eigen::Matrix2d::Zero(); ///< centre disk, pre-excavation
     double mean_grain_diameter = 0;
+    /// Stopped on request (signal): a checkpoint was written, no summary.
+    bool                     interrupted = false;
+    std::string              checkpoint; ///< latest checkpoint written ("" none)
+    std::vector<dem::Vec<2>> positions;  ///< final grain positions (model order)
   };
+
+  /// Set by a SIGINT/SIGTERM handler (nothing else is async-signal-safe):
+  /// the run writes a checkpoint at the next step boundary and returns with
+  /// TunnelResult::interrupted.
+  extern volatile std::sig_atomic_t tunnel_stop_requested;
 
   /// Runs the workflow; writes into p.output_directory (created here, after
   /// validation). Divergence does not throw: it is reported in the result

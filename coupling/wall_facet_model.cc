@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <sstream>
 
@@ -217,6 +218,88 @@ namespace demfem::coupling
             accum_contacts += grp.force[k];
       }
     ++n_accum;
+  }
+
+  std::string encode_doubles(const std::vector<double> &v)
+  {
+    static const char *hex = "0123456789abcdef";
+    std::string        s;
+    s.reserve(16 * v.size());
+    for (double x : v)
+      {
+        std::uint64_t b;
+        std::memcpy(&b, &x, sizeof b);
+        for (int k = 15; k >= 0; --k)
+          s += hex[(b >> (4 * k)) & 0xf];
+      }
+    return s;
+  }
+
+  std::vector<double> decode_doubles(const std::string &s, const std::string &what)
+  {
+    if (s.size() % 16 != 0)
+      throw dem::InputError("checkpoint: damaged entry '" + what + "'");
+    std::vector<double> v(s.size() / 16);
+    for (std::size_t i = 0; i < v.size(); ++i)
+      {
+        std::uint64_t b = 0;
+        for (int k = 0; k < 16; ++k)
+          {
+            const char c = s[16 * i + k];
+            const int  d = (c >= '0' && c <= '9')   ? c - '0'
+                           : (c >= 'a' && c <= 'f') ? c - 'a' + 10
+                                                    : -1;
+            if (d < 0)
+              throw dem::InputError("checkpoint: damaged entry '" + what + "'");
+            b = (b << 4) | std::uint64_t(d);
+          }
+        std::memcpy(&v[i], &b, sizeof b);
+      }
+    return v;
+  }
+
+  std::map<std::string, std::string> WallFacetModel::save_state() const
+  {
+    std::vector<double> a;
+    for (const auto &x : accum)
+      a.insert(a.end(), {x[0], x[1]});
+    const std::vector<double> scalars = {
+        accum_contacts[0],  accum_contacts[1], accum_abs,      double(n_accum),
+        load_factor,        imb_max,           imb_last,       last_fem_ke,
+        double(fem_growth), double(n_steps),   applied_factor, far_moving ? 1.0 : 0.0};
+    return {{"coupling.accum", encode_doubles(a)},
+            {"coupling.scalars", encode_doubles(scalars)},
+            {"coupling.continuum", encode_doubles(fem_->save_state())}};
+  }
+
+  void WallFacetModel::load_state(const std::map<std::string, std::string> &meta)
+  {
+    auto get = [&](const std::string &k) {
+      const auto it = meta.find(k);
+      if (it == meta.end())
+        throw dem::InputError("checkpoint: no entry '" + k +
+                              "' (not written by demfem tunnel?)");
+      return decode_doubles(it->second, k);
+    };
+    const auto a = get("coupling.accum"), s = get("coupling.scalars");
+    if (a.size() != 2 * accum.size() || s.size() != 12)
+      throw dem::InputError(
+          "checkpoint: the coupling interface differs (" + std::to_string(a.size() / 2) +
+          " ring vertices in the file, " + std::to_string(accum.size()) + " here)");
+    fem_->load_state(get("coupling.continuum"));
+    for (std::size_t k = 0; k < accum.size(); ++k)
+      accum[k] = Vec<2>(a[2 * k], a[2 * k + 1]);
+    accum_contacts = Vec<2>(s[0], s[1]);
+    accum_abs      = s[2];
+    n_accum        = static_cast<unsigned int>(s[3]);
+    load_factor    = s[4];
+    imb_max        = s[5];
+    imb_last       = s[6];
+    last_fem_ke    = s[7];
+    fem_growth     = static_cast<int>(s[8]);
+    n_steps        = static_cast<std::int64_t>(s[9]);
+    applied_factor = s[10];
+    far_moving     = s[11] != 0;
   }
 
   double WallFacetModel::continuum_kinetic_energy() const

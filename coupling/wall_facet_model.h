@@ -31,8 +31,10 @@
 #include "coupling/dem_region.h"
 #include "fem/explicit_dynamics.h"
 
+#include <map>
 #include <memory>
 #include <ostream>
+#include <string>
 #include <vector>
 
 namespace demfem::coupling
@@ -53,6 +55,11 @@ namespace demfem::coupling
     unsigned int subcycles = 1;
     double       safety    = 0.8;
   };
+
+  /// Doubles as hex text of their bytes (checkpoint metadata strings):
+  /// bit-exact, so a restarted run continues bit for bit (DESIGN §8).
+  std::string         encode_doubles(const std::vector<double> &v);
+  std::vector<double> decode_doubles(const std::string &s, const std::string &what);
 
   class WallFacetModel
   {
@@ -78,9 +85,16 @@ namespace demfem::coupling
     double fem_critical() const { return fem_crit; }
     /// Largest relative interface force imbalance |sum DEM - sum FEM| /
     /// sum |vertex force| seen so far, and the latest one.
-    double      imbalance_max() const { return imb_max; }
-    double      imbalance_last() const { return imb_last; }
-    double      continuum_kinetic_energy() const;
+    double imbalance_max() const { return imb_max; }
+    double imbalance_last() const { return imb_last; }
+    double continuum_kinetic_energy() const;
+
+    /// Checkpoint state besides dem's own (dem::write_checkpoint): the
+    /// continuum vectors and the coupling's accumulators and counters, as
+    /// metadata strings ("coupling.*"). Serial runs only. load_state expects
+    /// a model built from the same parameters (after build and set_insitu).
+    std::map<std::string, std::string> save_state() const;
+    void        load_state(const std::map<std::string, std::string> &meta);
     std::size_t n_fem_dofs() const;
 
     dem::Model<2>                   dem;

@@ -260,6 +260,43 @@ namespace demfem::fem
     return Utilities::MPI::sum(e, comm);
   }
 
+  template <int dim>
+  std::vector<double> ExplicitDynamics<dim>::save_state() const
+  {
+    AssertThrow(Utilities::MPI::n_mpi_processes(comm) == 1,
+                ExcMessage("continuum checkpoints are implemented for serial runs only"));
+    std::vector<double> s;
+    s.reserve(3 * owned.n_elements() + fixed_velocity.size() + 2);
+    s.push_back(current_time);
+    s.push_back(double(fixed_velocity.size()));
+    for (const auto *vec : {&u, &v, &f_ext})
+      for (const auto i : owned)
+        s.push_back((*vec)(i));
+    s.insert(s.end(), fixed_velocity.begin(), fixed_velocity.end());
+    return s;
+  }
+
+  template <int dim>
+  void ExplicitDynamics<dim>::load_state(const std::vector<double> &s)
+  {
+    AssertThrow(Utilities::MPI::n_mpi_processes(comm) == 1,
+                ExcMessage("continuum checkpoints are implemented for serial runs only"));
+    const std::size_t n = owned.n_elements();
+    if (s.size() < 2 || s.size() != 2 + 3 * n + std::size_t(s[1]))
+      throw std::runtime_error("continuum checkpoint: " + std::to_string(s.size()) +
+                               " values do not match " + std::to_string(n) +
+                               " degrees of freedom");
+    current_time  = s[0];
+    std::size_t k = 2;
+    for (auto *vec : {&u, &v, &f_ext})
+      {
+        for (const auto i : owned)
+          (*vec)(i) = s[k++];
+        vec->compress(VectorOperation::insert);
+      }
+    fixed_velocity.assign(s.begin() + k, s.end());
+  }
+
   template class ExplicitDynamics<2>;
   template class ExplicitDynamics<3>;
 } // namespace demfem::fem

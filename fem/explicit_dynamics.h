@@ -90,6 +90,14 @@ namespace demfem::fem
     const dealii::TrilinosWrappers::MPI::Vector &displacement() const { return u; }
     const dealii::DoFHandler<dim> &get_dof_handler() const { return dof_handler; }
 
+    /** Dynamic state for checkpoints (DESIGN §8): the locally owned entries
+     *  of u, v and the external forces, the fixed-dof velocities and the
+     *  time, bit for bit. Serial runs only (one rank owns every dof). */
+    std::vector<double> save_state() const;
+    /** Restores what save_state wrote, after setup() on the same mesh;
+     *  throws std::runtime_error on a size mismatch. */
+    void load_state(const std::vector<double> &state);
+
   private:
     const dealii::parallel::distributed::Triangulation<dim> &triangulation;
     ExplicitSettings                                         settings;
