@@ -8,9 +8,17 @@
 #include "coupling/tunnel_run.h"
 #include "helpers.h"
 
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
+#include <vector>
 
 using namespace demfem;
 
@@ -130,4 +138,78 @@ TEST_CASE("tunnel restart: a checkpoint of other parameters is refused",
       CHECK(m.find("different parameters") != std::string::npos);
       CHECK(m.find("set radius = 0.5") != std::string::npos);
     }
+}
+
+TEST_CASE("tunnel restart: SIGINT writes a checkpoint and exits cleanly",
+          "[coupling][restart][app]")
+{
+  const std::string dir = std::filesystem::temp_directory_path() / "demfem_restart_sig";
+  const std::string log = dir + ".log";
+  std::filesystem::remove_all(dir);
+  std::filesystem::remove(log);
+  const std::string prm = std::string(DEMFEM_SOURCE_DIR) + "/apps/examples/tunnel_2d.prm";
+  std::vector<std::string> args = {DEMFEM_EXE,
+                                   "tunnel",
+                                   prm,
+                                   "--set",
+                                   "DEM region/radius=1.0",
+                                   "--set",
+                                   "Tunnel/radius=0.4",
+                                   "--set",
+                                   "DEM region/grain diameter min=0.08",
+                                   "--set",
+                                   "DEM region/grain diameter max=0.12",
+                                   "--set",
+                                   "Continuum/outer radius=10",
+                                   "--set",
+                                   "Output/interval=0",
+                                   "--set",
+                                   "Output/checkpoint interval=0",
+                                   "--set",
+                                   "Problem/output directory=" + dir};
+  std::vector<char *>      argv;
+  for (auto &a : args)
+    argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0)
+    {
+      const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      dup2(fd, 1);
+      dup2(fd, 2);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+  // The handler is installed before the model is built: wait for the
+  // build message, then interrupt during the coupled run (~1.5 s long).
+  bool started = false;
+  for (int k = 0; k < 3000 && !started; ++k)
+    {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      started = read(log).find("building the DEM region") != std::string::npos;
+    }
+  REQUIRE(started);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  const std::string text = read(log);
+  INFO(text);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 130);
+  CHECK(text.find("checkpoint written to") != std::string::npos);
+  CHECK(std::filesystem::exists(dir + "/checkpoint.h5"));
+  CHECK_FALSE(std::filesystem::exists(dir + "/checkpoint.h5.tmp"));
+  CHECK_FALSE(std::filesystem::exists(dir + "/summary.json")); // stopped, not done
+
+  // ... and the run continues from it to the end.
+  std::string cmd;
+  for (std::size_t k = 0; k < args.size(); ++k)
+    cmd += (k < 2 ? args[k] : "\"" + args[k] + "\"") + " ";
+  cmd += "--restart " + dir + "/checkpoint.h5 > " + log + " 2>&1";
+  const int rc = std::system(cmd.c_str());
+  INFO(read(log));
+  CHECK((WIFEXITED(rc) && WEXITSTATUS(rc) == 0));
+  CHECK(std::filesystem::exists(dir + "/summary.json"));
 }
