@@ -14,8 +14,8 @@
 
 namespace demfem::apps::study
 {
-  /// The keys of the tunnel .prm (copy of apps/tunnel_command.cc; see
-  /// study_prm.cc) with 'DEM region/radius' accepting 'auto'.
+  /// The keys of the tunnel .prm, shared by `demfem tunnel` and
+  /// `demfem study`; 'DEM region/radius' accepts 'auto'.
   void declare_tunnel_parameters(dealii::ParameterHandler &prm);
   /// Reads them; region.radius < 0 means 'auto'. Not validated (per run).
   coupling::TunnelParams read_tunnel_settings(dealii::ParameterHandler &prm);

@@ -1,11 +1,10 @@
 // Parameters of `demfem study`: the keys of the tunnel .prm (so that a
 // tunnel file can be swept as it is) plus the `Study` subsection.
 //
-// The tunnel keys and their reading are a copy of apps/tunnel_command.cc
-// (declare_parameters / read_settings, which are file-local there); the only
-// differences: 'DEM region/radius' also accepts 'auto' (right-sizing, issue
-// 6) and the radius is validated after the sweep settings are applied.
-// When the tunnel command exposes its reader in a header this copy goes.
+// The tunnel keys are declared and read here for both commands:
+// `demfem tunnel` (apps/tunnel_command.cc) resolves 'DEM region/radius =
+// auto' (right-sizing, issue 6) and validates; the study validates each run
+// after the sweep settings are applied.
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/parameter_handler.h>
 
@@ -164,7 +163,8 @@ namespace demfem::apps::study
     prm.declare_entry("interval", "1000", Patterns::Integer(0),
                       "Steps between VTK frames (0: phase ends only)");
     prm.declare_entry("checkpoint interval", "20000", Patterns::Integer(0),
-                      "Steps between checkpoints (checkpoints not implemented yet)");
+                      "Steps between checkpoints (HDF5 checkpoint.h5 in the output "
+                      "directory, written atomically); 0: none");
     prm.leave_subsection();
   }
 
@@ -312,7 +312,8 @@ namespace demfem::apps::study
                 ExcMessage("Coupling/equilibrium ratio must be > 0"));
     prm.leave_subsection();
     prm.enter_subsection("Output");
-    s.vtk_interval = prm.get_integer("interval");
+    s.vtk_interval        = prm.get_integer("interval");
+    s.checkpoint_interval = prm.get_integer("checkpoint interval");
     prm.leave_subsection();
     // validated per run, after the sweep settings are applied
     return s;
