@@ -287,7 +287,20 @@ namespace demfem::coupling
         out << "[" << phase << "] step " << n << "  t = " << std::setprecision(4)
             << m.dem.time() << " s  ratio = " << ur << "  cracks = " << cracks(-1)
             << "  ETA <= " << std::setprecision(3) << eta << " s" << std::endl;
+        // Issue 6: damage reaching the coupling boundary means the region is
+        // too small for the scene (the continuum cannot crack).
+        if (!warned_region_too_small && near_interface() > 0)
+          {
+            warned_region_too_small = true;
+            out << "warning: cracks within two grain diameters of the coupling boundary "
+                   "(r > "
+                << p.region.radius - 2 * p.region.mean_diameter()
+                << " m): the DEM region is too small for this damage; enlarge DEM "
+                   "region/radius or use 'auto'"
+                << std::endl;
+          }
       }
+      bool warned_region_too_small = false;
 
       // Cycles until equilibrium (DEM ratio below tolerance and the
       // continuum's kinetic energy down to 1e-4 of its peak in this phase)
@@ -623,6 +636,8 @@ namespace demfem::coupling
           << ",\n  \"damage_zone_depth\": " << num(r.damage_zone_depth)
           << ",\n  \"cracks_before_excavation\": " << cracks_before
           << ",\n  \"cracks_near_interface\": " << near_interface()
+          << ",\n  \"region_too_small\": " << (near_interface() > 0 ? "true" : "false")
+          << ",\n  \"dem_region_radius\": " << num(p.region.radius)
           << ",\n  \"wall_convergence_mean\": " << num(r.wall_convergence_mean)
           << ",\n  \"wall_particles\": " << r.n_wall_particles
           << ",\n  \"interface_force_imbalance_max\": "

@@ -110,6 +110,12 @@ TEST_CASE("tunnel restart: stopped and continued run equals the uninterrupted on
   CHECK(read(db + "/history.csv") == read(da + "/history.csv"));
   INFO("cracks " << ra.cracks_total << ", convergence " << ra.wall_convergence_mean);
   CHECK(ra.cracks_total > 0); // the test exercises crack records too
+  // Issue 6: cracks near the coupling boundary flag the region as too small.
+  const std::string sa   = read(da + "/summary.json");
+  const bool        near = sa.find("\"cracks_near_interface\": 0,") == std::string::npos;
+  CHECK_THAT(sa, Catch::Contains(std::string("\"region_too_small\": ") +
+                                 (near ? "true" : "false")));
+  CHECK((log.str().find("DEM region is too small") != std::string::npos) == near);
 }
 
 TEST_CASE("tunnel restart: a checkpoint of other parameters is refused",
