@@ -297,12 +297,9 @@ namespace demfem::apps::study
       }
 
     prm.enter_subsection("Coupling");
-    AssertThrow(prm.get("variant") == "wall-facets",
-                ExcMessage("Coupling/variant: 'slaved-layer' is not implemented yet; use "
-                           "'wall-facets'"));
-    AssertThrow(prm.get("scheme") == "explicit",
-                ExcMessage("Coupling/scheme: 'quasi-static' is not implemented yet; use "
-                           "'explicit'"));
+    s.coupling.variant    = prm.get("variant");
+    s.coupling.scheme     = prm.get("scheme");
+    s.coupling.relaxation = prm.get_double("relaxation");
     s.coupling.subcycles = prm.get_integer("subcycles");
     s.coupling.safety    = prm.get_double("timestep safety");
     s.ratio_tolerance    = prm.get_double("equilibrium ratio");

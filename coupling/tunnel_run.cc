@@ -42,6 +42,13 @@ namespace demfem::coupling
     dem::check_range(w, "Tunnel/excavation stages", stages, 1, 1000);
     dem::check_range(w, "Coupling/subcycles", coupling.subcycles, 1, 1000);
     dem::check_range(w, "Coupling/timestep safety", coupling.safety, 0, 100, true);
+    dem::check_range(w, "Coupling/relaxation", coupling.relaxation, 0, 2, true, true);
+    if (coupling.variant != "wall-facets")
+      throw dem::InputError(w + ": Coupling/variant = '" + coupling.variant +
+                            "' is not implemented yet (allowed: wall-facets)");
+    if (coupling.scheme != "explicit")
+      throw dem::InputError(w + ": Coupling/scheme = '" + coupling.scheme +
+                            "' is not implemented yet (allowed: explicit)");
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j)
         if (!std::isfinite(sigma0(i, j)))

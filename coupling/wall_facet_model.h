@@ -52,8 +52,14 @@ namespace demfem::coupling
 
   struct CouplingParams
   {
-    unsigned int subcycles = 1;
-    double       safety    = 0.8;
+    /// "slaved-layer" or "wall-facets" (DESIGN §5).
+    std::string  variant    = "wall-facets";
+    /// "explicit" (continuum stepped every `subcycles` DEM steps) or
+    /// "quasi-static" (static continuum response, relaxed).
+    std::string  scheme     = "explicit";
+    unsigned int subcycles  = 1;
+    double       safety     = 0.8;
+    double       relaxation = 1.0; ///< quasi-static relaxation factor, (0, 2)
   };
 
   /// Doubles as hex text of their bytes (checkpoint metadata strings):
