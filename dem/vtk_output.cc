@@ -4,6 +4,7 @@
 #include "dem/contact_bond_law.h"
 #include "dem/flat_joint_law.h"
 #include "dem/parallel_bond_law.h"
+#include "dem/particle_stress.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -102,10 +103,12 @@ namespace demfem::dem::vtkout
   }
 
   template <int dim>
-  void write_particles(const std::string &path, const Model<dim> &model)
+  void write_particles(const std::string &path, const Model<dim> &model,
+                       double solid_fraction)
   {
-    const auto       &p = model.particles;
-    const vtkIdType   n = static_cast<vtkIdType>(p.size());
+    const auto       &p     = model.particles;
+    const auto        sigma = grain_stresses(model, solid_fraction);
+    const vtkIdType   n     = static_cast<vtkIdType>(p.size());
     vtkNew<vtkPoints> pts;
     pts->SetDataTypeToDouble();
     pts->SetNumberOfPoints(n);
@@ -116,6 +119,7 @@ namespace demfem::dem::vtkout
     auto                 group  = int_array("group", n);
     auto                 id     = int_array("id", n);
     auto                 fix    = int_array("fixity", n);
+    auto                 stress = array("averaged_stress", 9, n);
     vtkNew<vtkCellArray> verts;
     for (vtkIdType i = 0; i < n; ++i)
       {
@@ -133,6 +137,11 @@ namespace demfem::dem::vtkout
         group->SetValue(i, p.group[i]);
         id->SetValue(i, static_cast<int>(p.id[i]));
         fix->SetValue(i, p.fixity[i]);
+        std::array<double, 9> t{};
+        for (int a = 0; a < dim; ++a)
+          for (int b = 0; b < dim; ++b)
+            t[3 * a + b] = sigma[i](a, b);
+        stress->SetTuple(i, t.data());
         verts->InsertNextCell(1, &i);
       }
     vtkNew<vtkPolyData> data;
@@ -142,7 +151,7 @@ namespace demfem::dem::vtkout
          {static_cast<vtkDataArray *>(radius), static_cast<vtkDataArray *>(vel),
           static_cast<vtkDataArray *>(disp), static_cast<vtkDataArray *>(omega),
           static_cast<vtkDataArray *>(group), static_cast<vtkDataArray *>(id),
-          static_cast<vtkDataArray *>(fix)})
+          static_cast<vtkDataArray *>(fix), static_cast<vtkDataArray *>(stress)})
       data->GetPointData()->AddArray(a);
     data->GetPointData()->SetActiveScalars("radius");
     write_polydata(path, data);
@@ -293,8 +302,8 @@ namespace demfem::dem::vtkout
     write_text_atomically(path_, s.str());
   }
 
-  template void write_particles<2>(const std::string &, const Model<2> &);
-  template void write_particles<3>(const std::string &, const Model<3> &);
+  template void write_particles<2>(const std::string &, const Model<2> &, double);
+  template void write_particles<3>(const std::string &, const Model<3> &, double);
   template void write_contacts<2>(const std::string &, const Model<2> &);
   template void write_contacts<3>(const std::string &, const Model<3> &);
   template void write_cracks<2>(const std::string &, const std::vector<CrackRecord<2>> &,

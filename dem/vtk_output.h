@@ -13,9 +13,12 @@
 namespace demfem::dem::vtkout
 {
   /// Particles: points with arrays radius, velocity, displacement (x - x0),
-  /// angular_velocity, group, id, fixity.
+  /// angular_velocity, group, id, fixity, and averaged_stress (3x3 tensor,
+  /// tension positive: dem::grain_stresses with `solid_fraction`, the
+  /// assembly's 1 - porosity, so that it reads as continuum stress).
   template <int dim>
-  void write_particles(const std::string &path, const Model<dim> &model);
+  void write_particles(const std::string &path, const Model<dim> &model,
+                       double solid_fraction = 1.0);
 
   /// Contacts: one line per ball-ball contact (ball-wall contacts go from the
   /// centre to the contact point) with arrays group, wall (0/1), active
