@@ -1,0 +1,430 @@
+#include "coupling/full_dem_reference.h"
+
+#include "coupling/excavation_measures.h"
+#include "dem/vtk_output.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace demfem::coupling
+{
+  using dem::Vec;
+
+  // ---------------------------------------------------------------- servo
+
+  MembraneServo::MembraneServo(const dem::Model<2> &m, int wall,
+                               const MembraneServoParams &pp, double mean_diameter,
+                               double contact_stiffness_floor)
+      : p(pp)
+      , d(mean_diameter)
+      , k_floor(contact_stiffness_floor)
+  {
+    dem::check_range("membrane servo", "alpha", p.alpha, 0, 1, true);
+    dem::check_range("membrane servo", "tolerance", p.tolerance, 0, 1, true);
+    dem::check_range("membrane servo", "max step", p.max_step, 0, 1, true);
+    // Ring order: follow the facets of the wall (each vertex starts one).
+    const auto      &W = m.walls;
+    std::vector<int> next(W.vertex.size(), -1);
+    int              first = -1;
+    for (std::size_t f = 0; f < W.n_facets(); ++f)
+      if (W.facet_wall[f] == wall)
+        {
+          next[W.facet[f][0]] = W.facet[f][1];
+          if (first < 0)
+            first = W.facet[f][0];
+        }
+    for (int v = first; v >= 0 && (ring.empty() || v != first); v = next[v])
+      {
+        ring.push_back(v);
+        if (ring.size() > W.vertex.size())
+          break;
+      }
+    if (ring.size() < 8 || next[ring.back()] != first)
+      throw std::runtime_error("membrane servo: wall " + std::to_string(wall) +
+                               " is not a closed ring of facets");
+  }
+
+  std::vector<Vec<2>> MembraneServo::target_forces(const dem::Model<2> &m,
+                                                   double               lf) const
+  {
+    const auto         &X = m.walls.vertex;
+    const std::size_t   n = ring.size();
+    std::vector<Vec<2>> F(n, Vec<2>::Zero());
+    // Orientation of the ring: outward normal of edge a->b is (t_y, -t_x)
+    // for a counter-clockwise ring, the opposite otherwise.
+    const double sign = area(m) > 0 ? 1.0 : -1.0;
+    for (std::size_t e = 0; e < n; ++e)
+      {
+        const Vec<2> &xa = X[ring[e]], &xb = X[ring[(e + 1) % n]];
+        const Vec<2>  t = xb - xa;
+        // n_e L_e (outward normal times edge length)
+        const Vec<2> nL = sign * Vec<2>(t[1], -t[0]);
+        // traction on the body sigma0 n; the grains push the wall with its
+        // negative, half to each end of the edge
+        const Vec<2> f = -0.5 * lf * (target * nL);
+        F[e] += f;
+        F[(e + 1) % n] += f;
+      }
+    return F;
+  }
+
+  double MembraneServo::area(const dem::Model<2> &m) const
+  {
+    // signed shoelace area (> 0: counter-clockwise)
+    const auto &X = m.walls.vertex;
+    double      A = 0;
+    for (std::size_t e = 0; e < ring.size(); ++e)
+      A += dem::cross2(X[ring[e]], X[ring[(e + 1) % ring.size()]]);
+    return 0.5 * A;
+  }
+
+  Eigen::Matrix2d MembraneServo::held_stress(const dem::Model<2> &m) const
+  {
+    Eigen::Matrix2d s = Eigen::Matrix2d::Zero();
+    for (const int v : ring)
+      s -= m.walls.vertex_force[v] * m.walls.vertex[v].transpose();
+    s /= std::abs(area(m));
+    return 0.5 * (s + s.transpose());
+  }
+
+  double MembraneServo::relative_error(const dem::Model<2> &m, double lf) const
+  {
+    return (held_stress(m) - lf * target).norm() / target.norm();
+  }
+
+  void MembraneServo::update(dem::Model<2> &m, double lf) const
+  {
+    auto &W = m.walls;
+    // Normal stiffness on each vertex: contacts on its facets, split by the
+    // barycentric weights of their contact points (as the forces are).
+    std::vector<double> k(W.vertex.size(), 0.0);
+    for (int g = 0; g < m.n_groups(); ++g)
+      {
+        const auto &grp = m.group(g);
+        for (std::size_t c = 0; c < grp.size(); ++c)
+          if (grp.is_wall[c] && grp.active(c))
+            {
+              const auto  &f  = W.facet[grp.end2[c]];
+              const double kn = grp.stiffness(c, m.particles).kn;
+              for (int a = 0; a < 2; ++a)
+                k[f[a]] += grp.facet_weights[c][a] * kn;
+            }
+      }
+    const double dt = m.timestep();
+    if (!(dt > 0))
+      throw std::runtime_error("membrane servo: the model has no fixed time step");
+    const auto   F    = target_forces(m, lf);
+    const double vmax = p.max_step * d / dt;
+    for (std::size_t j = 0; j < ring.size(); ++j)
+      {
+        const int v = ring[j];
+        // error > 0 along the outward push: too much force, open the membrane
+        const Vec<2> err = W.vertex_force[v] - F[j];
+        Vec<2>       vel = p.alpha * err / (std::max(k[v], k_floor) * dt);
+        if (vel.norm() > vmax)
+          vel *= vmax / vel.norm();
+        W.vertex_velocity[v] = vel;
+      }
+  }
+
+  // ------------------------------------------------------------ parameters
+
+  void FullDemReferenceParams::validate(const std::string &w) const
+  {
+    const double inf = HUGE_VAL;
+    region.validate(w);
+    dem::check_range(w, "Tunnel/radius", tunnel_radius, 0, inf, true);
+    dem::check_range(w, "reference radius factor", min_radius_factor, 1, inf);
+    if (region.radius < min_radius_factor * tunnel_radius * (1 - 1e-12))
+      throw dem::InputError(w + ": the full-DEM reference radius (" +
+                            std::to_string(region.radius) + " m) must be at least " +
+                            std::to_string(min_radius_factor) + " x Tunnel/radius (" +
+                            std::to_string(min_radius_factor * tunnel_radius) + " m)");
+    if (tunnel_radius + 3 * region.d_hi > region.radius)
+      throw dem::InputError(w + ": Tunnel/radius must be smaller than the reference "
+                                "radius by at least three of the largest grains");
+    dem::check_range(w, "Tunnel/excavation stages", stages, 1, 1000);
+    dem::check_range(w, "timestep safety", safety, 0, 1, true);
+    dem::check_range(w, "equilibrium ratio", ratio_tolerance, 0, 1, true);
+    dem::check_range(w, "ramp steps", double(ramp_steps), 1, 1e12);
+    dem::check_range(w, "step limit", double(phase_step_limit), 1, 1e12);
+    dem::check_range(w, "history interval", double(history_interval), 1, 1e12);
+    dem::check_range(w, "servo alpha", servo.alpha, 0, 1, true);
+    dem::check_range(w, "servo tolerance", servo.tolerance, 0, 1, true);
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        if (!std::isfinite(sigma0(i, j)))
+          throw dem::InputError(w + ": Tunnel/in situ stress must be finite");
+    if (!(sigma0.norm() > 0))
+      throw dem::InputError(w + ": Tunnel/in situ stress must not be zero (the "
+                                "membrane servo needs a target)");
+  }
+
+  // ------------------------------------------------------------------- run
+
+  namespace
+  {
+    std::string num(double x)
+    {
+      if (!std::isfinite(x))
+        return "null";
+      std::ostringstream s;
+      s << std::setprecision(10) << x;
+      return s.str();
+    }
+
+    struct Reference
+    {
+      const FullDemReferenceParams         &p;
+      std::ostream                         &out;
+      dem::Model<2>                         m;
+      int                                   wall = -1;
+      std::unique_ptr<MembraneServo>        servo;
+      double                                load_factor = 0;
+      std::string                           phase       = "build";
+      std::ofstream                         history;
+      excavation::Record                    exc;
+      bool                                  excavated    = false;
+      bool                                  equilibrated = true;
+      std::int64_t                          step0        = 0;
+      std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+
+      Reference(const FullDemReferenceParams &pp, std::ostream &o)
+          : p(pp)
+          , out(o)
+      {
+      }
+
+      double d() const { return p.region.mean_diameter(); }
+
+      void build()
+      {
+        // Ring of facets about two mean grain diameters long (the rule of
+        // the coupling interface, coupling/wall_facet_model.cc), multiple of 8.
+        const double R = p.region.radius;
+        const auto   n = std::max<std::size_t>(
+            32, 8 * static_cast<std::size_t>(std::ceil(2 * M_PI * R / (2 * d()) / 8)));
+        wall = m.walls.add_wall("membrane");
+        std::vector<int> v(n);
+        for (std::size_t k = 0; k < n; ++k)
+          {
+            const double th = 2 * M_PI * k / n;
+            v[k]            = m.walls.add_vertex(R * Vec<2>(std::cos(th), std::sin(th)));
+          }
+        for (std::size_t k = 0; k < n; ++k)
+          m.walls.add_facet(wall, {v[k], v[(k + 1) % n]});
+        build_disk_region(m, p.region, &out);
+        step0 = m.step_count();
+        // Fixed step as the embedded model (safety x DEM critical).
+        m.check_timestep = true;
+        m.set_timestep(p.safety * m.critical_timestep());
+        m.reset_energy_baseline();
+        // Floor of the vertex stiffness: one grain-ring contact (kn = 2 E*,
+        // the ring law of build_disk_region).
+        servo = std::make_unique<MembraneServo>(m, wall, p.servo, d(), 2 * p.region.emod);
+        servo->set_target(p.sigma0);
+        out << "full-DEM reference: R = " << R << " m, " << m.particles.size()
+            << " grains, " << n << " membrane facets, dt = " << m.timestep() << " s"
+            << std::endl;
+      }
+
+      void record()
+      {
+        const Eigen::Matrix2d s = servo->held_stress(m);
+        history << m.step_count() - step0 << "," << num(m.time()) << "," << phase << ","
+                << num(load_factor) << "," << num(m.unbalanced_ratio()) << ","
+                << num(m.kinetic_energy()) << "," << num(m.strain_energy()) << ","
+                << m.cracks.size() << "," << excavation::count_cracks(m, 0) << ","
+                << excavation::count_cracks(m, 1) << "," << num(s(0, 0)) << ","
+                << num(s(1, 1)) << "," << num(s(0, 1)) << ","
+                << num(servo->relative_error(m, load_factor)) << ","
+                << num(excavated ? excavation::wall_convergence(m, exc.ref,
+                                                                p.tunnel_radius, d())
+                                 : 0.0)
+                << "\n";
+      }
+
+      // Cycles until the unbalanced ratio is below its tolerance and the
+      // membrane holds the stress within the servo tolerance (both checked
+      // every 100 steps, after min_steps), or `limit` steps.
+      template <class Load>
+      void cycle(std::int64_t min_steps, std::int64_t limit, Load load)
+      {
+        bool done = false;
+        for (std::int64_t n = 1; n <= limit; ++n)
+          {
+            load(n);
+            servo->update(m, load_factor);
+            m.step();
+            const auto s = m.step_count() - step0;
+            if (s % p.history_interval == 0)
+              record();
+            if (n % 100 == 0)
+              {
+                const double ur = m.unbalanced_ratio();
+                if (!std::isfinite(ur))
+                  throw dem::InstabilityError(
+                      "non-finite unbalanced force at step " + std::to_string(s) +
+                      ": the full-DEM reference diverged (time step too large?)");
+                if (n % 2000 == 0)
+                  out << "[reference " << phase << "] step " << s << "  ratio = " << ur
+                      << "  servo error = " << servo->relative_error(m, load_factor)
+                      << "  cracks = " << m.cracks.size() << std::endl;
+                if (n >= min_steps && ur < p.ratio_tolerance &&
+                    servo->relative_error(m, load_factor) <= p.servo.tolerance)
+                  {
+                    done = true;
+                    break;
+                  }
+              }
+          }
+        if (!done)
+          {
+            equilibrated = false;
+            out << "full-DEM reference: phase '" << phase << "' ended at its step limit ("
+                << limit << ") with ratio " << m.unbalanced_ratio() << ", servo error "
+                << servo->relative_error(m, load_factor) << std::endl;
+          }
+      }
+
+      FullDemReferenceResult run()
+      {
+        FullDemReferenceResult r;
+        const std::string      dir = p.output_directory;
+        std::filesystem::create_directories(dir);
+        build();
+        r.packing_steps       = step0;
+        r.timestep            = m.timestep();
+        r.n_membrane_vertices = servo->vertices().size();
+        history.open(dir + "/history.csv");
+        history << "step,time,phase,load_factor,unbalanced_ratio,kinetic_energy,"
+                   "strain_energy,cracks,cracks_tensile,cracks_shear,held_stress_xx,"
+                   "held_stress_yy,held_stress_xy,servo_error,wall_convergence_mean\n";
+        try
+          {
+            phase = "in-situ";
+            cycle(p.ramp_steps, p.ramp_steps + p.phase_step_limit, [&](std::int64_t n) {
+              load_factor = std::min(1.0, double(n) / p.ramp_steps);
+            });
+            r.held_stress_insitu = servo->held_stress(m);
+            r.servo_error_insitu = servo->relative_error(m, 1.0);
+            r.servo_held_insitu  = r.servo_error_insitu <= p.servo.tolerance;
+            r.region_stress_insitu =
+                region_stress(m, Vec<2>::Zero(), 0.5 * p.region.radius);
+            out << "full-DEM reference: in-situ stress held by the membrane ["
+                << r.held_stress_insitu(0, 0) << ", " << r.held_stress_insitu(1, 1)
+                << ", " << r.held_stress_insitu(0, 1) << "] Pa (error "
+                << r.servo_error_insitu << "), grains in r < R/2: ["
+                << r.region_stress_insitu(0, 0) << ", " << r.region_stress_insitu(1, 1)
+                << ", " << r.region_stress_insitu(0, 1) << "] Pa" << std::endl;
+
+            // Excavation as the embedded tunnel: the removed grains' forces
+            // are applied to the remaining ones and relaxed over the stages.
+            exc       = excavation::remove_tunnel_grains(m, p.tunnel_radius);
+            excavated = true;
+            for (int s = 1; s <= p.stages; ++s)
+              {
+                phase =
+                    "excavation " + std::to_string(s) + "/" + std::to_string(p.stages);
+                excavation::apply_removed_forces(m, exc, 1.0 - double(s) / p.stages);
+                m.reset_energy_baseline();
+                cycle(200, p.phase_step_limit, [](std::int64_t) {});
+              }
+            phase = "equilibrium";
+            cycle(0, p.phase_step_limit, [](std::int64_t) {});
+          }
+        catch (const dem::InstabilityError &e)
+          {
+            r.diverged  = true;
+            r.diagnosis = e.what();
+            out << "full-DEM reference: DIVERGED in phase '" << phase << "': " << e.what()
+                << std::endl;
+          }
+        history.close();
+        const double a             = p.tunnel_radius;
+        r.n_particles              = m.particles.size();
+        r.n_contacts               = m.n_contacts();
+        r.steps                    = m.step_count() - step0;
+        r.cracks_total             = excavation::count_cracks(m, -1);
+        r.cracks_tensile           = excavation::count_cracks(m, 0);
+        r.cracks_shear             = excavation::count_cracks(m, 1);
+        r.cracks_before_excavation = excavated ? exc.cracks_before : m.cracks.size();
+        r.cracks_near_boundary = excavation::cracks_beyond(m, p.region.radius - 2 * d());
+        r.damage_zone_depth =
+            excavated ? excavation::damage_zone_depth(m, exc.cracks_before, a) : 0.0;
+        std::vector<std::array<double, 4>> rows;
+        if (excavated)
+          r.wall_convergence_mean = excavation::wall_convergence(
+              m, exc.ref, a, d(), &r.n_wall_particles, &rows);
+        r.servo_error_final = servo->relative_error(m, load_factor);
+        r.final_ratio       = m.unbalanced_ratio();
+        r.equilibrated      = equilibrated && !r.diverged;
+        r.wall_time_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (!r.diverged)
+          {
+            std::ostringstream w;
+            w << "x,y,z,ux,uy,uz\n" << std::setprecision(12);
+            for (const auto &q : rows)
+              w << q[0] << "," << q[1] << ",0," << q[2] << "," << q[3] << ",0\n";
+            dem::vtkout::write_text_atomically(dir + "/wall_displacement.csv", w.str());
+          }
+        std::string diag;
+        for (char c : r.diagnosis)
+          diag += (c == '"' || c == '\\') ? '\'' : c;
+        std::ostringstream s;
+        s << "{\n  \"status\": \"" << (r.diverged ? "diverged" : "ok") << "\",\n"
+          << "  \"model\": \"full-DEM reference (servo-controlled membrane)\",\n"
+          << "  \"diagnosis\": \"" << diag << "\",\n"
+          << "  \"reference_radius_m\": " << num(p.region.radius)
+          << ",\n  \"tunnel_radius_m\": " << num(a)
+          << ",\n  \"n_particles\": " << r.n_particles
+          << ",\n  \"n_contacts\": " << r.n_contacts
+          << ",\n  \"membrane_vertices\": " << r.n_membrane_vertices
+          << ",\n  \"steps\": " << r.steps
+          << ",\n  \"packing_steps\": " << r.packing_steps
+          << ",\n  \"timestep_s\": " << num(r.timestep)
+          << ",\n  \"wall_time_s\": " << num(r.wall_time_s)
+          << ",\n  \"cracks_total\": " << r.cracks_total
+          << ",\n  \"cracks_tensile\": " << r.cracks_tensile
+          << ",\n  \"cracks_shear\": " << r.cracks_shear
+          << ",\n  \"cracks_before_excavation\": " << r.cracks_before_excavation
+          << ",\n  \"cracks_near_boundary\": " << r.cracks_near_boundary
+          << ",\n  \"damage_zone_depth\": " << num(r.damage_zone_depth)
+          << ",\n  \"wall_convergence_mean\": " << num(r.wall_convergence_mean)
+          << ",\n  \"wall_particles\": " << r.n_wall_particles
+          << ",\n  \"servo_tolerance\": " << num(p.servo.tolerance)
+          << ",\n  \"servo_error_insitu\": " << num(r.servo_error_insitu)
+          << ",\n  \"servo_held_insitu\": " << (r.servo_held_insitu ? "true" : "false")
+          << ",\n  \"servo_error_final\": " << num(r.servo_error_final)
+          << ",\n  \"held_stress_insitu\": [" << num(r.held_stress_insitu(0, 0)) << ", "
+          << num(r.held_stress_insitu(1, 1)) << ", " << num(r.held_stress_insitu(0, 1))
+          << "],\n  \"region_stress_insitu\": [" << num(r.region_stress_insitu(0, 0))
+          << ", " << num(r.region_stress_insitu(1, 1)) << ", "
+          << num(r.region_stress_insitu(0, 1))
+          << "],\n  \"final_ratio\": " << num(r.final_ratio)
+          << ",\n  \"equilibrated\": " << (r.equilibrated ? "true" : "false") << "\n}\n";
+        dem::vtkout::write_text_atomically(dir + "/summary.json", s.str());
+        out << "full-DEM reference: done in " << r.wall_time_s << " s: " << r.n_particles
+            << " grains, " << r.steps << " steps, "
+            << r.cracks_total - r.cracks_before_excavation
+            << " excavation cracks, damage-zone depth " << r.damage_zone_depth
+            << " m, wall convergence " << r.wall_convergence_mean << " m" << std::endl;
+        return r;
+      }
+    };
+  } // namespace
+
+  FullDemReferenceResult run_full_dem_reference(const FullDemReferenceParams &p,
+                                                std::ostream                 &progress)
+  {
+    p.validate("full-DEM reference");
+    Reference ref(p, progress);
+    return ref.run();
+  }
+} // namespace demfem::coupling

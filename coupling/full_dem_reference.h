@@ -1,0 +1,132 @@
+#pragma once
+// Full-DEM reference of the breakable tunnel (issue 6 item 2): the whole
+// domain r <= R (R >= 8 a) as bonded DEM, no continuum, with the in-situ
+// stress held at the outer boundary by a servo-controlled flexible membrane;
+// the same excavation workflow and the same damage bookkeeping as the
+// embedded tunnel (coupling/excavation_measures.h), so that `demfem study`
+// can compare the embedded model's damage-zone depth and crack counts with
+// it and tabulate the speed-up.
+//
+// Why a membrane (and not a box with dem/servo walls): the region is packed
+// and bonded by coupling::build_disk_region, the procedure of the embedded
+// region, which packs a disk inside a closed ring of facets; a box would
+// need another packing (another material). The ring's vertices are
+// servo-controlled individually: vertex j is driven so that the force the
+// grains exert on it equals F_j = sum over its two facets e of
+// (sigma0 n_e) L_e / 2 (n_e outward, tension positive: a compressive sigma0
+// pushes the grains inward, the grains push the vertex outward). This
+// carries the full anisotropic traction sigma0.n (normal and shear), which
+// a pair of axis-aligned servo walls cannot on a circle. The half-facet
+// lumping is exact for the boundary's average stress:
+// sum_j F_j (x) x_j = -sigma0 A (A the polygon area), hence the held stress
+// is measured as sigma_b = -(1/A) sum_j sym(f_j (x) x_j), f_j the measured
+// vertex forces (the Love average of the body's stress for a
+// traction-free tunnel wall).
+//
+// Servo law per vertex (fistPkg §5.3, Itasca 2008 §3.10.5, vector form):
+// v_j = alpha (f_j - lambda F_j) / (k_j dt), k_j the normal stiffness of
+// the grain-facet contacts on it weighted by their barycentric weights
+// (floor: one grain-wall contact, 2 E*), the step limited to max_step.
+#include "coupling/dem_region.h"
+
+#include <Eigen/Dense>
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace demfem::coupling
+{
+  struct MembraneServoParams
+  {
+    double alpha     = 0.5;  ///< gain, (0, 1]
+    double tolerance = 0.02; ///< held stress: |sigma_b - sigma0|_F <= tol |sigma0|_F
+    double max_step  = 1e-3; ///< largest vertex move per step / mean grain diameter
+  };
+
+  /// The servo-controlled membrane: a closed ring of facets (one wall) whose
+  /// vertices follow the servo law above.
+  class MembraneServo
+  {
+  public:
+    /// `wall`: the ring's wall id in m.walls (vertices in ring order).
+    MembraneServo(const dem::Model<2> &m, int wall, const MembraneServoParams &p,
+                  double mean_diameter, double contact_stiffness_floor);
+    /// Target stress (tension positive); the load factor scales it.
+    void set_target(const Eigen::Matrix2d &sigma0) { target = sigma0; }
+    /// Sets the vertex velocities from the forces of the last step; call
+    /// after every Model::step (and once before the first).
+    void update(dem::Model<2> &m, double load_factor) const;
+    /// Target vertex forces (force the grains exert on each vertex) for the
+    /// current geometry, scaled by the load factor.
+    std::vector<dem::Vec<2>> target_forces(const dem::Model<2> &m,
+                                           double               load_factor) const;
+    /// Held stress sigma_b = -(1/A) sum_j sym(f_j (x) x_j) (tension positive).
+    Eigen::Matrix2d held_stress(const dem::Model<2> &m) const;
+    /// |sigma_b - lambda sigma0|_F / |sigma0|_F.
+    double relative_error(const dem::Model<2> &m, double load_factor) const;
+    /// Enclosed polygon area.
+    double                  area(const dem::Model<2> &m) const;
+    const std::vector<int> &vertices() const { return ring; }
+
+  private:
+    std::vector<int>    ring; // vertex indices in ring order
+    MembraneServoParams p;
+    double              d = 0, k_floor = 0;
+    Eigen::Matrix2d     target = Eigen::Matrix2d::Zero();
+  };
+
+  struct FullDemReferenceParams
+  {
+    std::string     output_directory = "out/reference";
+    double          tunnel_radius    = 1.0;
+    Eigen::Matrix2d sigma0 = (Eigen::Matrix2d() << -30e6, 0, 0, -60e6).finished();
+    int             stages = 1; ///< excavation stages
+    /// The material and packing of the embedded region; region.radius is
+    /// the outer radius R of the DEM domain.
+    RegionParams        region;
+    double              min_radius_factor = 8;   ///< R >= this x a (issue 6)
+    double              safety            = 0.8; ///< dt = safety x DEM critical
+    double              ratio_tolerance   = 1e-3;
+    std::int64_t        ramp_steps        = 2000;
+    std::int64_t        phase_step_limit  = 20000;
+    std::int64_t        history_interval  = 100;
+    MembraneServoParams servo;
+
+    /// Throws dem::InputError naming the key (prefixed by `where`).
+    void validate(const std::string &where) const;
+  };
+
+  struct FullDemReferenceResult
+  {
+    bool         diverged = false;
+    std::string  diagnosis;
+    std::size_t  n_particles = 0, n_contacts = 0, n_membrane_vertices = 0;
+    std::int64_t steps = 0, packing_steps = 0;
+    double       wall_time_s = 0, timestep = 0;
+    std::size_t  cracks_total = 0, cracks_tensile = 0, cracks_shear = 0;
+    std::size_t  cracks_before_excavation = 0, cracks_near_boundary = 0;
+    double       damage_zone_depth     = 0;
+    double       wall_convergence_mean = 0; ///< mean inward radial displacement [m]
+    std::size_t  n_wall_particles      = 0;
+    /// In-situ state before excavation: stress held by the membrane, its
+    /// relative error, whether within the servo tolerance, and the
+    /// Love-Weber stress of the grains in the disk r < R/2 (an independent
+    /// check of the servo).
+    Eigen::Matrix2d held_stress_insitu   = Eigen::Matrix2d::Zero();
+    double          servo_error_insitu   = -1;
+    bool            servo_held_insitu    = false;
+    Eigen::Matrix2d region_stress_insitu = Eigen::Matrix2d::Zero();
+    double          servo_error_final    = -1; ///< at the end of the run
+    double          final_ratio          = -1;
+    bool            equilibrated = false; ///< every phase ended below the tolerances
+  };
+
+  /// Runs the reference; writes summary.json, history.csv and
+  /// wall_displacement.csv into p.output_directory. Divergence does not
+  /// throw (result.diverged, with the engine's diagnosis); bad parameters
+  /// throw dem::InputError before anything is written.
+  FullDemReferenceResult run_full_dem_reference(const FullDemReferenceParams &p,
+                                                std::ostream                 &progress);
+} // namespace demfem::coupling
