@@ -9,6 +9,11 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparsity_tools.h>
 
+#include <Amesos.h>
+#include <Amesos_BaseSolver.h>
+#include <Epetra_LinearProblem.h>
+#include <Epetra_MultiVector.h>
+
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -50,6 +55,47 @@ namespace demfem::fem
     return s;
   }
 
+  // Amesos used directly (not TrilinosWrappers::SolverDirect) so that the
+  // columns of F are solved as blocks of right-hand sides (one MUMPS call
+  // per block instead of one per column).
+  template <int dim>
+  struct StaticInterfaceResponse<dim>::Factorization
+  {
+    Epetra_LinearProblem               problem;
+    std::unique_ptr<Amesos_BaseSolver> solver;
+
+    Factorization(const TrilinosWrappers::SparseMatrix &matrix, const std::string &type)
+    {
+      // Amesos takes a non-const operator but does not modify it.
+      problem.SetOperator(const_cast<Epetra_CrsMatrix *>(&matrix.trilinos_matrix()));
+      Amesos factory;
+      AssertThrow(factory.Query(type.c_str()),
+                  ExcMessage("StaticSettings: direct solver '" + type +
+                             "' is not available in this Trilinos build"));
+      solver.reset(factory.Create(type.c_str(), problem));
+      AssertThrow(solver != nullptr,
+                  ExcMessage("StaticInterfaceResponse: Amesos could not create " + type));
+      check(solver->SymbolicFactorization(), "symbolic factorization");
+      check(solver->NumericFactorization(), "numeric factorization");
+    }
+
+    void solve(Epetra_MultiVector &x, Epetra_MultiVector &b)
+    {
+      problem.SetLHS(&x);
+      problem.SetRHS(&b);
+      check(solver->Solve(), "solve");
+    }
+
+    static void check(const int code, const std::string &what)
+    {
+      AssertThrow(code == 0,
+                  ExcMessage("StaticInterfaceResponse: Amesos " + what +
+                             " failed (code " + std::to_string(code) +
+                             "); a singular stiffness (do the constrained boundaries, "
+                             "StaticSettings::fixed, remove every rigid-body motion?)"));
+    }
+  };
+
   template <int dim>
   StaticInterfaceResponse<dim>::StaticInterfaceResponse(
       const parallel::distributed::Triangulation<dim> &tria, const StaticSettings &s,
@@ -60,7 +106,6 @@ namespace demfem::fem
       , fe(FE_Q<dim>(std::max(1u, s.degree)), dim)
       , mapping(std::max(1u, s.degree))
       , dof_handler(tria)
-      , direct_control(1, 0)
       , points(coupling_vertices)
   {
     AssertThrow(s.young_modulus > 0 && std::isfinite(s.young_modulus),
@@ -81,7 +126,7 @@ namespace demfem::fem
   StaticInterfaceResponse<dim>::~StaticInterfaceResponse()
   {
     // The factorization refers to the matrix: release it first.
-    direct.reset();
+    factorization.reset();
     dof_handler.clear();
   }
 
@@ -310,10 +355,7 @@ namespace demfem::fem
 
     // Factorize once (symbolic and numeric); solves reuse it.
     const auto factor_start = std::chrono::steady_clock::now();
-    direct                  = std::make_unique<TrilinosWrappers::SolverDirect>(
-        direct_control,
-        TrilinosWrappers::SolverDirect::AdditionalData(false, settings.direct_solver));
-    direct->initialize(condensed);
+    factorization = std::make_unique<Factorization>(condensed, settings.direct_solver);
     costs.factorization_seconds = seconds_since(factor_start);
     flexibility_ready           = false;
     is_set_up                   = true;
@@ -359,7 +401,7 @@ namespace demfem::fem
     for (std::size_t k = 0; k < fixed_dofs.size(); ++k)
       rhs(fixed_dofs[k]) = fixed_diagonal[k] * lift(fixed_dofs[k]);
     rhs.compress(VectorOperation::insert);
-    direct->solve(x, rhs);
+    factorization->solve(x.trilinos_vector(), rhs.trilinos_vector());
     // The constrained values exactly (the solve returns them to round-off).
     for (const auto dof : fixed_dofs)
       x(dof) = lift(dof);
@@ -418,32 +460,48 @@ namespace demfem::fem
     const auto         start = std::chrono::steady_clock::now();
     const unsigned int n     = dim * n_global;
     flexibility_matrix.reinit(n, n);
-    const unsigned int            n_ranks = Utilities::MPI::n_mpi_processes(comm);
-    TrilinosWrappers::MPI::Vector x(owned, comm);
-    std::vector<double>           local(dim * points.size());
-    // Column j: unit force on global vertex j / dim, component j % dim.
+    // Columns j (free components only; a constrained component keeps a
+    // zero row and column): unit force on global vertex j / dim, component
+    // j % dim; solved in blocks of right-hand sides.
+    std::vector<unsigned int> columns;
     for (unsigned int j = 0; j < n; ++j)
+      if (free_mask[j])
+        columns.push_back(j);
+    const auto counts =
+        Utilities::MPI::all_gather(comm, static_cast<unsigned int>(points.size()));
+    const Epetra_CrsMatrix &A         = condensed.trilinos_matrix();
+    const auto              local_row = [&](const Epetra_BlockMap        &map,
+                               const types::global_dof_index dof) {
+      return map.LID(static_cast<TrilinosWrappers::types::int_type>(dof));
+    };
+    const unsigned int block   = 64;
+    const std::size_t  n_local = dim * points.size();
+    for (std::size_t start = 0; start < columns.size(); start += block)
       {
-        if (!free_mask[j]) // zero row and column (reaction component)
-          continue;
-        const unsigned int v = j / dim, c = j % dim;
-        rhs = 0;
-        if (v >= first_global && v < first_global + points.size())
-          rhs(vertex_dofs[v - first_global][c]) = 1.0;
-        rhs.compress(VectorOperation::insert);
-        direct->solve(x, rhs);
-        for (std::size_t k = 0; k < points.size(); ++k)
-          for (unsigned int d = 0; d < dim; ++d)
-            local[dim * k + d] = x(vertex_dofs[k][d]);
-        if (n_ranks == 1)
-          for (unsigned int i = 0; i < n; ++i)
-            flexibility_matrix(i, j) = local[i];
-        else
+        const unsigned int nb = std::min<std::size_t>(block, columns.size() - start);
+        Epetra_MultiVector b(A.RangeMap(), nb), x(A.DomainMap(), nb); // zeroed
+        for (unsigned int q = 0; q < nb; ++q)
           {
-            unsigned int i = 0;
-            for (const auto &part : Utilities::MPI::all_gather(comm, local))
-              for (const double value : part)
-                flexibility_matrix(i++, j) = value;
+            const unsigned int v = columns[start + q] / dim, c = columns[start + q] % dim;
+            if (v >= first_global && v < first_global + points.size())
+              b[q][local_row(A.RangeMap(), vertex_dofs[v - first_global][c])] = 1.0;
+          }
+        factorization->solve(x, b);
+        std::vector<double> local(nb * n_local);
+        for (unsigned int q = 0; q < nb; ++q)
+          for (std::size_t k = 0; k < points.size(); ++k)
+            for (unsigned int d = 0; d < dim; ++d)
+              local[q * n_local + dim * k + d] =
+                  x[q][local_row(A.DomainMap(), vertex_dofs[k][d])];
+        const auto   parts = Utilities::MPI::all_gather(comm, local);
+        unsigned int row0  = 0; // first row of rank r's vertices
+        for (unsigned int r = 0; r < parts.size(); ++r)
+          {
+            const std::size_t m = dim * counts[r];
+            for (unsigned int q = 0; q < nb; ++q)
+              for (std::size_t i = 0; i < m; ++i)
+                flexibility_matrix(row0 + i, columns[start + q]) = parts[r][q * m + i];
+            row0 += m;
           }
       }
     for (unsigned int i = 0; i < n; ++i)

@@ -20,9 +20,10 @@
 // matrix and the explicit scheme at rest reaches exactly this solution). The
 // condensed matrix A (rows and columns of constrained dofs replaced by their
 // diagonal) is factorized once by a sparse direct solver (Trilinos Amesos:
-// KLU by default, MUMPS optional); every later solve is one forward/backward
-// substitution. The inhomogeneous condition is lifted: with g the vector
-// equal to lambda eps0 x on constrained dofs and zero elsewhere,
+// MUMPS by default, KLU optional); every later solve is one forward/backward
+// substitution, the columns of F are solved in blocks of right-hand sides. The
+// inhomogeneous condition is lifted: with g the vector equal to lambda eps0 x on
+// constrained dofs and zero elsewhere,
 //   A u = f - K g on free rows,  A_ii u_i = A_ii g_i on constrained rows.
 //
 // Flexibility. By linearity the coupling-vertex displacements are
@@ -53,7 +54,6 @@
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_q.h>
 #include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/trilinos_solver.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
 
@@ -77,8 +77,10 @@ namespace demfem::fem
     // dim), as ExplicitSettings::fixed. They carry u = lambda eps0 x.
     std::vector<std::pair<dealii::types::boundary_id, std::vector<bool>>> fixed = {
         {boundary_id::far_field, {true, true, true}}};
-    // Amesos solver: "Amesos_Klu" or "Amesos_Mumps" (Debian's Trilinos).
-    std::string direct_solver = "Amesos_Klu";
+    // Amesos solver of Debian's Trilinos: "Amesos_Mumps" (multifrontal;
+    // 3D slab of 19k dofs: factorization 1.4 s) or "Amesos_Klu" (no
+    // supernodes: 32 s on the same slab, fine in 2D).
+    std::string direct_solver = "Amesos_Mumps";
 
     /** Elastic constants, degree and constraints of an explicit continuum. */
     static StaticSettings from(const ExplicitSettings &explicit_settings);
@@ -175,11 +177,11 @@ namespace demfem::fem
     dealii::DoFHandler<dim>                                  dof_handler;
     dealii::IndexSet                                         owned;
 
-    dealii::TrilinosWrappers::SparseMatrix                  stiffness; // K, unconstrained
-    dealii::TrilinosWrappers::SparseMatrix                  condensed; // A
-    dealii::SolverControl                                   direct_control;
-    std::unique_ptr<dealii::TrilinosWrappers::SolverDirect> direct;
-    dealii::TrilinosWrappers::MPI::Vector                   u, rhs, lift, work;
+    dealii::TrilinosWrappers::SparseMatrix stiffness; // K, unconstrained
+    dealii::TrilinosWrappers::SparseMatrix condensed; // A
+    struct Factorization; // Amesos solver on `condensed` (static_interface.cc)
+    std::unique_ptr<Factorization>        factorization;
+    dealii::TrilinosWrappers::MPI::Vector u, rhs, lift, work;
 
     // Owned constrained dofs: index, component, support point, A_ii.
     std::vector<dealii::types::global_dof_index> fixed_dofs;

@@ -242,10 +242,24 @@ TEMPLATE_TEST_CASE_SIG("Static flexibility is symmetric and positive definite",
       col = std::max(col, std::abs(u_c[k][c] - F(dim * (first + k) + c, j)));
   col = global_max(col);
 
+  // The other direct solver gives the same F (both are exact factorizations;
+  // round-off ~1e-16 relative, limit 1e-12).
+  fem::StaticSettings klu = settings<dim>();
+  klu.direct_solver = klu.direct_solver == "Amesos_Klu" ? "Amesos_Mumps" : "Amesos_Klu";
+  fem::StaticInterfaceResponse<dim> other(tria, klu, pts);
+  other.setup();
+  const auto &F_other     = other.flexibility();
+  double      solver_diff = 0;
+  for (unsigned int i = 0; i < n; ++i)
+    for (unsigned int k = 0; k < n; ++k)
+      solver_diff = std::max(solver_diff, std::abs(F(i, k) - F_other(i, k)));
+  CHECK(solver_diff < 1e-12 * largest);
+
   const auto &cost = response.cost();
   std::cout << dim << "D flexibility " << n << "x" << n << ": asymmetry "
             << asym / largest << ", eigenvalues [" << lmin << ", " << lmax << "], cond "
-            << lmax / lmin << ", column vs solve " << col / largest << "; setup "
+            << lmax / lmin << ", column vs solve " << col / largest << ", "
+            << klu.direct_solver << " vs default " << solver_diff / largest << "; setup "
             << cost.setup_seconds() << " s (factorization " << cost.factorization_seconds
             << " s), F " << cost.flexibility_seconds << " s" << std::endl;
   CHECK(asym < 1e-12 * largest);
@@ -531,4 +545,46 @@ TEST_CASE("Static interface response refuses bad coupling vertices", "[fem][stat
     fem::StaticInterfaceResponse<2> r(tria, s, {});
     CHECK(throws_containing([&] { r.setup(); }, "no constrained dof"));
   }
+}
+
+// Cost figures on coupling-size meshes (hidden: run with "[.static-bench]").
+TEMPLATE_TEST_CASE_SIG("Static interface response cost", "[.static-bench]",
+                       ((int dim), dim), 2, 3)
+{
+  test::ensure_mpi();
+  for (const std::string solver : {"Amesos_Klu", "Amesos_Mumps"})
+    {
+      dealii::parallel::distributed::Triangulation<dim> tria(MPI_COMM_WORLD);
+      fem::GeneratedMeshSettings                        ms;
+      ms.radius       = 3.0;
+      ms.outer_radius = 30.0;
+      ms.cells_around = dim == 2 ? 128 : 48;
+      ms.thickness    = 1.0;
+      ms.layers       = 6;
+      fem::generate_tunnel_mesh(tria, ms);
+      for (const auto &cell : tria.active_cell_iterators())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary() && face->boundary_id() == fem::boundary_id::tunnel_wall)
+            face->set_boundary_id(fem::boundary_id::interface);
+      const auto          pts = interface_vertices(tria);
+      fem::StaticSettings s   = settings<dim>();
+      s.direct_solver         = solver;
+      fem::StaticInterfaceResponse<dim> response(tria, s, pts);
+      response.setup();
+      std::vector<dealii::Tensor<1, dim>> f(pts.size());
+      for (std::size_t k = 0; k < pts.size(); ++k)
+        f[k][0] = 1e3;
+      dealii::Tensor<2, dim> eps0;
+      eps0[0][0] = 1e-4;
+      for (unsigned int i = 0; i < 5; ++i)
+        response.solve(1.0, eps0, f);
+      response.flexibility();
+      const auto &c = response.cost();
+      std::cout << dim << "D " << solver << ": " << response.get_dof_handler().n_dofs()
+                << " dofs, " << response.n_global_vertices()
+                << " coupling vertices: assembly " << c.assembly_seconds
+                << " s, factorization " << c.factorization_seconds << " s, solve "
+                << c.mean_solve_seconds() << " s, flexibility " << c.flexibility_seconds
+                << " s" << std::endl;
+    }
 }
