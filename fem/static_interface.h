@@ -44,6 +44,14 @@
 // offset. Amesos gathers the factorization on one rank (fine for the 2D and
 // moderate 3D meshes of the coupling). Meshes with hanging nodes are refused
 // (the explicit continuum does not support them either).
+//
+// Costs (serial, shared 2-core machine, test "[.static-bench]"; annulus
+// b = 3, R = 30): 2D 128 cells around, 12288 dofs, 128 coupling vertices:
+// assembly 0.05 s, MUMPS factorization 0.11 s, solve 0.01 s, F 1.5 s (KLU:
+// 0.35 s, 0.014 s, 0.9 s). 3D slab 48 cells around x 6 layers, 19152 dofs,
+// 336 vertices: assembly 0.35 s, MUMPS factorization 1.1 s, solve 0.03 s,
+// F 33 s (672 free columns; Amesos solves one right-hand side at a time);
+// KLU factorization 38 s. cost() reports the figures of a run.
 #ifndef DEMFEM_FEM_STATIC_INTERFACE_H
 #define DEMFEM_FEM_STATIC_INTERFACE_H
 
