@@ -86,8 +86,8 @@ namespace demfem::fem
     std::vector<std::pair<dealii::types::boundary_id, std::vector<bool>>> fixed = {
         {boundary_id::far_field, {true, true, true}}};
     // Amesos solver of Debian's Trilinos: "Amesos_Mumps" (multifrontal;
-    // 3D slab of 19k dofs: factorization 1.4 s) or "Amesos_Klu" (no
-    // supernodes: 32 s on the same slab, fine in 2D).
+    // 3D slab of 19k dofs: factorization 1.1 s) or "Amesos_Klu" (no
+    // supernodes: 38 s on the same slab, fine in 2D).
     std::string direct_solver = "Amesos_Mumps";
 
     /** Elastic constants, degree and constraints of an explicit continuum. */
@@ -115,8 +115,9 @@ namespace demfem::fem
   {
   public:
     /**
-     * @p coupling_vertices: mesh vertices (within 1e-9 of the mesh size)
-     * whose dofs this rank owns; their order is the order of every force and
+     * @p coupling_vertices: mesh vertices (within 1e-9 of the mesh extent)
+     * whose dofs this rank owns (with degree > 1 forces still act on vertex
+     * dofs only); their order is the order of every force and
      * displacement list below. A fully constrained vertex is refused (a force
      * there would do nothing).
      */
