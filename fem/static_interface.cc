@@ -431,10 +431,30 @@ namespace demfem::fem
     const auto start = std::chrono::steady_clock::now();
     solve_into(u, lambda, eps0, forces);
     check_finite(u, "solve()");
+    applied_sum = 0;
+    for (std::size_t k = 0; k < forces.size(); ++k)
+      for (unsigned int c = 0; c < dim; ++c)
+        if (free_mask[dim * (first_global + k) + c])
+          applied_sum[c] += forces[k][c];
+    for (unsigned int c = 0; c < dim; ++c)
+      applied_sum[c] = Utilities::MPI::sum(applied_sum[c], comm);
     costs.last_solve_seconds = seconds_since(start);
     costs.solve_seconds_total += costs.last_solve_seconds;
     ++costs.n_solves;
     return coupling_values(u);
+  }
+
+  template <int dim>
+  Tensor<1, dim> StaticInterfaceResponse<dim>::reaction_force() const
+  {
+    TrilinosWrappers::MPI::Vector ku(owned, comm);
+    stiffness.vmult(ku, u);
+    Tensor<1, dim> sum;
+    for (std::size_t k = 0; k < fixed_dofs.size(); ++k)
+      sum[fixed_component[k]] += ku(fixed_dofs[k]);
+    for (unsigned int c = 0; c < dim; ++c)
+      sum[c] = Utilities::MPI::sum(sum[c], comm);
+    return sum;
   }
 
   template <int dim>

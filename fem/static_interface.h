@@ -168,6 +168,16 @@ namespace demfem::fem
     std::vector<dealii::Tensor<1, dim>> coupling_values(
         const dealii::TrilinosWrappers::MPI::Vector &vector) const;
 
+    /** Sum (all ranks) of the coupling forces the latest solve() applied,
+     *  constrained components excluded (what the continuum was loaded with,
+     *  for the coupling's force-balance check). */
+    dealii::Tensor<1, dim> applied_force_sum() const { return applied_sum; }
+    /** Sum (all ranks) of the constraint reactions (K u)_i over the
+     *  constrained dofs of the latest solve(): the force the far field
+     *  exerts on the continuum; equilibrium makes it -applied_force_sum()
+     *  (a rigid translation lies in the null space of K). Collective. */
+    dealii::Tensor<1, dim> reaction_force() const;
+
     const StaticCost &cost() const { return costs; }
 
   private:
@@ -203,6 +213,7 @@ namespace demfem::fem
     unsigned int                                                  n_global     = 0;
     unsigned int                                                  first_global = 0;
     std::vector<bool>                                             free_mask;
+    dealii::Tensor<1, dim>                                        applied_sum;
 
     dealii::FullMatrix<double> flexibility_matrix;
     bool                       flexibility_ready = false;

@@ -506,6 +506,15 @@ TEST_CASE("Static solve equals the damped explicit continuum at rest", "[fem][st
   diff = global_max(diff) / size;
   std::cout << "static vs explicit at rest: " << steps << " steps, relative difference "
             << diff << ", last change " << change / size << std::endl;
+  // Global equilibrium of the static solution: far-field reaction =
+  // -(sum of the coupling forces), to round-off of K u (limit 1e-10).
+  const auto applied  = response.applied_force_sum();
+  const auto reaction = response.reaction_force();
+  std::cout << "static equilibrium: applied " << applied << " N, reaction " << reaction
+            << " N" << std::endl;
+  CHECK((applied + reaction).norm() < 1e-10 * applied.norm());
+  CHECK(std::abs(applied[1] - dealii::Utilities::MPI::sum(pts.size(), MPI_COMM_WORLD) *
+                                  3e4) < 1e-9 * applied.norm());
   CHECK(change < 1e-11 * size);
   CHECK(diff < 1e-9);
 }
