@@ -7,7 +7,9 @@
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/lac/vector.h>
 
 #include <Amesos.h>
 #include <Amesos_BaseSolver.h>
@@ -201,6 +203,58 @@ namespace demfem::fem
           fixed_component.push_back(cp.first);
           fixed_point.push_back(cp.second);
         }
+
+    // The constraints must remove every rigid-body motion, else A is
+    // singular (KLU reports it, but Amesos_Mumps ends the process on a
+    // singular matrix). A combination of rigid modes (translations e_c,
+    // rotations w x x) vanishing on all constrained dofs exists iff the Gram
+    // matrix G = R^T R of the modes' values R at the constrained dofs is
+    // singular; coordinates are scaled by their extent so that G is
+    // well conditioned when it is regular.
+    {
+      const unsigned int n_modes = dim == 2 ? 3 : 6;
+      double             scale   = 0;
+      for (const auto &x : fixed_point)
+        scale = std::max(scale, x.norm());
+      scale                 = std::max(Utilities::MPI::max(scale, comm), 1e-300);
+      const auto mode_value = [&](const unsigned int m, const unsigned int c,
+                                  const Point<dim> &x_) -> double {
+        const Point<dim> x = x_ / scale;
+        if (m < dim)
+          return m == c ? 1.0 : 0.0;
+        if constexpr (dim == 2)
+          return c == 0 ? -x[1] : x[0];
+        else
+          {
+            // rotation about axis k = m - 3: (e_k x x)_c
+            const unsigned int k = m - 3;
+            Tensor<1, 3>       e;
+            e[k] = 1;
+            return cross_product_3d(e, Tensor<1, 3>(x))[c];
+          }
+      };
+      std::vector<double> gram(n_modes * n_modes, 0.0);
+      for (std::size_t k = 0; k < fixed_dofs.size(); ++k)
+        for (unsigned int i = 0; i < n_modes; ++i)
+          for (unsigned int j = 0; j < n_modes; ++j)
+            gram[i * n_modes + j] += mode_value(i, fixed_component[k], fixed_point[k]) *
+                                     mode_value(j, fixed_component[k], fixed_point[k]);
+      Utilities::MPI::sum(gram, comm, gram);
+      LAPACKFullMatrix<double> g(n_modes);
+      for (unsigned int i = 0; i < n_modes; ++i)
+        for (unsigned int j = 0; j < n_modes; ++j)
+          g(i, j) = gram[i * n_modes + j];
+      g.compute_eigenvalues();
+      double lmin = HUGE_VAL, lmax = 0;
+      for (unsigned int i = 0; i < n_modes; ++i)
+        lmin = std::min(lmin, g.eigenvalue(i).real()),
+        lmax = std::max(lmax, g.eigenvalue(i).real());
+      AssertThrow(lmin > 1e-10 * lmax,
+                  ExcMessage("StaticInterfaceResponse: the constrained boundaries "
+                             "(StaticSettings::fixed) leave a rigid-body motion free "
+                             "(translation or rotation); the stiffness matrix would be "
+                             "singular"));
+    }
 
     // One sparsity pattern for K and A (A only drops entries).
     DynamicSparsityPattern dsp(relevant);

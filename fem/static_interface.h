@@ -87,7 +87,9 @@ namespace demfem::fem
         {boundary_id::far_field, {true, true, true}}};
     // Amesos solver of Debian's Trilinos: "Amesos_Mumps" (multifrontal;
     // 3D slab of 19k dofs: factorization 1.1 s) or "Amesos_Klu" (no
-    // supernodes: 38 s on the same slab, fine in 2D).
+    // supernodes: 38 s on the same slab, fine in 2D). Constraints that leave
+    // a rigid-body motion free are refused before factorizing (Amesos_Mumps
+    // would end the process on a singular matrix).
     std::string direct_solver = "Amesos_Mumps";
 
     /** Elastic constants, degree and constraints of an explicit continuum. */

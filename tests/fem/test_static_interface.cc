@@ -554,6 +554,32 @@ TEST_CASE("Static interface response refuses bad coupling vertices", "[fem][stat
     fem::StaticInterfaceResponse<2> r(tria, s, {});
     CHECK(throws_containing([&] { r.setup(); }, "no constrained dof"));
   }
+  {
+    // Far field fixed in x only: the y translation is free.
+    fem::StaticSettings s = settings<2>();
+    s.fixed               = {{fem::boundary_id::far_field, {true, false}}};
+    fem::StaticInterfaceResponse<2> r(tria, s, {});
+    CHECK(throws_containing([&] { r.setup(); }, "leave a rigid-body motion free"));
+  }
+  {
+    // Far field fixed radially would need a local frame; fixing x on the
+    // far field and y on the hole removes all three modes: accepted.
+    fem::StaticSettings s = settings<2>();
+    s.fixed               = {{fem::boundary_id::far_field, {true, false}},
+                             {fem::boundary_id::interface, {false, true}}};
+    fem::StaticInterfaceResponse<2> r(tria, s, {});
+    CHECK_NOTHROW(r.setup());
+  }
+  {
+    // 3D slab with the z rollers only: x, y translations and the rotation
+    // about z are free.
+    dealii::parallel::distributed::Triangulation<3> slab(MPI_COMM_WORLD);
+    make_annulus(slab, 16);
+    fem::StaticSettings s = settings<3>();
+    s.fixed               = {{fem::boundary_id::roller_z, {false, false, true}}};
+    fem::StaticInterfaceResponse<3> r(slab, s, {});
+    CHECK(throws_containing([&] { r.setup(); }, "leave a rigid-body motion free"));
+  }
 }
 
 // Cost figures on coupling-size meshes (hidden: run with "[.static-bench]").
