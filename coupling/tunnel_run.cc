@@ -40,12 +40,17 @@ namespace demfem::coupling
     dem::check_range(w, "Continuum/poisson ratio", continuum.poisson_ratio, -1, 0.5, true,
                      true);
     dem::check_range(w, "Tunnel/excavation stages", stages, 1, 1000);
-    dem::check_range(w, "Coupling/subcycles", coupling.subcycles, 1, 1000);
-    dem::check_range(w, "Coupling/timestep safety", coupling.safety, 0, 100, true);
-    dem::check_range(w, "Coupling/relaxation", coupling.relaxation, 0, 2, true, true);
-    if (coupling.variant != "wall-facets")
-      throw dem::InputError(w + ": Coupling/variant = '" + coupling.variant +
-                            "' is not implemented yet (allowed: wall-facets)");
+    coupling.validate(w);
+    if (coupling.variant == "slaved-layer" &&
+        tunnel_radius + 3 * region.d_hi >
+            region.radius - coupling.overlap_grains * region.mean_diameter())
+      throw dem::InputError(
+          w + ": Tunnel/radius (" + std::to_string(tunnel_radius) +
+          " m) must be smaller than the free part of the DEM region (DEM region/radius "
+          "minus Coupling/overlap grains mean diameters, " +
+          std::to_string(region.radius -
+                         coupling.overlap_grains * region.mean_diameter()) +
+          " m) by at least three of the largest grains");
     if (coupling.scheme != "explicit")
       throw dem::InputError(w + ": Coupling/scheme = '" + coupling.scheme +
                             "' is not implemented yet (allowed: explicit)");
@@ -105,7 +110,8 @@ namespace demfem::coupling
     {
       const TunnelParams                                      &p;
       std::ostream                                            &out;
-      WallFacetModel                                           m;
+      std::unique_ptr<CoupledModel>                            model;
+      CoupledModel                                            &m;
       std::string                                              dir;
       std::ofstream                                            history;
       int                                                      frame = 0;
@@ -131,7 +137,9 @@ namespace demfem::coupling
       Runner(const TunnelParams &pp, std::ostream &o)
           : p(pp)
           , out(o)
-          , m(pp.region, pp.continuum, pp.coupling, MPI_COMM_WORLD)
+          , model(
+                make_coupled_model(pp.region, pp.continuum, pp.coupling, MPI_COMM_WORLD))
+          , m(*model)
           , dir(pp.output_directory)
       {
       }
@@ -189,7 +197,8 @@ namespace demfem::coupling
       {
         std::size_t n = 0;
         for (const auto &c : m.dem.cracks)
-          n += c.position.norm() > p.region.radius - 2 * p.region.mean_diameter();
+          n += c.position.norm() >
+               m.continuum_inner_radius() - 2 * p.region.mean_diameter();
         return n;
       }
 
@@ -207,15 +216,15 @@ namespace demfem::coupling
         dem::vtkout::write_cracks(dir + "/" + cf, m.dem.current_cracks());
         {
           dealii::DataOut<2> data_out;
-          data_out.attach_dof_handler(m.continuum().get_dof_handler());
+          data_out.attach_dof_handler(m.dof_handler());
           std::vector<dealii::DataComponentInterpretation::DataComponentInterpretation>
               ci(2, dealii::DataComponentInterpretation::component_is_part_of_vector);
-          dealii::Vector<double> u(m.continuum().displacement());
+          const dealii::Vector<double> u = m.displacement_field();
           data_out.add_data_vector(u, std::vector<std::string>(2, "displacement"),
                                    dealii::DataOut<2>::type_dof_data, ci);
           // Total stress per cell (both sides start stress-free, so sigma(u)
           // is the total stress; plane strain), at the cell centre.
-          const auto  &dh = m.continuum().get_dof_handler();
+          const auto  &dh = m.dof_handler();
           const double E = p.continuum.young_modulus, nu = p.continuum.poisson_ratio;
           const double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
           dealii::Vector<double> sxx(dh.get_triangulation().n_active_cells()), syy(sxx),
@@ -276,7 +285,7 @@ namespace demfem::coupling
         const auto  &D   = m.dem;
         const double ur  = D.unbalanced_ratio();
         const double kef = m.continuum_kinetic_energy();
-        const auto   F   = D.walls.wall_force(m.ring_wall());
+        const auto   F   = m.interface_force();
         history << D.step_count() << "," << num(D.time()) << "," << phase << ","
                 << num(m.get_load_factor()) << "," << num(ur) << ","
                 << num(D.kinetic_energy()) << "," << num(D.strain_energy()) << ","
@@ -301,7 +310,7 @@ namespace demfem::coupling
             warned_region_too_small = true;
             out << "warning: cracks within two grain diameters of the coupling boundary "
                    "(r > "
-                << p.region.radius - 2 * p.region.mean_diameter()
+                << m.continuum_inner_radius() - 2 * p.region.mean_diameter()
                 << " m): the DEM region is too small for this damage; enlarge DEM "
                    "region/radius or use 'auto'"
                 << std::endl;
@@ -630,7 +639,8 @@ namespace demfem::coupling
               d += (c == '"' || c == '\\') ? '\'' : c;
             s << "  \"diagnosis\": \"" << d << "\",\n";
           }
-        s << "  \"variant\": \"wall-facets\",\n  \"scheme\": \"explicit\",\n"
+        s << "  \"variant\": \"" << m.variant() << "\",\n  \"scheme\": \"" << m.scheme()
+          << "\",\n"
           << "  \"n_particles\": " << r.n_particles
           << ",\n  \"n_contacts\": " << r.n_contacts
           << ",\n  \"n_fem_dofs\": " << r.n_fem_dofs

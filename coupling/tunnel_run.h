@@ -1,11 +1,12 @@
 #pragma once
-// The `demfem tunnel` workflow (issue 5) on the wall-facet coupled model:
+// The `demfem tunnel` workflow (issue 5) on the coupled model (either
+// variant, coupled_model.h):
 // build, in-situ stress ramp and equilibrium, excavation (at once or in
 // stages with the removed grains' forces relaxed to zero), cycling to
 // equilibrium; cracks, wall convergence, damage-zone depth, interface
 // force balance and energies; summary.json, history.csv,
 // wall_displacement.csv and VTK series (.pvd per series and a combined one).
-#include "coupling/wall_facet_model.h"
+#include "coupling/coupled_model.h"
 
 #include <csignal>
 #include <cstdint>

@@ -1,82 +1,18 @@
 #include "coupling/wall_facet_model.h"
 
-#include <deal.II/base/utilities.h>
-#include <deal.II/grid/tria.h>
-
-#include "fem/mesh.h"
-
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <numeric>
-#include <sstream>
 
 namespace demfem::coupling
 {
   using dem::Vec;
 
-  WallFacetModel::WallFacetModel(const RegionParams    &region,
-                                 const ContinuumParams &continuum,
-                                 const CouplingParams &coupling, MPI_Comm comm)
-      : rp(region)
-      , cp(continuum)
-      , kp(coupling)
-      , tria(comm)
+  std::vector<dealii::Point<2>> WallFacetModel::build_interface(std::ostream *progress)
   {
-    rp.validate("DEM region");
-    const double inf = HUGE_VAL;
-    dem::check_range("Continuum", "young modulus", cp.young_modulus, 0, inf, true);
-    dem::check_range("Continuum", "poisson ratio", cp.poisson_ratio, -1, 0.5, true, true);
-    dem::check_range("Continuum", "outer radius", cp.outer_radius, 2 * rp.radius, inf,
-                     true);
-    dem::check_range("Coupling", "subcycles", kp.subcycles, 1, 1000);
-    dem::check_range("Coupling", "timestep safety", kp.safety, 0, 100, true);
-    if (dealii::Utilities::MPI::n_mpi_processes(comm) != 1)
-      throw dem::InputError(
-          "the wall-facet coupling runs on one MPI rank (run without mpirun)");
-  }
-
-  WallFacetModel::~WallFacetModel() = default;
-
-  void WallFacetModel::build(std::ostream *progress)
-  {
-    // Continuum annulus b <= r <= R, inner circle = interface (id 2).
-    fem::GeneratedMeshSettings ms;
-    ms.radius       = rp.radius;
-    ms.outer_radius = cp.outer_radius;
-    unsigned int n  = cp.cells_around;
-    if (n == 0) // facets about two mean grain diameters long, multiple of 8
-      n = std::max(32u, 8 * static_cast<unsigned int>(std::ceil(
-                                2 * M_PI * rp.radius / (2 * rp.mean_diameter()) / 8)));
-    ms.cells_around = n;
-    fem::generate_tunnel_mesh(tria, ms);
-    for (const auto &cell : tria.active_cell_iterators())
-      for (const auto &face : cell->face_iterators())
-        if (face->at_boundary() && face->boundary_id() == fem::boundary_id::tunnel_wall)
-          face->set_boundary_id(fem::boundary_id::interface);
-
-    fem::ExplicitSettings es;
-    es.young_modulus = cp.young_modulus;
-    es.poisson_ratio = cp.poisson_ratio;
-    es.density       = cp.density;
-    es.mass_scaling  = cp.mass_scaling;
-    es.degree        = 1; // facet vertices = nodes (straight chords)
-    if (cp.damping >= 0)
-      es.damping = cp.damping;
-    else
-      {
-        // Critical damping of the slowest mode, estimated as a quarter shear
-        // wave over the annulus: omega_1 ~ (pi/2) c_s / (R - b).
-        const double G  = cp.young_modulus / (2 * (1 + cp.poisson_ratio));
-        const double cs = std::sqrt(G / (cp.density * cp.mass_scaling));
-        es.damping      = 2 * 0.5 * M_PI * cs / (cp.outer_radius - rp.radius);
-      }
-    es.fixed = {{fem::boundary_id::far_field, {true, true, true}}};
-    fem_     = std::make_unique<fem::ExplicitDynamics<2>>(tria, es);
-    fem_->setup();
-
-    // Ring of facets over the interface vertices, in angular order.
-    const auto              &pts = fem_->interface_vertices();
+    // Ring of facets over the continuum's interface vertices, in angular
+    // order; the coupling nodes are these vertices.
+    const auto               pts = continuum().interface_vertices();
     std::vector<std::size_t> order(pts.size());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](auto a, auto b) {
@@ -86,229 +22,42 @@ namespace demfem::coupling
     ring_vertex.assign(pts.size(), -1);
     X0.resize(pts.size());
     for (std::size_t k = 0; k < pts.size(); ++k)
-      {
-        X0[k]          = Vec<2>(pts[k][0], pts[k][1]);
-        ring_vertex[k] = -1;
-      }
+      X0[k] = Vec<2>(pts[k][0], pts[k][1]);
     for (auto k : order)
       ring_vertex[k] = dem.walls.add_vertex(X0[k]);
     for (std::size_t a = 0; a < order.size(); ++a)
       dem.walls.add_facet(
           wall_id, {ring_vertex[order[a]], ring_vertex[order[(a + 1) % order.size()]]});
-    accum.assign(pts.size(), Vec<2>::Zero());
-
     groups = build_disk_region(dem, rp, progress);
-
-    fem_crit = fem_->critical_time_step();
-    dem_crit = dem.critical_timestep();
-    dt_      = kp.safety * std::min(dem_crit, fem_crit / kp.subcycles);
-    // A safety above 1 is allowed so that divergence can be shown to be
-    // caught; the DEM's own refusal of a supercritical step would hide it.
-    dem.check_timestep = kp.safety <= 1;
-    dem.set_timestep(dt_);
-    dem.reset_energy_baseline();
-    if (progress)
-      *progress << "coupling: " << n << " interface facets, " << n_fem_dofs()
-                << " continuum dofs, dt = " << dt_ << " s (DEM critical " << dem_crit
-                << " s, continuum critical " << fem_crit << " s, continuum damping "
-                << es.damping << " 1/s)\n";
+    return pts;
   }
 
-  void WallFacetModel::set_insitu(const Eigen::Matrix2d &s0)
+  Vec<2> WallFacetModel::gather_forces(std::vector<Vec<2>> &nodal) const
   {
-    // Plane-strain in-situ strain of the continuum: eps = ((1 + nu)/E)
-    // (sigma - nu tr(sigma) I) in plane.
-    sigma0         = s0;
-    const double E = cp.young_modulus, nu = cp.poisson_ratio;
-    eps0 = (1 + nu) / E * (s0 - nu * s0.trace() * Eigen::Matrix2d::Identity());
-  }
-
-  void WallFacetModel::fem_step()
-  {
-    const std::size_t n = X0.size();
-    if (preload_unit.empty())
-      preload_unit.assign(n, Vec<2>::Zero());
-    std::vector<dealii::Tensor<1, 2>> f(n);
-    Vec<2>                            pre = Vec<2>::Zero();
-    const double                      inv = n_accum > 0 ? 1.0 / n_accum : 0.0;
-    for (std::size_t k = 0; k < n; ++k)
-      {
-        const Vec<2> F = inv * accum[k] + load_factor * preload_unit[k];
-        pre += load_factor * preload_unit[k];
-        f[k][0] = F[0];
-        f[k][1] = F[1];
-      }
-    fem_->set_interface_forces(f);
-    // Far-field displacement ramp u = lambda eps0 x: the fixed dofs move with
-    // the load-factor increment over this continuum step.
-    const double dl = load_factor - applied_factor;
-    if (dl != 0 || far_moving)
-      {
-        const double          rate = dl / (kp.subcycles * dt_);
-        const Eigen::Matrix2d e    = rate * eps0;
-        fem_->set_fixed_velocity([e](const dealii::Point<2> &x) {
-          dealii::Tensor<1, 2> v;
-          v[0] = e(0, 0) * x[0] + e(0, 1) * x[1];
-          v[1] = e(1, 0) * x[0] + e(1, 1) * x[1];
-          return v;
-        });
-        far_moving     = dl != 0;
-        applied_factor = load_factor;
-      }
-    // Force balance: what the continuum holds minus the preload must equal
-    // the mean of the forces the grains exerted on the ring (contact sums).
-    const auto   held    = fem_->interface_force_sum();
-    const Vec<2> dem_sum = inv * accum_contacts;
-    const double diff =
-        std::hypot(held[0] - pre[0] - dem_sum[0], held[1] - pre[1] - dem_sum[1]);
-    imb_last = accum_abs > 0 ? diff / (inv * accum_abs) : 0.0;
-    imb_max  = std::max(imb_max, imb_last);
-
-    fem_->step(kp.subcycles * dt_);
-
-    // Divergence of the continuum: non-finite or exponentially growing
-    // kinetic energy (same criterion as the DEM engine).
-    const double ke = fem_->kinetic_energy();
-    fem_growth      = (ke > 1.5 * last_fem_ke && ke > 0) ? fem_growth + 1 : 0;
-    last_fem_ke     = ke;
-    if (!std::isfinite(ke) || fem_growth >= 15)
-      {
-        std::ostringstream msg;
-        msg << "the continuum diverged at step " << n_steps << " (kinetic energy " << ke
-            << " J, growing for " << fem_growth << " steps): continuum step "
-            << kp.subcycles * dt_ << " s vs its critical step " << fem_crit
-            << " s; likely cause: Coupling/timestep safety (" << kp.safety
-            << ") or Coupling/subcycles too large, or a stiffness contrast between the "
-               "grains and the continuum";
-        throw dem::InstabilityError(msg.str());
-      }
-    const auto u = fem_->interface_displacements();
-    const auto v = fem_->interface_velocities();
-    for (std::size_t k = 0; k < n; ++k)
-      {
-        // Positions re-synchronized (round-off only), then the vertices move
-        // with v_{n+k/2} over the next k DEM steps.
-        dem.walls.vertex[ring_vertex[k]]          = X0[k] + Vec<2>(u[k][0], u[k][1]);
-        dem.walls.vertex_velocity[ring_vertex[k]] = Vec<2>(v[k][0], v[k][1]);
-        accum[k].setZero();
-      }
-    accum_contacts.setZero();
-    accum_abs = 0;
-    n_accum   = 0;
-  }
-
-  void WallFacetModel::step()
-  {
-    if (n_steps % kp.subcycles == 0)
-      fem_step();
-    dem.step();
-    ++n_steps;
     for (std::size_t k = 0; k < X0.size(); ++k)
-      {
-        accum[k] += dem.walls.vertex_force[ring_vertex[k]];
-        accum_abs += dem.walls.vertex_force[ring_vertex[k]].norm();
-      }
+      nodal[k] += dem.walls.vertex_force[ring_vertex[k]];
     // DEM side of the balance, independent of the vertex distribution: the
     // forces on the wall ends of the ring contacts.
+    Vec<2> sum = Vec<2>::Zero();
     for (int g = 0; g < dem.n_groups(); ++g)
       {
         const auto &grp = dem.group(g);
         for (std::size_t k = 0; k < grp.size(); ++k)
           if (grp.is_wall[k] && dem.walls.facet_wall[grp.end2[k]] == wall_id)
-            accum_contacts += grp.force[k];
+            sum += grp.force[k];
       }
-    ++n_accum;
+    return sum;
   }
 
-  std::string encode_doubles(const std::vector<double> &v)
+  void WallFacetModel::move_interface(const std::vector<Vec<2>> &u,
+                                      const std::vector<Vec<2>> &v)
   {
-    static const char *hex = "0123456789abcdef";
-    std::string        s;
-    s.reserve(16 * v.size());
-    for (double x : v)
+    for (std::size_t k = 0; k < X0.size(); ++k)
       {
-        std::uint64_t b;
-        std::memcpy(&b, &x, sizeof b);
-        for (int k = 15; k >= 0; --k)
-          s += hex[(b >> (4 * k)) & 0xf];
+        // Positions re-synchronized (round-off only), then the vertices move
+        // with v over the next window.
+        dem.walls.vertex[ring_vertex[k]]          = X0[k] + u[k];
+        dem.walls.vertex_velocity[ring_vertex[k]] = v[k];
       }
-    return s;
-  }
-
-  std::vector<double> decode_doubles(const std::string &s, const std::string &what)
-  {
-    if (s.size() % 16 != 0)
-      throw dem::InputError("checkpoint: damaged entry '" + what + "'");
-    std::vector<double> v(s.size() / 16);
-    for (std::size_t i = 0; i < v.size(); ++i)
-      {
-        std::uint64_t b = 0;
-        for (int k = 0; k < 16; ++k)
-          {
-            const char c = s[16 * i + k];
-            const int  d = (c >= '0' && c <= '9')   ? c - '0'
-                           : (c >= 'a' && c <= 'f') ? c - 'a' + 10
-                                                    : -1;
-            if (d < 0)
-              throw dem::InputError("checkpoint: damaged entry '" + what + "'");
-            b = (b << 4) | std::uint64_t(d);
-          }
-        std::memcpy(&v[i], &b, sizeof b);
-      }
-    return v;
-  }
-
-  std::map<std::string, std::string> WallFacetModel::save_state() const
-  {
-    std::vector<double> a;
-    for (const auto &x : accum)
-      a.insert(a.end(), {x[0], x[1]});
-    const std::vector<double> scalars = {
-        accum_contacts[0],  accum_contacts[1], accum_abs,      double(n_accum),
-        load_factor,        imb_max,           imb_last,       last_fem_ke,
-        double(fem_growth), double(n_steps),   applied_factor, far_moving ? 1.0 : 0.0};
-    return {{"coupling.accum", encode_doubles(a)},
-            {"coupling.scalars", encode_doubles(scalars)},
-            {"coupling.continuum", encode_doubles(fem_->save_state())}};
-  }
-
-  void WallFacetModel::load_state(const std::map<std::string, std::string> &meta)
-  {
-    auto get = [&](const std::string &k) {
-      const auto it = meta.find(k);
-      if (it == meta.end())
-        throw dem::InputError("checkpoint: no entry '" + k +
-                              "' (not written by demfem tunnel?)");
-      return decode_doubles(it->second, k);
-    };
-    const auto a = get("coupling.accum"), s = get("coupling.scalars");
-    if (a.size() != 2 * accum.size() || s.size() != 12)
-      throw dem::InputError(
-          "checkpoint: the coupling interface differs (" + std::to_string(a.size() / 2) +
-          " ring vertices in the file, " + std::to_string(accum.size()) + " here)");
-    fem_->load_state(get("coupling.continuum"));
-    for (std::size_t k = 0; k < accum.size(); ++k)
-      accum[k] = Vec<2>(a[2 * k], a[2 * k + 1]);
-    accum_contacts = Vec<2>(s[0], s[1]);
-    accum_abs      = s[2];
-    n_accum        = static_cast<unsigned int>(s[3]);
-    load_factor    = s[4];
-    imb_max        = s[5];
-    imb_last       = s[6];
-    last_fem_ke    = s[7];
-    fem_growth     = static_cast<int>(s[8]);
-    n_steps        = static_cast<std::int64_t>(s[9]);
-    applied_factor = s[10];
-    far_moving     = s[11] != 0;
-  }
-
-  double WallFacetModel::continuum_kinetic_energy() const
-  {
-    return fem_->kinetic_energy();
-  }
-
-  std::size_t WallFacetModel::n_fem_dofs() const
-  {
-    return fem_->get_dof_handler().n_dofs();
   }
 } // namespace demfem::coupling

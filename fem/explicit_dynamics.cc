@@ -11,6 +11,8 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <stdexcept>
+#include <string>
 
 namespace demfem::fem
 {
@@ -150,6 +152,54 @@ namespace demfem::fem
                   iface_dofs.push_back(d);
                 }
     current_time = 0;
+  }
+
+  template <int dim>
+  void ExplicitDynamics<dim>::set_coupling_vertices(const std::vector<Point<dim>> &points)
+  {
+    AssertThrow(settings.degree == 1,
+                ExcMessage("set_coupling_vertices: degree 1 elements only"));
+    // Vertex -> (point, dofs) of the locally owned vertices, then a lookup
+    // per requested point (closest vertex; exact up to round-off).
+    std::map<unsigned int,
+             std::pair<Point<dim>, std::array<types::global_dof_index, dim>>>
+           vertices;
+    double hmin = HUGE_VAL;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        {
+          hmin = std::min(hmin, cell->minimum_vertex_distance());
+          for (const unsigned int v : cell->vertex_indices())
+            if (owned.is_element(cell->vertex_dof_index(v, 0)))
+              {
+                std::array<types::global_dof_index, dim> d;
+                for (unsigned int c = 0; c < dim; ++c)
+                  d[c] = cell->vertex_dof_index(v, c);
+                vertices.emplace(cell->vertex_index(v),
+                                 std::make_pair(cell->vertex(v), d));
+              }
+        }
+    iface_points.clear();
+    iface_dofs.clear();
+    for (const auto &p : points)
+      {
+        double best = HUGE_VAL;
+        const std::pair<Point<dim>, std::array<types::global_dof_index, dim>> *hit =
+            nullptr;
+        for (const auto &[index, entry] : vertices)
+          if (const double d = entry.first.distance(p); d < best)
+            {
+              best = d;
+              hit  = &entry;
+            }
+        if (hit == nullptr || best > 1e-9 * hmin)
+          throw std::runtime_error("set_coupling_vertices: no mesh vertex at the given "
+                                   "point (closest at distance " +
+                                   std::to_string(best) + " m)");
+        iface_points.push_back(hit->first);
+        iface_dofs.push_back(hit->second);
+      }
+    f_ext = 0;
   }
 
   template <int dim>

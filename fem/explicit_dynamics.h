@@ -1,8 +1,10 @@
 // Explicit-dynamic elastic continuum for the DEM coupling (DESIGN.md sections
 // 4 and 5): lumped (row-sum) mass with optional density scaling,
 // mass-proportional damping, central-difference (leapfrog) stepping, external
-// nodal forces on the interface boundary (id 2), and queries of the
-// interface vertices' displacement and velocity.
+// nodal forces on a set of coupling vertices (by default the vertices of the
+// interface boundary, id 2; set_coupling_vertices() takes any mesh vertices,
+// e.g. the nodes of the cells a slaved DEM layer overlaps), and queries of
+// the coupling vertices' displacement and velocity.
 //
 // Scheme (velocities at half steps, damping centred in time):
 //   v_{n+1/2} = [(1 - a dt/2) v_{n-1/2} + dt M^-1 (f_n - K u_n)] / (1 + a dt/2)
@@ -56,13 +58,21 @@ namespace demfem::fem
     /** Safe time step limit of the undamped central-difference scheme. */
     double critical_time_step() const;
 
-    /** Vertices on boundary id 2 whose dofs this rank owns (fixed order). */
+    /** Coupling vertices whose dofs this rank owns (fixed order): after
+     *  setup() the vertices on boundary id 2, or those given to
+     *  set_coupling_vertices(). */
     const std::vector<dealii::Point<dim>> &interface_vertices() const
     {
       return iface_points;
     }
 
-    /** Nodal forces [N] on the interface vertices, same order; held until
+    /** Replaces the coupling vertices by the mesh vertices at `points` (same
+     *  order; each must coincide with a mesh vertex within 1e-9 of the cell
+     *  size, else std::runtime_error). Clears the held nodal forces. Degree 1
+     *  only (vertex dofs are the nodes). */
+    void set_coupling_vertices(const std::vector<dealii::Point<dim>> &points);
+
+    /** Nodal forces [N] on the coupling vertices, same order; held until
      *  replaced. */
     void set_interface_forces(const std::vector<dealii::Tensor<1, dim>> &forces);
 
@@ -80,7 +90,7 @@ namespace demfem::fem
     void set_fixed_velocity(
         const std::function<dealii::Tensor<1, dim>(const dealii::Point<dim> &)> &v);
 
-    /** Sum over the interface vertices of the nodal forces currently held
+    /** Sum over the coupling vertices of the nodal forces currently held
      *  in the external force vector (all ranks): what the continuum is
      *  actually loaded with, for the coupling's force-balance check. */
     dealii::Tensor<1, dim> interface_force_sum() const;

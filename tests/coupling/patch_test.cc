@@ -8,7 +8,7 @@
 // the ring strain); run 2 uses it and checks the region stress.
 #include <catch2/catch.hpp>
 
-#include "coupling/wall_facet_model.h"
+#include "coupling/coupled_model.h"
 #include "helpers.h"
 
 #include <cmath>
@@ -26,7 +26,7 @@ namespace
     double          jump = 0; // largest sector jump of the radial strain
   };
 
-  Measured run(double E, double nu, double p)
+  Measured run(const std::string &variant, double E, double nu, double p)
   {
     RegionParams r;
     r.radius    = 1.0;
@@ -39,7 +39,10 @@ namespace
     c.young_modulus = E;
     c.poisson_ratio = nu;
     c.outer_radius  = 10;
-    WallFacetModel m(r, c, CouplingParams{}, MPI_COMM_WORLD);
+    CouplingParams cp;
+    cp.variant = variant;
+    auto  mp   = make_coupled_model(r, c, cp, MPI_COMM_WORLD);
+    auto &m    = *mp;
     m.build();
     m.set_insitu(-p * Eigen::Matrix2d::Identity());
     for (int n = 0; n < 8000; ++n)
@@ -49,24 +52,29 @@ namespace
       }
     Measured out;
     out.centre = region_stress(m.dem, dem::Vec<2>::Zero(), 0.6);
-    // Annulus 0.6 < r < 0.85 = disk(0.85) - disk(0.6), area-weighted.
-    const Eigen::Matrix2d s85 = region_stress(m.dem, dem::Vec<2>::Zero(), 0.85);
-    out.rim         = (s85 * 0.85 * 0.85 - out.centre * 0.36) / (0.85 * 0.85 - 0.36);
-    const auto  u   = m.continuum().interface_displacements();
-    const auto &pts = m.continuum().interface_vertices();
-    double      s   = 0;
+    // Annulus 0.6 < r < ro = disk(ro) - disk(0.6), area-weighted; ro =
+    // 0.85 for the wall facets, 0.1 m inside the free grains' boundary for
+    // the slaved layer (0.7).
+    const double          ro  = std::min(0.85, m.continuum_inner_radius() - 0.1);
+    const Eigen::Matrix2d sro = region_stress(m.dem, dem::Vec<2>::Zero(), ro);
+    out.rim                   = (sro * ro * ro - out.centre * 0.36) / (ro * ro - 0.36);
+    const auto  u             = m.coupling_displacements();
+    const auto &pts           = m.coupling_points();
+    double      s             = 0;
     for (std::size_t k = 0; k < u.size(); ++k)
-      s += (u[k] * pts[k]) / pts[k].norm_square();
+      s += u[k].dot(dem::Vec<2>(pts[k][0], pts[k][1])) / pts[k].norm_square();
     out.eps = s / u.size();
     // Displacement continuity across the interface: radial strain u.x/|x|^2
-    // of the grains in the outer layer (centres within 1.5 mean diameters of
-    // the ring), averaged per 45-degree sector, vs the ring's.
+    // of the outer layer of free grains (centres within 1.5 mean diameters
+    // of the interface: the ring, or the slaved layer's inner edge),
+    // averaged per 45-degree sector, vs the coupling nodes'.
     {
       const auto  &P      = m.dem.particles;
       const double d      = m.region_params().mean_diameter();
+      const double r_in   = m.continuum_inner_radius();
       double       sum[8] = {0}, cnt[8] = {0};
       for (std::size_t i = 0; i < P.size(); ++i)
-        if (P.x0[i].norm() > 1.0 - 1.5 * d)
+        if (P.x0[i].norm() > r_in - 1.5 * d && P.x0[i].norm() < r_in)
           {
             const int k = std::min(
                 7, int((std::atan2(P.x0[i][1], P.x0[i][0]) + M_PI) / (M_PI / 4)));
@@ -89,13 +97,16 @@ namespace
   }
 } // namespace
 
-TEST_CASE("wall facets: embedded elastic patch test, hydrostatic far field", "[coupling]")
+TEST_CASE("coupling: embedded elastic patch test, hydrostatic far field",
+          "[coupling][patch]")
 {
   test::ensure_mpi_coupling();
+  const std::string variant = GENERATE(as<std::string>{}, "wall-facets", "slaved-layer");
+  INFO("Coupling/variant = " << variant);
   const double p  = 10e6;
   const double nu = 0.25;
   // Run 1: a guess of the continuum's constants.
-  const Measured m1 = run(20e9, nu, p);
+  const Measured m1 = run(variant, 20e9, nu, p);
   const double   lg =
       0.5 * m1.centre.trace() / 2 / m1.eps; // lambda + G = sigma_m / (2 eps)
   const double E2 = lg * 2 * (1 + nu) * (1 - 2 * nu);
@@ -103,7 +114,7 @@ TEST_CASE("wall facets: embedded elastic patch test, hydrostatic far field", "[c
                                << m1.centre(0, 1) << "; ring strain " << m1.eps
                                << "; lambda+G of the region " << lg << " -> E " << E2);
   REQUIRE(lg > 0);
-  const Measured m2 = run(E2, nu, p);
+  const Measured m2 = run(variant, E2, nu, p);
   const double   sm = 0.5 * m2.centre.trace();
   const double   dev =
       std::hypot(0.5 * (m2.centre(0, 0) - m2.centre(1, 1)), m2.centre(0, 1));

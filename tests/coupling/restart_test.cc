@@ -67,8 +67,18 @@ TEST_CASE("tunnel restart: stopped and continued run equals the uninterrupted on
           "[coupling][restart]")
 {
   test::ensure_mpi_coupling();
+  // Both coupling variants (their coupling state differs).
+  const std::string variant = GENERATE(as<std::string>{}, "slaved-layer", "wall-facets");
+  INFO("Coupling/variant = " << variant);
+  auto small = [&](const std::string &dir) {
+    auto p             = ::small(dir);
+    p.coupling.variant = variant;
+    p.prm_text += "set variant = " + variant + "\n";
+    return p;
+  };
   const auto        tmp = std::filesystem::temp_directory_path();
-  const std::string da = tmp / "demfem_restart_a", db = tmp / "demfem_restart_b";
+  const std::string da  = tmp / ("demfem_restart_a_" + variant),
+                    db  = tmp / ("demfem_restart_b_" + variant);
   std::filesystem::remove_all(da);
   std::filesystem::remove_all(db);
   std::ostringstream log;
@@ -116,6 +126,9 @@ TEST_CASE("tunnel restart: stopped and continued run equals the uninterrupted on
   CHECK_THAT(sa, Catch::Contains(std::string("\"region_too_small\": ") +
                                  (near ? "true" : "false")));
   CHECK((log.str().find("DEM region is too small") != std::string::npos) == near);
+  // summary.json reports the real coupling.
+  CHECK_THAT(sa, Catch::Contains("\"variant\": \"" + variant + "\""));
+  CHECK_THAT(sa, Catch::Contains("\"scheme\": \"explicit\""));
 }
 
 TEST_CASE("tunnel restart: a checkpoint of other parameters is refused",

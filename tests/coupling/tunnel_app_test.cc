@@ -91,7 +91,8 @@ TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing",
       {"--set \"DEM region/material file=/no/such.json\"", "DEM region/material file"},
       {"--set \"Problem/dimension=3\"", "Problem/dimension"},
       {"--set \"Continuum/poisson ratio=0.7\"", "poisson ratio"},
-      {"--set \"Coupling/variant=slaved-layer\"", "Coupling/variant"},
+      {"--set \"Coupling/variant=glued\"", "Coupling/variant"},
+      {"--set \"Coupling/overlap grains=0.1\"", "Coupling/overlap grains"},
   };
   for (const auto &c : cases)
     {

@@ -1,0 +1,350 @@
+#include "coupling/coupled_model.h"
+
+#include <deal.II/base/utilities.h>
+#include <deal.II/grid/tria.h>
+
+#include "coupling/slaved_layer_model.h"
+#include "coupling/wall_facet_model.h"
+#include "fem/mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+namespace demfem::coupling
+{
+  using dem::Vec;
+
+  void CouplingParams::validate(const std::string &w) const
+  {
+    if (variant != "slaved-layer" && variant != "wall-facets")
+      throw dem::InputError(w + ": Coupling/variant = '" + variant +
+                            "' is unknown (allowed: slaved-layer, wall-facets)");
+    if (scheme != "explicit" && scheme != "quasi-static")
+      throw dem::InputError(w + ": Coupling/scheme = '" + scheme +
+                            "' is unknown (allowed: explicit, quasi-static)");
+    dem::check_range(w, "Coupling/subcycles", subcycles, 1, 1000);
+    dem::check_range(w, "Coupling/timestep safety", safety, 0, 100, true);
+    dem::check_range(w, "Coupling/relaxation", relaxation, 0, 2, true, true);
+    dem::check_range(w, "Coupling/overlap grains", overlap_grains, 0.5, 10);
+  }
+
+  CoupledModel::CoupledModel(const RegionParams &region, const ContinuumParams &continuum,
+                             const CouplingParams &coupling, MPI_Comm comm)
+      : rp(region)
+      , cp(continuum)
+      , kp(coupling)
+      , tria(comm)
+  {
+    rp.validate("DEM region");
+    kp.validate("Coupling");
+    const double inf = HUGE_VAL;
+    dem::check_range("Continuum", "young modulus", cp.young_modulus, 0, inf, true);
+    dem::check_range("Continuum", "poisson ratio", cp.poisson_ratio, -1, 0.5, true, true);
+    dem::check_range("Continuum", "outer radius", cp.outer_radius, 2 * rp.radius, inf,
+                     true);
+    if (dealii::Utilities::MPI::n_mpi_processes(comm) != 1)
+      throw dem::InputError(
+          "the coupled model runs on one MPI rank (run without mpirun)");
+  }
+
+  CoupledModel::~CoupledModel() = default;
+
+  double CoupledModel::continuum_inner_radius() const { return inner_radius(); }
+
+  void CoupledModel::build(std::ostream *progress)
+  {
+    // Continuum annulus r_in <= r <= R; its inner circle gets id 2.
+    fem::GeneratedMeshSettings ms;
+    ms.radius       = inner_radius();
+    ms.outer_radius = cp.outer_radius;
+    unsigned int n  = cp.cells_around;
+    if (n == 0) // cells about two mean grain diameters wide, multiple of 8
+      n = std::max(32u, 8 * static_cast<unsigned int>(std::ceil(
+                                2 * M_PI * ms.radius / (2 * rp.mean_diameter()) / 8)));
+    ms.cells_around = n;
+    fem::generate_tunnel_mesh(tria, ms);
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary() && face->boundary_id() == fem::boundary_id::tunnel_wall)
+          face->set_boundary_id(fem::boundary_id::interface);
+
+    fem::ExplicitSettings es;
+    es.young_modulus = cp.young_modulus;
+    es.poisson_ratio = cp.poisson_ratio;
+    es.density       = cp.density;
+    es.mass_scaling  = cp.mass_scaling;
+    es.degree        = 1; // vertices = nodes (straight chords, bilinear shapes)
+    if (cp.damping >= 0)
+      es.damping = cp.damping;
+    else
+      {
+        // Critical damping of the slowest mode, estimated as a quarter shear
+        // wave over the annulus: omega_1 ~ (pi/2) c_s / (R - r_in).
+        const double G  = cp.young_modulus / (2 * (1 + cp.poisson_ratio));
+        const double cs = std::sqrt(G / (cp.density * cp.mass_scaling));
+        es.damping      = 2 * 0.5 * M_PI * cs / (cp.outer_radius - ms.radius);
+      }
+    es.fixed = {{fem::boundary_id::far_field, {true, true, true}}};
+    fem_     = std::make_unique<fem::ExplicitDynamics<2>>(tria, es);
+    fem_->setup();
+
+    points = build_interface(progress);
+    fem_->set_coupling_vertices(points);
+    accum.assign(points.size(), Vec<2>::Zero());
+    nodal.assign(points.size(), Vec<2>::Zero());
+
+    fem_crit = fem_->critical_time_step();
+    dem_crit = dem.critical_timestep();
+    // The quasi-static continuum has no inertia: only the DEM limits dt.
+    const double fem_limit =
+        kp.scheme == "quasi-static" ? HUGE_VAL : fem_crit / kp.subcycles;
+    dt_ = kp.safety * std::min(dem_crit, fem_limit);
+    // A safety above 1 is allowed so that divergence can be shown to be
+    // caught; the DEM's own refusal of a supercritical step would hide it.
+    dem.check_timestep = kp.safety <= 1;
+    dem.set_timestep(dt_);
+    dem.reset_energy_baseline();
+    if (progress)
+      *progress << "coupling (" << variant() << ", " << kp.scheme << "): " << n
+                << " cells around r = " << ms.radius << " m, " << points.size()
+                << " coupling nodes, " << n_fem_dofs() << " continuum dofs, dt = " << dt_
+                << " s (DEM critical " << dem_crit << " s, continuum critical "
+                << fem_crit << " s, continuum damping " << es.damping << " 1/s)\n";
+  }
+
+  void CoupledModel::set_insitu(const Eigen::Matrix2d &s0)
+  {
+    // Plane-strain in-situ strain of the continuum: eps = ((1 + nu)/E)
+    // (sigma - nu tr(sigma) I) in plane.
+    sigma0         = s0;
+    const double E = cp.young_modulus, nu = cp.poisson_ratio;
+    eps0 = (1 + nu) / E * (s0 - nu * s0.trace() * Eigen::Matrix2d::Identity());
+  }
+
+  void CoupledModel::continuum_step()
+  {
+    const std::size_t                 n = points.size();
+    std::vector<dealii::Tensor<1, 2>> f(n);
+    const double                      inv = n_accum > 0 ? 1.0 / n_accum : 0.0;
+    for (std::size_t k = 0; k < n; ++k)
+      {
+        f[k][0] = inv * accum[k][0];
+        f[k][1] = inv * accum[k][1];
+      }
+    fem_->set_interface_forces(f);
+    // Force balance: what the continuum holds must equal the mean of the
+    // DEM-side interface force (contact sums).
+    const auto   held    = fem_->interface_force_sum();
+    const Vec<2> dem_sum = inv * accum_contacts;
+    const double diff    = std::hypot(held[0] - dem_sum[0], held[1] - dem_sum[1]);
+    imb_last             = accum_abs > 0 ? diff / (inv * accum_abs) : 0.0;
+    imb_max              = std::max(imb_max, imb_last);
+    explicit_step(f);
+    for (auto &a : accum)
+      a.setZero();
+    accum_contacts.setZero();
+    accum_abs = 0;
+    n_accum   = 0;
+  }
+
+  void CoupledModel::explicit_step(const std::vector<dealii::Tensor<1, 2>> &)
+  {
+    // Far-field displacement ramp u = lambda eps0 x: the fixed dofs move with
+    // the load-factor increment over this continuum step.
+    const double dl = load_factor - applied_factor;
+    if (dl != 0 || far_moving)
+      {
+        const double          rate = dl / (kp.subcycles * dt_);
+        const Eigen::Matrix2d e    = rate * eps0;
+        fem_->set_fixed_velocity([e](const dealii::Point<2> &x) {
+          dealii::Tensor<1, 2> v;
+          v[0] = e(0, 0) * x[0] + e(0, 1) * x[1];
+          v[1] = e(1, 0) * x[0] + e(1, 1) * x[1];
+          return v;
+        });
+        far_moving     = dl != 0;
+        applied_factor = load_factor;
+      }
+    fem_->step(kp.subcycles * dt_);
+
+    // Divergence of the continuum: non-finite or exponentially growing
+    // kinetic energy (same criterion as the DEM engine).
+    const double ke = fem_->kinetic_energy();
+    fem_growth      = (ke > 1.5 * last_fem_ke && ke > 0) ? fem_growth + 1 : 0;
+    last_fem_ke     = ke;
+    if (!std::isfinite(ke) || fem_growth >= 15)
+      {
+        std::ostringstream msg;
+        msg << "the continuum diverged at step " << n_steps << " (kinetic energy " << ke
+            << " J, growing for " << fem_growth << " steps): continuum step "
+            << kp.subcycles * dt_ << " s vs its critical step " << fem_crit
+            << " s; likely cause: Coupling/timestep safety (" << kp.safety
+            << ") or Coupling/subcycles too large, or a stiffness contrast between the "
+               "grains and the continuum";
+        throw dem::InstabilityError(msg.str());
+      }
+    const auto          u = fem_->interface_displacements();
+    const auto          v = fem_->interface_velocities();
+    std::vector<Vec<2>> uu(u.size()), vv(v.size());
+    for (std::size_t k = 0; k < u.size(); ++k)
+      {
+        uu[k] = Vec<2>(u[k][0], u[k][1]);
+        vv[k] = Vec<2>(v[k][0], v[k][1]);
+      }
+    move_interface(uu, vv);
+  }
+
+  void CoupledModel::step()
+  {
+    if (n_steps % kp.subcycles == 0)
+      continuum_step();
+    dem.step();
+    ++n_steps;
+    for (auto &x : nodal)
+      x.setZero();
+    last_force = gather_forces(nodal);
+    for (std::size_t k = 0; k < nodal.size(); ++k)
+      {
+        accum[k] += nodal[k];
+        accum_abs += nodal[k].norm();
+      }
+    accum_contacts += last_force;
+    ++n_accum;
+  }
+
+  std::string encode_doubles(const std::vector<double> &v)
+  {
+    static const char *hex = "0123456789abcdef";
+    std::string        s;
+    s.reserve(16 * v.size());
+    for (double x : v)
+      {
+        std::uint64_t b;
+        std::memcpy(&b, &x, sizeof b);
+        for (int k = 15; k >= 0; --k)
+          s += hex[(b >> (4 * k)) & 0xf];
+      }
+    return s;
+  }
+
+  std::vector<double> decode_doubles(const std::string &s, const std::string &what)
+  {
+    if (s.size() % 16 != 0)
+      throw dem::InputError("checkpoint: damaged entry '" + what + "'");
+    std::vector<double> v(s.size() / 16);
+    for (std::size_t i = 0; i < v.size(); ++i)
+      {
+        std::uint64_t b = 0;
+        for (int k = 0; k < 16; ++k)
+          {
+            const char c = s[16 * i + k];
+            const int  d = (c >= '0' && c <= '9')   ? c - '0'
+                           : (c >= 'a' && c <= 'f') ? c - 'a' + 10
+                                                    : -1;
+            if (d < 0)
+              throw dem::InputError("checkpoint: damaged entry '" + what + "'");
+            b = (b << 4) | std::uint64_t(d);
+          }
+        std::memcpy(&v[i], &b, sizeof b);
+      }
+    return v;
+  }
+
+  std::map<std::string, std::string> CoupledModel::save_state() const
+  {
+    std::vector<double> a;
+    for (const auto &x : accum)
+      a.insert(a.end(), {x[0], x[1]});
+    const std::vector<double> scalars = {
+        accum_contacts[0],  accum_contacts[1], accum_abs,      double(n_accum),
+        load_factor,        imb_max,           imb_last,       last_fem_ke,
+        double(fem_growth), double(n_steps),   applied_factor, far_moving ? 1.0 : 0.0,
+        last_force[0],      last_force[1]};
+    return {{"coupling.variant", variant() + " " + kp.scheme},
+            {"coupling.accum", encode_doubles(a)},
+            {"coupling.scalars", encode_doubles(scalars)},
+            {"coupling.continuum", encode_doubles(fem_->save_state())}};
+  }
+
+  void CoupledModel::load_state(const std::map<std::string, std::string> &meta)
+  {
+    auto raw = [&](const std::string &k) {
+      const auto it = meta.find(k);
+      if (it == meta.end())
+        throw dem::InputError("checkpoint: no entry '" + k +
+                              "' (not written by demfem tunnel?)");
+      return it->second;
+    };
+    auto get = [&](const std::string &k) { return decode_doubles(raw(k), k); };
+    if (raw("coupling.variant") != variant() + " " + kp.scheme)
+      throw dem::InputError("checkpoint: written by the '" + raw("coupling.variant") +
+                            "' coupling, this run uses '" + variant() + " " + kp.scheme +
+                            "'");
+    const auto a = get("coupling.accum"), s = get("coupling.scalars");
+    if (a.size() != 2 * accum.size() || s.size() != 14)
+      throw dem::InputError(
+          "checkpoint: the coupling interface differs (" + std::to_string(a.size() / 2) +
+          " coupling nodes in the file, " + std::to_string(accum.size()) + " here)");
+    fem_->load_state(get("coupling.continuum"));
+    for (std::size_t k = 0; k < accum.size(); ++k)
+      accum[k] = Vec<2>(a[2 * k], a[2 * k + 1]);
+    accum_contacts = Vec<2>(s[0], s[1]);
+    accum_abs      = s[2];
+    n_accum        = static_cast<unsigned int>(s[3]);
+    load_factor    = s[4];
+    imb_max        = s[5];
+    imb_last       = s[6];
+    last_fem_ke    = s[7];
+    fem_growth     = static_cast<int>(s[8]);
+    n_steps        = static_cast<std::int64_t>(s[9]);
+    applied_factor = s[10];
+    far_moving     = s[11] != 0;
+    last_force     = Vec<2>(s[12], s[13]);
+  }
+
+  double CoupledModel::continuum_kinetic_energy() const { return fem_->kinetic_energy(); }
+
+  double CoupledModel::interface_residual() const { return 0; }
+
+  std::size_t CoupledModel::n_fem_dofs() const
+  {
+    return fem_->get_dof_handler().n_dofs();
+  }
+
+  const std::vector<dealii::Point<2>> &CoupledModel::coupling_points() const
+  {
+    return points;
+  }
+
+  std::vector<Vec<2>> CoupledModel::coupling_displacements() const
+  {
+    const auto          u = fem_->interface_displacements();
+    std::vector<Vec<2>> r(u.size());
+    for (std::size_t k = 0; k < u.size(); ++k)
+      r[k] = Vec<2>(u[k][0], u[k][1]);
+    return r;
+  }
+
+  dealii::Vector<double> CoupledModel::displacement_field() const
+  {
+    return dealii::Vector<double>(fem_->displacement());
+  }
+
+  const dealii::DoFHandler<2> &CoupledModel::dof_handler() const
+  {
+    return fem_->get_dof_handler();
+  }
+
+  std::unique_ptr<CoupledModel> make_coupled_model(const RegionParams    &region,
+                                                   const ContinuumParams &continuum,
+                                                   const CouplingParams  &coupling,
+                                                   MPI_Comm               comm)
+  {
+    coupling.validate("Coupling");
+    if (coupling.variant == "wall-facets")
+      return std::make_unique<WallFacetModel>(region, continuum, coupling, comm);
+    return std::make_unique<SlavedLayerModel>(region, continuum, coupling, comm);
+  }
+} // namespace demfem::coupling

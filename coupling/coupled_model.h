@@ -1,0 +1,205 @@
+#pragma once
+// The coupled model of the embedded DEM region and the continuum (DESIGN §5),
+// 2D: what the two kinematic variants share. The tunnel workflow
+// (tunnel_run.cc) works on this interface only.
+//
+// The continuum (fem::ExplicitDynamics, Q1, far field fixed) is an annulus
+// r_in <= r <= R; a variant decides r_in, builds the DEM side and names the
+// coupling nodes (continuum vertices): the ring vertices of the wall-facet
+// variant (wall_facet_model.h) or the nodes of the cells overlapped by the
+// slaved layer (slaved_layer_model.h). After every DEM step the variant adds
+// the force the grains exert on each coupling node (consistent nodal forces,
+// summing exactly to the DEM forces on the interface); after every continuum
+// step it moves its interface with the nodal displacements and velocities.
+//
+// Staggered explicit-explicit scheme with k = subcycles: every k DEM steps
+// the continuum advances by k dt under the mean coupling-node force of the
+// previous k DEM steps; the interface then moves with the new nodal
+// velocities v_{n+k/2} for the next k DEM steps, which is exactly the linear
+// interpolation of the nodal motion u_n -> u_{n+k} (positions are
+// re-synchronized at every continuum step; the work the DEM books at the
+// interface is the work the continuum receives). Common time step
+// dt = safety min(DEM critical, continuum critical / k).
+//
+// Force balance, every continuum step: the nodal forces the continuum holds
+// sum to the mean of the DEM-side interface force (contact sums computed
+// independently of the nodal distribution); the relative difference is
+// recorded as interface_force_imbalance.
+//
+// In-situ stress. The continuum starts unstressed; its far-field boundary
+// (fixed, r = R) is moved to u = lambda eps0 x, eps0 the plane-strain strain
+// of sigma0 in the continuum, with the load factor lambda ramped from 0 to 1.
+// A region whose constants match the continuum's then carries sigma0 exactly
+// (homogeneous field); the fixed far field differs from a traction far field
+// by O((a/R)^2) for the excavation.
+//
+// Quasi-static scheme (Coupling/scheme = quasi-static): see
+// quasi_static_scheme.h; the continuum then has no inertia and the coupling
+// nodes follow the relaxed static response of the continuum.
+#include <deal.II/distributed/tria.h>
+
+#include "coupling/dem_region.h"
+#include "fem/explicit_dynamics.h"
+
+#include <map>
+#include <memory>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace demfem::coupling
+{
+  struct ContinuumParams
+  {
+    double       young_modulus = 60e9; ///< plane-strain E [Pa]
+    double       poisson_ratio = 0.25;
+    double       density       = 2650;
+    double       outer_radius  = 30; ///< R [m]
+    unsigned int cells_around  = 0;  ///< 0: cells about 2 mean grain diameters wide
+    double       damping       = -1; ///< mass-proportional a [1/s]; < 0: automatic
+    double       mass_scaling  = 1;
+  };
+
+  struct CouplingParams
+  {
+    /// "slaved-layer" or "wall-facets" (DESIGN §5).
+    std::string variant = "slaved-layer";
+    /// "explicit" (continuum stepped every `subcycles` DEM steps) or
+    /// "quasi-static" (static continuum response, relaxed).
+    std::string  scheme     = "explicit";
+    unsigned int subcycles  = 1;
+    double       safety     = 0.8;
+    double       relaxation = 1.0; ///< quasi-static relaxation factor, (0, 2)
+    /// Slaved layer: width h of the overlap of the continuum and the DEM
+    /// region, in mean grain diameters (Coupling/overlap grains).
+    double overlap_grains = 2.0;
+
+    /// Throws dem::InputError naming the key (prefixed by `where`).
+    void validate(const std::string &where) const;
+  };
+
+  /// Doubles as hex text of their bytes (checkpoint metadata strings):
+  /// bit-exact, so a restarted run continues bit for bit (DESIGN §8).
+  std::string         encode_doubles(const std::vector<double> &v);
+  std::vector<double> decode_doubles(const std::string &s, const std::string &what);
+
+  class CoupledModel
+  {
+  public:
+    CoupledModel(const RegionParams &region, const ContinuumParams &continuum,
+                 const CouplingParams &coupling, MPI_Comm comm);
+    virtual ~CoupledModel();
+
+    /// "slaved-layer" or "wall-facets".
+    virtual std::string variant() const = 0;
+    /// "explicit" or "quasi-static".
+    const std::string &scheme() const { return kp.scheme; }
+
+    /// Mesh, continuum, DEM region (packing and bonding), interface; time
+    /// step.
+    void build(std::ostream *progress = nullptr);
+
+    /// In-situ stress (tension positive) and its load factor (ramp).
+    void   set_insitu(const Eigen::Matrix2d &sigma0);
+    void   set_load_factor(double f) { load_factor = f; }
+    double get_load_factor() const { return load_factor; }
+
+    /// One DEM step (and a continuum update every `subcycles` DEM steps).
+    /// Throws dem::InstabilityError with a diagnosis on divergence.
+    void step();
+
+    double dt() const { return dt_; }
+    double dem_critical() const { return dem_crit; }
+    double fem_critical() const { return fem_crit; }
+    /// Largest relative interface force imbalance |sum DEM - sum FEM| /
+    /// sum |nodal force| seen so far, and the latest one.
+    double imbalance_max() const { return imb_max; }
+    double imbalance_last() const { return imb_last; }
+    /// Kinetic energy of the continuum (0 for the quasi-static scheme).
+    double continuum_kinetic_energy() const;
+    /// Quasi-static scheme: relative interface residual |u* - u| / |u*| of
+    /// the latest window (0 for the explicit scheme).
+    double interface_residual() const;
+    /// Force the grains exert on the continuum at the latest DEM step (sum
+    /// over the interface) [N].
+    dem::Vec<2> interface_force() const { return last_force; }
+
+    /// Checkpoint state besides dem's own (dem::write_checkpoint): the
+    /// continuum vectors and the coupling's accumulators and counters, as
+    /// metadata strings ("coupling.*"). Serial runs only. load_state expects
+    /// a model built from the same parameters (after build and set_insitu).
+    std::map<std::string, std::string> save_state() const;
+    void        load_state(const std::map<std::string, std::string> &meta);
+    std::size_t n_fem_dofs() const;
+
+    /// Coupling nodes (continuum vertices) and their displacements, same
+    /// order.
+    const std::vector<dealii::Point<2>> &coupling_points() const;
+    std::vector<dem::Vec<2>>             coupling_displacements() const;
+
+    /// The continuum's displacement field for output (explicit: the
+    /// dynamic state; quasi-static: a static solve with the current
+    /// interface forces) on dof_handler().
+    dealii::Vector<double>       displacement_field() const;
+    const dealii::DoFHandler<2> &dof_handler() const;
+    double                       continuum_inner_radius() const;
+
+    dem::Model<2>                   dem;
+    RegionGroups                    groups;
+    fem::ExplicitDynamics<2>       &continuum() { return *fem_; }
+    const fem::ExplicitDynamics<2> &continuum() const { return *fem_; }
+    const dealii::parallel::distributed::Triangulation<2> &triangulation() const
+    {
+      return tria;
+    }
+    const RegionParams   &region_params() const { return rp; }
+    const CouplingParams &coupling_params() const { return kp; }
+
+  protected:
+    /// Inner radius of the continuum annulus.
+    virtual double inner_radius() const = 0;
+    /// Builds the DEM side once the continuum is set up (its boundary-id-2
+    /// vertices are those of the inner circle) and returns the coupling
+    /// nodes (mesh vertices) in a fixed order.
+    virtual std::vector<dealii::Point<2>> build_interface(std::ostream *progress) = 0;
+    /// After a DEM step: adds the force the grains exert on each coupling
+    /// node to `nodal` (coupling order), and returns the DEM-side sum of the
+    /// same forces (contact sums, independent of the distribution).
+    virtual dem::Vec<2> gather_forces(std::vector<dem::Vec<2>> &nodal) const = 0;
+    /// The coupling nodes are at displacement u and move with velocity v
+    /// over the next window (coupling order).
+    virtual void move_interface(const std::vector<dem::Vec<2>> &u,
+                                const std::vector<dem::Vec<2>> &v) = 0;
+
+    RegionParams    rp;
+    ContinuumParams cp;
+    CouplingParams  kp;
+
+  private:
+    dealii::parallel::distributed::Triangulation<2> tria;
+    std::unique_ptr<fem::ExplicitDynamics<2>>       fem_;
+    std::vector<dealii::Point<2>>                   points;
+    std::vector<dem::Vec<2>> accum; // summed nodal forces over the window
+    std::vector<dem::Vec<2>> nodal; // nodal forces of one DEM step
+    dem::Vec<2>              accum_contacts = dem::Vec<2>::Zero();
+    dem::Vec<2>              last_force     = dem::Vec<2>::Zero();
+    double                   accum_abs      = 0;
+    unsigned int             n_accum        = 0;
+    double                   load_factor = 0, dt_ = 0, dem_crit = 0, fem_crit = 0;
+    double                   imb_max = 0, imb_last = 0;
+    double                   last_fem_ke = 0;
+    int                      fem_growth  = 0;
+    std::int64_t             n_steps     = 0;
+    Eigen::Matrix2d sigma0 = Eigen::Matrix2d::Zero(), eps0 = Eigen::Matrix2d::Zero();
+    double          applied_factor = 0;
+    bool            far_moving     = false;
+    void            continuum_step();
+    void            explicit_step(const std::vector<dealii::Tensor<1, 2>> &f);
+  };
+
+  /// The model of CouplingParams::variant ("slaved-layer" or "wall-facets").
+  std::unique_ptr<CoupledModel> make_coupled_model(const RegionParams    &region,
+                                                   const ContinuumParams &continuum,
+                                                   const CouplingParams  &coupling,
+                                                   MPI_Comm               comm);
+} // namespace demfem::coupling
