@@ -140,9 +140,15 @@ namespace demfem::apps::study
     prm.leave_subsection();
 
     prm.enter_subsection("Coupling");
-    prm.declare_entry("variant", "wall-facets",
+    prm.declare_entry("variant", "slaved-layer",
                       Patterns::Selection("slaved-layer|wall-facets"),
-                      "wall-facets (implemented); slaved-layer is not implemented yet");
+                      "slaved-layer: the continuum overlaps the region's rim, whose "
+                      "grains follow it; wall-facets: the continuum's inner boundary "
+                      "is a ring of DEM wall facets (DESIGN §5, docs/tunnel.md)");
+    prm.declare_entry("overlap grains", "2",
+                      Patterns::Double(),
+                      "slaved-layer: width of the overlap of the continuum and the DEM "
+                      "region, in mean grain diameters, in [0.5, 10]");
     prm.declare_entry("scheme", "explicit", Patterns::Selection("explicit|quasi-static"),
                       "explicit (implemented); quasi-static is not implemented yet");
     prm.declare_entry("subcycles", "1", Patterns::Integer(1, 1000),
@@ -300,6 +306,7 @@ namespace demfem::apps::study
     s.coupling.variant    = prm.get("variant");
     s.coupling.scheme     = prm.get("scheme");
     s.coupling.relaxation = prm.get_double("relaxation");
+    s.coupling.overlap_grains = prm.get_double("overlap grains");
     s.coupling.subcycles = prm.get_integer("subcycles");
     s.coupling.safety    = prm.get_double("timestep safety");
     s.ratio_tolerance    = prm.get_double("equilibrium ratio");
