@@ -204,6 +204,69 @@ namespace demfem::fem
           fixed_point.push_back(cp.second);
         }
 
+    check_rigid_body_modes();
+    locate_coupling_vertices();
+
+    // One sparsity pattern for K and A (A only drops entries).
+    DynamicSparsityPattern dsp(relevant);
+    DoFTools::make_sparsity_pattern(dof_handler, dsp);
+    SparsityTools::distribute_sparsity_pattern(dsp, owned, comm, relevant);
+    stiffness.reinit(owned, owned, dsp, comm);
+    condensed.reinit(owned, owned, dsp, comm);
+    for (auto *vec : {&u, &rhs, &lift, &work})
+      vec->reinit(owned, comm);
+
+    // Same bilinear form, FE, mapping and quadrature as ExplicitDynamics.
+    const double      E = settings.young_modulus, nu = settings.poisson_ratio;
+    const double      lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+    const double      mu     = E / (2 * (1 + nu));
+    const QGauss<dim> quadrature(fe.degree + 1);
+    FEValues<dim>     fe_values(mapping, fe, quadrature,
+                                update_gradients | update_JxW_values);
+    const FEValuesExtractors::Vector     ex(0);
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    FullMatrix<double>                   cell_k(n, n);
+    std::vector<types::global_dof_index> dofs(n);
+    std::vector<SymmetricTensor<2, dim>> eps(n);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell_k = 0;
+          fe_values.reinit(cell);
+          for (const unsigned int q : fe_values.quadrature_point_indices())
+            {
+              const double w = fe_values.JxW(q);
+              for (unsigned int i = 0; i < n; ++i)
+                eps[i] = fe_values[ex].symmetric_gradient(i, q);
+              for (unsigned int i = 0; i < n; ++i)
+                for (unsigned int j = 0; j < n; ++j)
+                  cell_k(i, j) += (lambda * trace(eps[i]) * trace(eps[j]) +
+                                   2 * mu * (eps[i] * eps[j])) *
+                                  w;
+            }
+          cell->get_dof_indices(dofs);
+          stiffness.add(dofs, cell_k);
+          constraints.distribute_local_to_global(cell_k, dofs, condensed);
+        }
+    stiffness.compress(VectorOperation::add);
+    condensed.compress(VectorOperation::add);
+    fixed_diagonal.resize(fixed_dofs.size());
+    for (std::size_t k = 0; k < fixed_dofs.size(); ++k)
+      fixed_diagonal[k] = condensed.diag_element(fixed_dofs[k]);
+
+    costs.assembly_seconds = seconds_since(start);
+
+    // Factorize once (symbolic and numeric); solves reuse it.
+    const auto factor_start = std::chrono::steady_clock::now();
+    factorization = std::make_unique<Factorization>(condensed, settings.direct_solver);
+    costs.factorization_seconds = seconds_since(factor_start);
+    flexibility_ready           = false;
+    is_set_up                   = true;
+  }
+
+  template <int dim>
+  void StaticInterfaceResponse<dim>::check_rigid_body_modes() const
+  {
     // The constraints must remove every rigid-body motion, else A is
     // singular (KLU reports it, but Amesos_Mumps ends the process on a
     // singular matrix). A combination of rigid modes (translations e_c,
@@ -255,54 +318,11 @@ namespace demfem::fem
                              "(translation or rotation); the stiffness matrix would be "
                              "singular"));
     }
+  }
 
-    // One sparsity pattern for K and A (A only drops entries).
-    DynamicSparsityPattern dsp(relevant);
-    DoFTools::make_sparsity_pattern(dof_handler, dsp);
-    SparsityTools::distribute_sparsity_pattern(dsp, owned, comm, relevant);
-    stiffness.reinit(owned, owned, dsp, comm);
-    condensed.reinit(owned, owned, dsp, comm);
-    for (auto *vec : {&u, &rhs, &lift, &work})
-      vec->reinit(owned, comm);
-
-    // Same bilinear form, FE, mapping and quadrature as ExplicitDynamics.
-    const double      E = settings.young_modulus, nu = settings.poisson_ratio;
-    const double      lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
-    const double      mu     = E / (2 * (1 + nu));
-    const QGauss<dim> quadrature(fe.degree + 1);
-    FEValues<dim>     fe_values(mapping, fe, quadrature,
-                                update_gradients | update_JxW_values);
-    const FEValuesExtractors::Vector     ex(0);
-    const unsigned int                   n = fe.n_dofs_per_cell();
-    FullMatrix<double>                   cell_k(n, n);
-    std::vector<types::global_dof_index> dofs(n);
-    std::vector<SymmetricTensor<2, dim>> eps(n);
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          cell_k = 0;
-          fe_values.reinit(cell);
-          for (const unsigned int q : fe_values.quadrature_point_indices())
-            {
-              const double w = fe_values.JxW(q);
-              for (unsigned int i = 0; i < n; ++i)
-                eps[i] = fe_values[ex].symmetric_gradient(i, q);
-              for (unsigned int i = 0; i < n; ++i)
-                for (unsigned int j = 0; j < n; ++j)
-                  cell_k(i, j) += (lambda * trace(eps[i]) * trace(eps[j]) +
-                                   2 * mu * (eps[i] * eps[j])) *
-                                  w;
-            }
-          cell->get_dof_indices(dofs);
-          stiffness.add(dofs, cell_k);
-          constraints.distribute_local_to_global(cell_k, dofs, condensed);
-        }
-    stiffness.compress(VectorOperation::add);
-    condensed.compress(VectorOperation::add);
-    fixed_diagonal.resize(fixed_dofs.size());
-    for (std::size_t k = 0; k < fixed_dofs.size(); ++k)
-      fixed_diagonal[k] = condensed.diag_element(fixed_dofs[k]);
-
+  template <int dim>
+  void StaticInterfaceResponse<dim>::locate_coupling_vertices()
+  {
     // Coupling vertices: owned mesh vertices binned on a grid much coarser
     // than the match tolerance, so that a lookup checks 3^dim bins.
     std::vector<std::pair<Point<dim>, std::array<types::global_dof_index, dim>>> owned_v;
@@ -405,14 +425,6 @@ namespace demfem::fem
     free_mask.clear();
     for (const auto &part : Utilities::MPI::all_gather(comm, local_free))
       free_mask.insert(free_mask.end(), part.begin(), part.end());
-    costs.assembly_seconds = seconds_since(start);
-
-    // Factorize once (symbolic and numeric); solves reuse it.
-    const auto factor_start = std::chrono::steady_clock::now();
-    factorization = std::make_unique<Factorization>(condensed, settings.direct_solver);
-    costs.factorization_seconds = seconds_since(factor_start);
-    flexibility_ready           = false;
-    is_set_up                   = true;
   }
 
   template <int dim>

@@ -187,6 +187,11 @@ namespace demfem::fem
     void solve_into(dealii::TrilinosWrappers::MPI::Vector &x, double lambda,
                     const dealii::Tensor<2, dim>              &eps0,
                     const std::vector<dealii::Tensor<1, dim>> &forces);
+    /** Throws unless the constrained dofs remove every rigid-body motion. */
+    void check_rigid_body_modes() const;
+    /** Dofs and free components of the coupling vertices; global count and
+     *  offset. Errors agreed on by all ranks. */
+    void locate_coupling_vertices();
     void check_finite(const dealii::TrilinosWrappers::MPI::Vector &x,
                       const std::string                           &what) const;
 
