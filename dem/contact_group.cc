@@ -18,51 +18,11 @@ namespace demfem::dem
   }
 
   template <int dim>
-  ContactGeometry<dim> ContactGroupBase<dim>::geometry(std::size_t k, const Particles<dim> &p,
-                                                       const Walls<dim> &w,
-                                                       std::array<double, dim> *weights) const
-  {
-    ContactGeometry<dim> g;
-    const std::uint32_t  i = end1[k], j = end2[k];
-    g.R1                   = p.radius[i];
-    Vec<dim> d;
-    if (is_wall[k])
-      {
-        std::array<double, dim> wgt;
-        d           = w.closest_point(j, p.x[i], wgt) - p.x[i];
-        g.R2        = 0;
-        g.ball_wall = true;
-        if (weights)
-          *weights = wgt;
-      }
-    else
-      {
-        d    = p.x[j] - p.x[i];
-        g.R2 = p.radius[j];
-      }
-    const double dist = d.norm();
-    // Coincident centres have no normal; keep the previous one.
-    g.n   = dist > 0 ? Vec<dim>(d / dist) : n_prev[k];
-    g.gap = dist - g.R1 - g.R2;
-    g.xc  = p.x[i] + (g.R1 + 0.5 * g.gap) * g.n; // memo Eq. 2
-    if constexpr (dim == 3)
-      {
-        g.s = s_axis[k];
-        g.t = g.n.cross(g.s);
-      }
-    else
-      {
-        g.s.setZero();
-        g.t = Vec<2>(-g.n[1], g.n[0]);
-      }
-    return g;
-  }
-
-  template <int dim>
   std::size_t ContactGroupBase<dim>::add(std::uint32_t i, std::uint32_t j, bool wall,
                                          const Particles<dim> &p, const Walls<dim> &w)
   {
     const std::size_t k = size();
+    energy_fresh_       = false;
     end1.push_back(i);
     end2.push_back(j);
     is_wall.push_back(wall);
@@ -93,6 +53,7 @@ namespace demfem::dem
   void ContactGroupBase<dim>::remove(std::size_t k)
   {
     const std::size_t last = size() - 1;
+    energy_fresh_          = false;
     if (k != last)
       {
         end1[k]          = end1[last];

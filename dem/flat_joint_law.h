@@ -150,8 +150,10 @@ namespace demfem::dem
     static bool   code_slip(double c) { return c >= 4; }
     static double make_code(int B, bool slip) { return B + (slip ? 4 : 0); }
 
-    /// 3D unit-radius element geometry {A^, r^_s, r^_t} per element (memo
-    /// Eq. 16-17 with R = 1), built once per (Nr, Nal). The table is shared by
+    /// 3D unit-radius element geometry per (Nr, Nal) (memo Eq. 16-17 with
+    /// R = 1): four arrays over the elements, A^, r^_s, r^_t and 1/A^ (so that
+    /// the element loops vectorise and the strain energy needs no division).
+    /// The table is shared by
     /// all threads (guarded by a mutex, never freed, entries never move); a
     /// thread-local copy of the last lookup keeps the hot path free of locks
     /// and allocation.
@@ -175,19 +177,20 @@ namespace demfem::dem
       auto &t = table[{Nr, Nal}];
       if (!t)
         {
-          t.reset(new double[3 * std::size_t(Nr) * Nal]);
+          const int ne = Nr * Nal;
+          t.reset(new double[4 * std::size_t(ne)]);
           const double dr = 1.0 / Nr, da = 2 * M_PI / Nal;
-          for (int e = 0; e < Nr * Nal; ++e)
+          for (int e = 0; e < ne; ++e)
             {
               const int    I = e / Nal, J = e - I * Nal;
               const double r1 = I * dr, r2 = (I + 1) * dr;
               const double a1 = J * da, a2 = (J + 1) * da;
               const double radial = (r2 * r2 * r2 - r1 * r1 * r1) / (r2 * r2 - r1 * r1);
-              t[3 * e]            = 0.5 * (a2 - a1) * (r2 * r2 - r1 * r1);
-              t[3 * e + 1] =
-                  2.0 / 3.0 * (std::sin(a2) - std::sin(a1)) / (a2 - a1) * radial;
-              t[3 * e + 2] =
+              t[e]                = 0.5 * (a2 - a1) * (r2 * r2 - r1 * r1);
+              t[ne + e] = 2.0 / 3.0 * (std::sin(a2) - std::sin(a1)) / (a2 - a1) * radial;
+              t[2 * ne + e] =
                   2.0 / 3.0 * (std::cos(a1) - std::cos(a2)) / (a2 - a1) * radial;
+              t[3 * ne + e] = 1.0 / t[e];
             }
         }
       return t.get();
@@ -207,9 +210,10 @@ namespace demfem::dem
         }
       else
         {
-          A  = R * R * ug[3 * e];
-          rs = R * ug[3 * e + 1];
-          rt = R * ug[3 * e + 2];
+          const int ne = p.Nr * p.Nal;
+          A            = R * R * ug[e];
+          rs           = R * ug[ne + e];
+          rt           = R * ug[2 * ne + e];
         }
     }
 
@@ -349,6 +353,10 @@ namespace demfem::dem
         for (std::size_t i = 0; i < bytes; i += 64) // one cache line
           __builtin_prefetch(reinterpret_cast<const void *>(next + i), 1);
       }
+
+      if constexpr (dim == 3)
+        if (update_bonded_3d(p, k, st, f))
+          return;
 
       // Per-contact invariants hoisted out of the element loop.
       const double  R   = st[h_R];
@@ -509,6 +517,74 @@ namespace demfem::dem
         }
     }
 
+    /// 3D fast path of `update` (after the header increments) for a contact
+    /// whose elements are all bonded and not slipping, the state of intact
+    /// material: the arithmetic of the general loop for B = 3 (alpha = 1, no
+    /// slip test, Fn from Eq. 32/50, shear from Eq. 33-34) without branches,
+    /// so the element loop vectorises, then the resultant (Eq. 23-24) summed
+    /// in element order: the results are bitwise those of the general loop.
+    /// Returns false, having written nothing, if an element is not bonded or
+    /// would break this step (the general loop then does the contact, with
+    /// its events).
+    static bool update_bonded_3d(const Params &p, const ContactStep<dim> &k, double *st,
+                                 ContactForce &f)
+    {
+      constexpr int max_elements = 64; // stack arrays below
+      const int     ne           = element_count(p);
+      if (ne > max_elements)
+        return false;
+      const double *codes  = field(p, st, f_code);
+      int           n_bond = 0;
+      for (int e = 0; e < ne; ++e)
+        n_bond += codes[e] == 3.0; // make_code(3, false)
+      if (n_bond != ne)
+        return false;
+
+      const double *ug = unit_geometry(p.Nr, p.Nal);
+      const double *uA = ug, *urs = ug + ne, *urt = ug + 2 * ne;
+      double       *fss_a = field(p, st, f_fss), *fst_a = field(p, st, f_fst);
+      const double  R = st[h_R], gs1 = st[h_gs], tbs1 = st[h_tbs], tbt1 = st[h_tbt];
+      const double  d_ss = k.d_ss, d_st = k.d_st, d_tw = k.d_twist;
+      const double  kn = p.kn, ks = p.ks, ten = p.ten, coh = p.coh;
+      const double  tan_phi = tan_deg(p.fa);
+      double        Fn[max_elements], Fss[max_elements], Fst[max_elements];
+      double        rs_a[max_elements], rt_a[max_elements];
+      int           broken = 0;
+#pragma omp simd reduction(| : broken)
+      for (int e = 0; e < ne; ++e)
+        {
+          const double A  = R * R * uA[e];
+          const double rs = R * urs[e], rt = R * urt[e];
+          const double g1 = gs1 + rt * tbs1 - rs * tbt1;
+          const double fn = kn * g1 * A;
+          const double ds = d_ss - d_tw * rt, dtt = d_st + d_tw * rs;
+          const double ksA = ks * A;
+          const double fs = fss_a[e] - ksA * ds, ft = fst_a[e] - ksA * dtt;
+          const double F2 = fs * fs + ft * ft;
+          const double Tc = coh * A - fn * tan_phi;
+          broken |= int(fn > ten * A) | int(Tc < 0) | int(F2 > Tc * Tc);
+          Fn[e] = fn, Fss[e] = fs, Fst[e] = ft, rs_a[e] = rs, rt_a[e] = rt;
+        }
+      if (broken)
+        return false;
+      // Local sums: `f` could alias the state, which would force a store per
+      // element.
+      double sFn = 0, sFss = 0, sFst = 0, sMt = 0, sMbs = 0, sMbt = 0;
+      for (int e = 0; e < ne; ++e)
+        {
+          fss_a[e] = Fss[e];
+          fst_a[e] = Fst[e];
+          sFn += Fn[e];
+          sFss += Fss[e];
+          sFst += Fst[e];
+          sMt += rs_a[e] * Fst[e] - rt_a[e] * Fss[e];
+          sMbs += -Fn[e] * rt_a[e];
+          sMbt += Fn[e] * rs_a[e];
+        }
+      f = ContactForce{sFn, sFss, sFst, sMt, sMbs, sMbt};
+      return true;
+    }
+
     /// tan(phi) for phi in degrees; the last value is cached per thread so
     /// the per-contact update does not call std::tan.
     static double tan_deg(double fa)
@@ -571,6 +647,8 @@ namespace demfem::dem
     /// 3D bending moment zero, Eq. 50).
     static double strain_energy(const Params &p, const double *st)
     {
+      if constexpr (dim == 3)
+        return strain_energy_3d(p, st);
       const double *ug   = dim == 3 ? unit_geometry(p.Nr, p.Nal) : nullptr;
       const double  R    = st[h_R];
       const double  rbar = R / p.Nr;
@@ -596,6 +674,32 @@ namespace demfem::dem
             }
           if (p.ks > 0)
             E += 0.5 * (fss[e] * fss[e] + fst[e] * fst[e]) / (p.ks * A);
+        }
+      return E;
+    }
+
+    /// 3D strain energy without a division per element: the normal part
+    /// Fn^2 / (2 kn A) is kn g^2 A / 2 where the element carries Fn = kn g A
+    /// (Eq. 32, 50) and 0 where it does not; the shear part uses the unit
+    /// table's 1/A^ (evaluated on the energy-check steps inside the force
+    /// pass, so its cost counts).
+    static double strain_energy_3d(const Params &p, const double *st)
+    {
+      const int     ne = element_count(p);
+      const double *ug = unit_geometry(p.Nr, p.Nal);
+      const double *uA = ug, *urs = ug + ne, *urt = ug + 2 * ne, *uinvA = ug + 3 * ne;
+      const double  R = st[h_R], gs = st[h_gs], tbs = st[h_tbs], tbt = st[h_tbt];
+      const double *code = field(p, st, f_code), *fss = field(p, st, f_fss),
+                   *fst       = field(p, st, f_fst);
+      const double half_kn_R2 = 0.5 * p.kn * R * R;
+      const double half_R2_ks = p.ks > 0 ? 0.5 / (p.ks * R * R) : 0.0;
+      double       E          = 0;
+      for (int e = 0; e < ne; ++e)
+        {
+          const double g       = gs + R * urt[e] * tbs - R * urs[e] * tbt;
+          const bool   carries = code_bond(code[e]) == 3 || g < 0;
+          E += (carries ? half_kn_R2 * g * g * uA[e] : 0.0) +
+               half_R2_ks * (fss[e] * fss[e] + fst[e] * fst[e]) * uinvA[e];
         }
       return E;
     }
