@@ -161,9 +161,16 @@ namespace demfem::dem
           index_[key(i, j, false)] = c;
           seen[c.group].push_back(1);
         }
-      else if (wall && default_wall_ >= 0)
+      else if (wall)
         {
-          ContactRef c{default_wall_, groups_[default_wall_]->add(i, j, true, particles, walls)};
+          const int g = new_wall_contact_law ? new_wall_contact_law(i, j) : -1;
+          const int group = g >= 0 ? g : default_wall_;
+          if (group < 0)
+            return;
+          if (group >= n_groups())
+            throw InputError("Model: new-wall-contact rule returned unknown law group " +
+                             std::to_string(group));
+          ContactRef c{group, groups_[group]->add(i, j, true, particles, walls)};
           index_[key(i, j, true)] = c;
           seen[c.group].push_back(1);
         }

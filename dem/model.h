@@ -78,6 +78,10 @@ namespace demfem::dem
     /// for pairs across a joint plane, fistPkg §2.8). Called once per new
     /// contact, never per step.
     std::function<int(const Particles<dim> &, std::uint32_t, std::uint32_t)> new_contact_law;
+    /// Same for new ball-wall contacts: returns the law group for particle i
+    /// and facet k, or -1 to use the default wall law (e.g. frictionless
+    /// plane-strain walls of a 3D slab next to a frictional interface).
+    std::function<int(std::uint32_t, std::uint32_t)> new_wall_contact_law;
 
     /// Creates (or replaces) the contact between particles i and j with the
     /// law of `group`; returns where it lives.
