@@ -4,6 +4,7 @@
 // the DEM region by a Kirsch elastic pre-analysis.
 #include <deal.II/base/parameter_handler.h>
 
+#include "coupling/full_dem_reference.h"
 #include "coupling/tunnel_run.h"
 
 #include <cstdint>
@@ -28,7 +29,20 @@ namespace demfem::apps::study
     std::vector<double>                resolutions;    ///< a/d
     std::vector<unsigned int>          subcycles;
     std::vector<double>                safeties;
-    std::vector<std::uint64_t>         seeds; ///< packing seeds (error averages)
+    std::vector<std::uint64_t>         seeds;       ///< packing seeds (error averages)
+    std::vector<std::string>           variants;    ///< Coupling/variant values
+    std::vector<std::string>           schemes;     ///< Coupling/scheme values
+    std::vector<double>                relaxations; ///< Coupling/relaxation values
+    /// Continuum/young modulus = this x the material's E (DEM/continuum
+    /// stiffness contrast; 1: matched constants)
+    std::vector<double> stiffness_contrasts;
+    /// Breakable mode (issue 6 item 2): the embedded runs use breakable
+    /// bonds and are compared with a full-DEM reference on damage-zone depth
+    /// and crack counts instead of Kirsch.
+    bool   breakable               = false;
+    double reference_radius_factor = 8;    ///< reference domain radius / a (>= 8)
+    double servo_tolerance         = 0.02; ///< membrane servo: held-stress tolerance
+    double agreement_tolerance     = 0.1;  ///< equal damage-zone depth: within +-this
     double damage_fraction = 0.4; ///< damage initiation: sigma1 - sigma3 >= this x UCS
     double ucs             = 0;   ///< [Pa]; 0: "ucs" of the DEM region's material file
     double margin_grains   = 3;   ///< auto radius = damage radius + this x d
@@ -70,7 +84,9 @@ namespace demfem::apps::study
     bool          region_auto = false;
     unsigned int  subcycles   = 1;
     double        safety      = 0;
-    std::uint64_t seed        = 0;
+    std::string   variant, scheme;
+    double        relaxation = 1, contrast = 1; ///< contrast: E_continuum / E_material
+    std::uint64_t seed = 0;
     std::string   status; ///< stable | unstable | invalid
     std::string   diagnosis;
     coupling::TunnelResult result;
@@ -78,11 +94,54 @@ namespace demfem::apps::study
     bool                   pareto = false;
     double final_ratio  = -1;    ///< last unbalanced ratio (history.csv); -1 unknown
     bool   equilibrated = false; ///< final ratio <= Coupling/equilibrium ratio
+    // Breakable mode: `error` is the relative difference of the damage-zone
+    // depth from the reference's (NaN without a usable reference).
+    bool        breakable         = false;
+    int         reference         = -1;    ///< index of its full-DEM reference
+    std::size_t cracks_excavation = 0;     ///< cracks from the excavation on
+    bool        region_too_small  = false; ///< cracks near the coupling boundary
+    double      reference_depth   = 0;     ///< damage-zone depth of the reference [m]
+    double      cracks_diff       = 0; ///< relative difference of the excavation cracks
+    bool        agrees            = false; ///< |error| <= Study/agreement tolerance
   };
+
+  /// One full-DEM reference run (per grain resolution and seed).
+  struct Reference
+  {
+    double        resolution = 0;
+    std::uint64_t seed       = 0;
+    std::string   directory, status,
+        diagnosis; ///< status: ok | diverged | invalid | not equilibrated
+    coupling::FullDemReferenceResult result;
+    std::size_t                      cracks_excavation() const
+    {
+      return result.cracks_total - result.cracks_before_excavation;
+    }
+    bool usable() const { return status == "ok" && result.damage_zone_depth > 0; }
+  };
+
+  /// Where a smaller region starts to change the answer: the smallest region
+  /// factor from which every larger swept factor agrees with the reference
+  /// (-1: none), and the largest factor with a disagreeing run (-1: none).
+  struct RegionAnswer
+  {
+    double smallest_agreeing = -1, largest_disagreeing = -1;
+  };
+  RegionAnswer region_answer(const std::vector<Row> &rows);
+  /// study_speedup.csv and study.md: embedded wall time over the reference
+  /// wall time for the runs that agree on the damage-zone depth; returns the
+  /// number of table rows.
+  std::size_t write_speedup(const std::string &csv, const std::string &markdown,
+                            const std::vector<Row>       &rows,
+                            const std::vector<Reference> &refs, double tolerance,
+                            const RegionAnswer &answer);
 
   /// Marks the stable, equilibrated rows on the Pareto front of (wall time, |error|).
   void mark_pareto(std::vector<Row> &rows);
   void write_csv(const std::string &file, const std::vector<Row> &rows);
   /// Wall time versus |error| (log-log), Pareto front marked; plain SVG.
-  void write_chart(const std::string &file, const std::vector<Row> &rows);
+  /// Breakable mode: |error| is the damage-zone depth difference from the
+  /// reference, whose wall time is drawn as a vertical line (ref_time > 0).
+  void write_chart(const std::string &file, const std::vector<Row> &rows,
+                   bool breakable = false, double ref_time = 0);
 } // namespace demfem::apps::study

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <iomanip>
+#include <map>
 #include <sstream>
 
 namespace demfem::apps::study
@@ -107,10 +109,10 @@ namespace demfem::apps::study
   {
     for (auto &p : rows)
       {
-        p.pareto = p.status == "stable" && p.equilibrated;
+        p.pareto = p.status == "stable" && p.equilibrated && std::isfinite(p.error);
         for (const auto &q : rows)
           if (p.pareto && &q != &p && q.status == "stable" && q.equilibrated &&
-              q.result.wall_time_s <= p.result.wall_time_s &&
+              std::isfinite(q.error) && q.result.wall_time_s <= p.result.wall_time_s &&
               std::abs(q.error) <= std::abs(p.error) &&
               (q.result.wall_time_s < p.result.wall_time_s ||
                std::abs(q.error) < std::abs(p.error)))
@@ -145,7 +147,10 @@ namespace demfem::apps::study
     o << "run,region_radius_m,region_factor,region_auto,a_over_d,grain_diameter_m,"
          "subcycles,timestep_safety,status,n_particles,steps,wall_time_s,"
          "wall_convergence_m,kirsch_convergence_m,error_rel,pareto,seed,equilibrated,"
-         "final_ratio,diagnosis\n";
+         "final_ratio,variant,scheme,relaxation,stiffness_contrast,breakable,"
+         "cracks_total,cracks_excavation,cracks_tensile,cracks_shear,"
+         "damage_zone_depth_m,reference_depth_m,cracks_rel_diff,agrees,"
+         "region_too_small,diagnosis\n";
     for (const auto &r : rows)
       {
         const bool ok  = r.status == "stable";
@@ -156,15 +161,31 @@ namespace demfem::apps::study
           << r.status << "," << (ran ? std::to_string(r.result.n_particles) : "") << ","
           << (ran ? std::to_string(r.result.steps) : "") << ","
           << num(r.result.wall_time_s, ran) << ","
-          << num(r.result.wall_convergence_mean, ok) << "," << num(r.kirsch) << ","
-          << num(r.error, ok) << "," << (r.pareto ? "yes" : "no") << "," << r.seed << ","
-          << (ok ? (r.equilibrated ? "yes" : "no") : "") << ","
-          << num(r.final_ratio, ok && r.final_ratio >= 0) << "," << quoted(r.diagnosis)
-          << "\n";
+          << num(r.result.wall_convergence_mean, ok) << "," << num(r.kirsch, !r.breakable)
+          << "," << num(r.error, ok) << "," << (r.pareto ? "yes" : "no") << "," << r.seed
+          << "," << (ok ? (r.equilibrated ? "yes" : "no") : "") << ","
+          << num(r.final_ratio, ok && r.final_ratio >= 0) << "," << r.variant << ","
+          << r.scheme << "," << num(r.relaxation) << "," << num(r.contrast) << ","
+          << (r.breakable ? "yes" : "no") << ",";
+        // damage columns: breakable runs that finished (the counts of a
+        // diverged run are not results)
+        const bool dmg   = r.breakable && ok;
+        auto       count = [&](std::size_t n) {
+          return dmg ? std::to_string(n) : std::string();
+        };
+        const bool cmp = dmg && std::isfinite(r.error);
+        o << count(r.result.cracks_total) << "," << count(r.cracks_excavation) << ","
+          << count(r.result.cracks_tensile) << "," << count(r.result.cracks_shear) << ","
+          << num(r.result.damage_zone_depth, dmg) << "," << num(r.reference_depth, cmp)
+          << "," << num(r.cracks_diff, cmp) << ","
+          << (cmp ? (r.agrees ? "yes" : "no") : "") << ","
+          << (dmg ? (r.region_too_small ? "yes" : "no") : "") << ","
+          << quoted(r.diagnosis) << "\n";
       }
   }
 
-  void write_chart(const std::string &file, const std::vector<Row> &rows)
+  void write_chart(const std::string &file, const std::vector<Row> &rows, bool breakable,
+                   double ref_time)
   {
     std::vector<const Row *> pts;
     for (const auto &r : rows)
@@ -184,6 +205,8 @@ namespace demfem::apps::study
       }
     if (pts.empty())
       x0 = x1 = y0 = y1 = 0;
+    if (breakable && ref_time > 0) // the reference's time is on the chart
+      x0 = std::min(x0, std::log10(ref_time)), x1 = std::max(x1, std::log10(ref_time));
     x0 = std::floor(x0), y0 = std::floor(y0), x1 = std::max(std::ceil(x1), x0 + 1),
     y1     = std::max(std::ceil(y1), y0 + 1);
     auto X = [&](double t) { return L + (W - L - R) * (std::log10(t) - x0) / (x1 - x0); };
@@ -195,9 +218,12 @@ namespace demfem::apps::study
     o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
       << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
       << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-      << "<text x=\"" << L
-      << "\" y=\"24\" font-size=\"15\">demfem study: wall time "
-         "versus error of the wall convergence against Kirsch</text>\n";
+      << "<text x=\"" << L << "\" y=\"24\" font-size=\"15\">"
+      << (breakable ? "demfem study (breakable): wall time versus damage-zone depth "
+                      "difference from the full-DEM reference"
+                    : "demfem study: wall time versus error of the wall convergence "
+                      "against Kirsch")
+      << "</text>\n";
     for (int k = int(x0); k <= int(x1); ++k) // decade grid
       o << "<line x1=\"" << X(std::pow(10, k)) << "\" y1=\"" << T << "\" x2=\""
         << X(std::pow(10, k)) << "\" y2=\"" << H - B << "\" stroke=\"#ddd\"/>\n"
@@ -213,8 +239,15 @@ namespace demfem::apps::study
       << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 20
       << "\" text-anchor=\"middle\">wall-clock time [s]</text>\n"
       << "<text transform=\"translate(20," << (T + H - B) / 2
-      << ") rotate(-90)\" text-anchor=\"middle\">|error| of mean wall "
-         "convergence</text>\n";
+      << ") rotate(-90)\" text-anchor=\"middle\">"
+      << (breakable ? "|damage-zone depth - reference| / reference"
+                    : "|error| of mean wall convergence")
+      << "</text>\n";
+    if (breakable && ref_time > 0)
+      o << "<line x1=\"" << X(ref_time) << "\" y1=\"" << T << "\" x2=\"" << X(ref_time)
+        << "\" y2=\"" << H - B << "\" stroke=\"#090\" stroke-dasharray=\"6,4\"/>\n"
+        << "<text x=\"" << X(ref_time) - 4 << "\" y=\"" << T + 14
+        << "\" text-anchor=\"end\" fill=\"#090\">full-DEM reference</text>\n";
     std::vector<const Row *> front;
     for (const auto *p : pts)
       if (p->pareto)
@@ -234,7 +267,9 @@ namespace demfem::apps::study
         << "\" r=\"" << (p->pareto ? 5 : 3.5) << "\" fill=\""
         << (p->pareto ? "#c00" : "#36c") << "\"><title>run " << p->index
         << ": b/a=" << p->region_factor << " a/d=" << p->resolution
-        << " k=" << p->subcycles << " safety=" << p->safety << "</title></circle>\n";
+        << " k=" << p->subcycles << " safety=" << p->safety << " " << p->variant << " "
+        << p->scheme << " relaxation=" << p->relaxation << " contrast=" << p->contrast
+        << "</title></circle>\n";
     for (const auto *p : front) // label the front
       o << "<text x=\"" << X(p->result.wall_time_s) + 7 << "\" y=\"" << Y(ey(p)) - 5
         << "\" font-size=\"10\" fill=\"#c00\">b/a " << std::setprecision(3)
@@ -251,5 +286,102 @@ namespace demfem::apps::study
       << " unstable, invalid or</text>\n<text x=\"" << W - R + 12 << "\" y=\"" << T + 70
       << "\">unequilibrated run(s)</text>\n<text x=\"" << W - R + 12 << "\" y=\""
       << T + 84 << "\">not plotted (study.csv)</text>\n</svg>\n";
+  }
+
+  RegionAnswer region_answer(const std::vector<Row> &rows)
+  {
+    // Per region factor: do all its compared runs agree? Then walk down
+    // from the largest factor: the answer changes below the smallest factor
+    // reached before the first disagreement.
+    std::map<double, bool, std::greater<double>> all_agree;
+    for (const auto &r : rows)
+      if (r.breakable && r.status == "stable" && r.equilibrated && std::isfinite(r.error))
+        {
+          const auto it              = all_agree.find(r.region_factor);
+          all_agree[r.region_factor] = (it == all_agree.end() || it->second) && r.agrees;
+        }
+    RegionAnswer a;
+    bool         broken = false;
+    for (const auto &[f, ok] : all_agree)
+      {
+        if (!ok && a.largest_disagreeing < 0)
+          a.largest_disagreeing = f;
+        broken = broken || !ok;
+        if (!broken)
+          a.smallest_agreeing = f;
+      }
+    return a;
+  }
+
+  std::size_t write_speedup(const std::string &csv, const std::string &markdown,
+                            const std::vector<Row>       &rows,
+                            const std::vector<Reference> &refs, double tolerance,
+                            const RegionAnswer &answer)
+  {
+    std::ofstream c(csv), m(markdown);
+    c << "run,region_factor,region_auto,a_over_d,seed,variant,scheme,subcycles,"
+         "timestep_safety,relaxation,stiffness_contrast,n_particles,"
+         "reference_particles,wall_time_s,reference_wall_time_s,speedup,"
+         "damage_zone_depth_m,reference_depth_m,depth_rel_diff,cracks_excavation,"
+         "reference_cracks_excavation,region_too_small\n";
+    m << "# demfem study: breakable tunnel versus the full-DEM reference\n\n"
+      << "Full-DEM references (servo-controlled membrane at the in-situ stress):\n\n"
+      << "| a/d | seed | status | grains | steps | wall time [s] | damage-zone depth [m] "
+         "| excavation cracks (tensile/shear) | servo error in situ |\n"
+      << "|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto &f : refs)
+      m << "| " << num(f.resolution) << " | " << f.seed << " | " << f.status << " | "
+        << f.result.n_particles << " | " << f.result.steps << " | "
+        << num(f.result.wall_time_s) << " | " << num(f.result.damage_zone_depth) << " | "
+        << f.cracks_excavation() << " (" << f.result.cracks_tensile << "/"
+        << f.result.cracks_shear << " in all) | " << num(f.result.servo_error_insitu)
+        << " |\n";
+    m << "\nSpeed-up of the embedded model at equal damage-zone depth (within +-"
+      << num(100 * tolerance) << " % of the reference):\n\n"
+      << "| run | b/a | a/d | variant, scheme, k, safety | grains (reference) | wall "
+         "time "
+         "[s] (reference) | speed-up | depth [m] (reference) | excavation cracks "
+         "(reference) |\n|---|---|---|---|---|---|---|---|---|\n";
+    std::size_t n = 0;
+    for (const auto &r : rows)
+      {
+        if (!(r.breakable && r.status == "stable" && r.equilibrated && r.agrees &&
+              r.reference >= 0 && r.result.wall_time_s > 0))
+          continue;
+        const auto  &f  = refs[r.reference];
+        const double sp = f.result.wall_time_s / r.result.wall_time_s;
+        c << r.index << "," << num(r.region_factor) << ","
+          << (r.region_auto ? "yes" : "no") << "," << num(r.resolution) << "," << r.seed
+          << "," << r.variant << "," << r.scheme << "," << r.subcycles << ","
+          << num(r.safety) << "," << num(r.relaxation) << "," << num(r.contrast) << ","
+          << r.result.n_particles << "," << f.result.n_particles << ","
+          << num(r.result.wall_time_s) << "," << num(f.result.wall_time_s) << ","
+          << num(sp) << "," << num(r.result.damage_zone_depth) << ","
+          << num(f.result.damage_zone_depth) << "," << num(r.error) << ","
+          << r.cracks_excavation << "," << f.cracks_excavation() << ","
+          << (r.region_too_small ? "yes" : "no") << "\n";
+        m << "| " << r.index << " | " << num(r.region_factor)
+          << (r.region_auto ? " (auto)" : "") << " | " << num(r.resolution) << " | "
+          << r.variant << ", " << r.scheme << ", " << r.subcycles << ", " << num(r.safety)
+          << " | " << r.result.n_particles << " (" << f.result.n_particles << ") | "
+          << num(r.result.wall_time_s) << " (" << num(f.result.wall_time_s) << ") | "
+          << std::setprecision(3) << sp << " | " << num(r.result.damage_zone_depth)
+          << " (" << num(f.result.damage_zone_depth) << ") | " << r.cracks_excavation
+          << " (" << f.cracks_excavation() << ") |\n";
+        ++n;
+      }
+    if (n == 0)
+      m << "| none | | | | | | | | |\n";
+    m << "\nWhere a smaller region changes the answer: ";
+    if (answer.largest_disagreeing < 0)
+      m << "no swept region factor disagreed with the reference";
+    else
+      m << "region factor b/a = " << num(answer.largest_disagreeing)
+        << " disagrees with the reference on the damage-zone depth";
+    m << "; every swept factor >= "
+      << (answer.smallest_agreeing < 0 ? std::string("(none)")
+                                       : num(answer.smallest_agreeing))
+      << " agrees.\n";
+    return n;
   }
 } // namespace demfem::apps::study

@@ -10,6 +10,9 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 
+#include <boost/property_tree/json_parser.hpp>
+#include <boost/property_tree/ptree.hpp>
+
 #include "apps/commands.h"
 #include "apps/prm_cli.h"
 #include "apps/study.h"
@@ -52,40 +55,100 @@ namespace demfem::apps
       return s.str();
     }
 
-    // Stability map (issue 6 item 3): the largest value of a scheme setting
-    // whose runs were all stable, and the smallest value with an unstable
-    // run, among the runs whose other scheme setting is at its most
-    // conservative swept value (smallest safety / smallest subcycles), so
-    // that a too-large safety does not mark every subcycling ratio unstable.
-    void limits(std::ostream &o, const std::string &name,
-                const std::vector<study::Row> &rows, double (*get)(const study::Row &),
-                double (*other)(const study::Row &))
+    // Stability map (issue 6 item 3). The scheme settings swept: time-step
+    // safety, subcycles, relaxation factor and stiffness contrast. For one of
+    // them, the largest value whose runs were all stable and the smallest
+    // value with an unstable run, among the runs whose other settings are at
+    // their most conservative swept value (smallest safety, subcycles and
+    // relaxation; contrast closest to 1), so that a too-large safety does
+    // not mark every subcycling ratio unstable.
+    using Getter = double (*)(const study::Row &);
+    const std::vector<std::pair<std::string, Getter>> &axes()
     {
-      double other_min = 1e300;
-      for (const auto &r : rows)
-        other_min = std::min(other_min, other(r));
-      std::map<double, bool> all_stable;
-      for (const auto &r : rows)
-        if (r.status != "invalid" && other(r) == other_min)
-          {
-            const auto it      = all_stable.find(get(r));
-            const bool ok      = r.status == "stable";
-            all_stable[get(r)] = it == all_stable.end() ? ok : it->second && ok;
-          }
-      double best = -1, first_bad = -1;
-      for (const auto &[v, ok] : all_stable)
-        if (!ok && first_bad < 0)
-          first_bad = v;
-      for (const auto &[v, ok] : all_stable)
-        if (ok && (first_bad < 0 || v < first_bad))
-          best = v;
-      o << "  \"" << name << "_largest_stable\": " << (best < 0 ? "null" : num(best))
-        << ",\n  \"" << name
-        << "_smallest_unstable\": " << (first_bad < 0 ? "null" : num(first_bad)) << ",\n";
-      std::cout << "demfem study: " << name << ": largest stable "
-                << (best < 0 ? std::string("none") : num(best)) << ", smallest unstable "
-                << (first_bad < 0 ? std::string("none (not reached)") : num(first_bad))
-                << "\n";
+      static const std::vector<std::pair<std::string, Getter>> a = {
+          {"timestep_safety", [](const study::Row &r) { return r.safety; }},
+          {"subcycles", [](const study::Row &r) { return double(r.subcycles); }},
+          {"relaxation", [](const study::Row &r) { return r.relaxation; }},
+          {"stiffness_contrast", [](const study::Row &r) { return r.contrast; }}};
+      return a;
+    }
+
+    // The most conservative swept value of an axis among `rows`.
+    double conservative(const std::vector<const study::Row *> &rows, std::size_t axis)
+    {
+      double best = 0;
+      bool   set  = false;
+      for (const auto *r : rows)
+        {
+          const double v = axes()[axis].second(*r);
+          const bool   better =
+              axis == 3 ? std::abs(std::log(v)) < std::abs(std::log(best)) : v < best;
+          if (!set || better)
+            best = v, set = true;
+        }
+      return best;
+    }
+
+    void limits(std::ostream &o, const std::string &prefix,
+                const std::vector<const study::Row *> &rows, const std::string &label)
+    {
+      for (std::size_t ax = 0; ax < axes().size(); ++ax)
+        {
+          std::map<double, bool> all_stable;
+          for (const auto *r : rows)
+            {
+              if (r->status == "invalid")
+                continue;
+              bool others = true;
+              for (std::size_t b = 0; b < axes().size(); ++b)
+                others =
+                    others && (b == ax || axes()[b].second(*r) == conservative(rows, b));
+              if (!others)
+                continue;
+              const double v  = axes()[ax].second(*r);
+              const auto   it = all_stable.find(v);
+              const bool   ok = r->status == "stable";
+              all_stable[v]   = it == all_stable.end() ? ok : it->second && ok;
+            }
+          double best = -1, first_bad = -1;
+          for (const auto &[v, ok] : all_stable)
+            if (!ok && first_bad < 0)
+              first_bad = v;
+          for (const auto &[v, ok] : all_stable)
+            if (ok && (first_bad < 0 || v < first_bad))
+              best = v;
+          const std::string name = prefix + axes()[ax].first;
+          o << "  \"" << name << "_largest_stable\": " << (best < 0 ? "null" : num(best))
+            << ",\n  \"" << name
+            << "_smallest_unstable\": " << (first_bad < 0 ? "null" : num(first_bad))
+            << ",\n";
+          if (all_stable.size() > 1 || first_bad >= 0)
+            std::cout << "demfem study: " << label << axes()[ax].first
+                      << ": largest stable "
+                      << (best < 0 ? std::string("none") : num(best))
+                      << ", smallest unstable "
+                      << (first_bad < 0 ? std::string("none (not reached)")
+                                        : num(first_bad))
+                      << "\n";
+        }
+    }
+
+    // "cracks_before_excavation" and "region_too_small" of a run's
+    // summary.json (not in TunnelResult).
+    void run_summary(const std::string &dir, std::size_t &cracks_before, bool &too_small)
+    {
+      boost::property_tree::ptree t;
+      try
+        {
+          boost::property_tree::read_json(dir + "/summary.json", t);
+          cracks_before = t.get<std::size_t>("cracks_before_excavation", 0);
+          too_small     = t.get<bool>("region_too_small", false);
+        }
+      catch (const std::exception &)
+        {
+          cracks_before = 0;
+          too_small     = false;
+        }
     }
 
     // The last unbalanced ratio of a run (history.csv), -1 if unknown: a run
@@ -116,6 +179,125 @@ namespace demfem::apps
             }
       return -1;
     }
+    // One run of the sweep: the tunnel with the swept settings applied. A
+    // combination the tunnel run rejects (e.g. a region too small for the
+    // grains, or a variant/scheme not implemented) is an 'invalid' row, a
+    // diverged run an 'unstable' row: neither stops the sweep.
+    study::Row run_one(const coupling::TunnelParams &base, double a,
+                       const std::optional<double> &f, double r,
+                       const std::string &variant, const std::string &scheme,
+                       unsigned int k, double s, double rx, double c, std::uint64_t seed,
+                       std::map<double, study::AutoRadius> &autos,
+                       const coupling::RegionParams &region, double kirsch,
+                       const study::Settings               &st,
+                       const std::vector<study::Reference> &refs, int reference,
+                       const std::string &out, int index)
+    {
+      study::Row row;
+      row.index                 = index;
+      coupling::TunnelParams p  = base;
+      row.region_auto           = !f;
+      p.region                  = region;
+      p.region.radius           = f ? *f * a : autos[r].radius;
+      p.coupling.variant        = variant;
+      p.coupling.scheme         = scheme;
+      p.coupling.subcycles      = k;
+      p.coupling.safety         = s;
+      p.coupling.relaxation     = rx;
+      p.continuum.young_modulus = c * base.continuum.young_modulus;
+      row.seed                  = seed;
+      std::ostringstream dir;
+      dir << out << "/run_" << std::setw(3) << std::setfill('0') << row.index;
+      p.output_directory = dir.str();
+      row.region_radius  = p.region.radius;
+      row.region_factor  = p.region.radius / a;
+      row.resolution     = r;
+      row.grain_d        = a / r;
+      row.subcycles      = k;
+      row.safety         = s;
+      row.variant        = variant;
+      row.scheme         = scheme;
+      row.relaxation     = rx;
+      row.contrast       = c;
+      row.kirsch         = kirsch;
+      row.breakable      = st.breakable;
+      row.reference      = reference;
+      std::ostringstream log;
+      try
+        {
+          p.validate("parameter file");
+          row.result     = coupling::run_tunnel(p, log);
+          row.status     = row.result.diverged ? "unstable" : "stable";
+          row.diagnosis  = row.result.diagnosis;
+          const double u = row.result.wall_convergence_mean;
+          if (!row.result.diverged && !std::isfinite(u))
+            row.status = "unstable", row.diagnosis = "non-finite wall convergence";
+          row.final_ratio  = final_ratio(p.output_directory);
+          row.equilibrated = row.final_ratio >= 0 && row.final_ratio <= p.ratio_tolerance;
+          if (row.status == "stable" && !row.equilibrated)
+            row.diagnosis = "not equilibrated: unbalanced ratio " + num(row.final_ratio) +
+                            " > " + num(p.ratio_tolerance) +
+                            " at the step limit (error not meaningful)";
+          if (row.status != "stable")
+            row.error = 0;
+          else if (!st.breakable)
+            row.error = (u - kirsch) / kirsch;
+          else
+            {
+              // Agreement with the full-DEM reference on the damage-zone
+              // depth (relative) and the excavation crack count.
+              std::size_t before = 0;
+              run_summary(p.output_directory, before, row.region_too_small);
+              row.cracks_excavation = row.result.cracks_total - before;
+              row.error             = std::nan("");
+              if (reference >= 0 && refs[reference].usable())
+                {
+                  const auto &ref     = refs[reference];
+                  row.reference_depth = ref.result.damage_zone_depth;
+                  row.error = (row.result.damage_zone_depth - row.reference_depth) /
+                              row.reference_depth;
+                  row.cracks_diff =
+                      ref.cracks_excavation() > 0
+                          ? (double(row.cracks_excavation) - ref.cracks_excavation()) /
+                                ref.cracks_excavation()
+                          : std::nan("");
+                  row.agrees = std::abs(row.error) <= st.agreement_tolerance;
+                }
+              else if (row.diagnosis.empty())
+                row.diagnosis = "no usable full-DEM reference (failed or no damage)";
+              if (row.region_too_small && row.diagnosis.empty())
+                row.diagnosis = "region_too_small: cracks within two grain diameters "
+                                "of the coupling boundary";
+            }
+        }
+      catch (const std::exception &e)
+        {
+          row.status    = "invalid";
+          row.diagnosis = exception_text(e);
+        }
+      if (std::filesystem::is_directory(p.output_directory))
+        std::ofstream(p.output_directory + "/log.txt") << log.str();
+      std::cout << "run " << row.index << ": b/a " << row.region_factor << ", a/d " << r
+                << ", " << variant << ", " << scheme << ", k " << k << ", safety " << s
+                << ", relaxation " << rx << ", contrast " << c << ", seed " << seed
+                << ": " << row.status;
+      if (row.status == "stable" && row.equilibrated)
+        {
+          std::cout << ", " << row.result.n_particles << " grains, " << row.result.steps
+                    << " steps, " << row.result.wall_time_s << " s, ";
+          if (st.breakable)
+            std::cout << "damage-zone depth " << row.result.damage_zone_depth << " m, "
+                      << row.cracks_excavation << " excavation cracks"
+                      << (row.region_too_small ? ", region_too_small" : "");
+          if (std::isfinite(row.error))
+            std::cout << (st.breakable ? ", depth difference " : "error ")
+                      << 100 * row.error << " %";
+        }
+      else
+        std::cout << " (" << row.diagnosis << ")";
+      std::cout << std::endl;
+      return row;
+    }
   } // namespace
 
   int run_study(int argc, char **argv)
@@ -143,9 +325,11 @@ namespace demfem::apps
         const std::string material = prm.get("material file");
         prm.leave_subsection();
         const study::Settings st = study::read_study_settings(prm, material);
-        base.region.breakable    = false; // elastic: compared with Kirsch
-        base.write_vtk           = false;
-        const double a           = base.tunnel_radius;
+        // Elastic mode: unbreakable bonds, compared with Kirsch. Breakable
+        // mode: compared with the full-DEM reference (issue 6 item 2).
+        base.region.breakable = st.breakable;
+        base.write_vtk        = false;
+        const double a        = base.tunnel_radius;
         AssertThrow(a > 0, ExcMessage("Tunnel/radius must be > 0"));
 
         // The sweep axes; an empty list keeps the tunnel value.
@@ -154,24 +338,29 @@ namespace demfem::apps
           factors.push_back(base.region.radius < 0
                                 ? std::optional<double>()
                                 : std::optional<double>(base.region.radius / a));
-        std::vector<double> res = st.resolutions;
-        if (res.empty())
-          res.push_back(a / base.region.mean_diameter());
-        std::vector<unsigned int> ks = st.subcycles;
-        if (ks.empty())
-          ks.push_back(base.coupling.subcycles);
-        std::vector<std::uint64_t> seeds = st.seeds;
-        if (seeds.empty())
-          seeds.push_back(base.region.seed);
-        std::vector<double> ss = st.safeties;
-        if (ss.empty())
-          ss.push_back(base.coupling.safety);
+        auto or_base = [](auto list, auto value) {
+          if (list.empty())
+            list.push_back(value);
+          return list;
+        };
+        const std::vector<double> res =
+            or_base(st.resolutions, a / base.region.mean_diameter());
+        const auto ks       = or_base(st.subcycles, base.coupling.subcycles);
+        const auto seeds    = or_base(st.seeds, base.region.seed);
+        const auto ss       = or_base(st.safeties, base.coupling.safety);
+        const auto variants = or_base(st.variants, base.coupling.variant);
+        const auto schemes  = or_base(st.schemes, base.coupling.scheme);
+        const auto relax    = or_base(st.relaxations, base.coupling.relaxation);
+        const auto contrast = or_base(st.stiffness_contrasts, 1.0);
 
+        // Kirsch with the material's constants (the continuum's as given):
+        // a stiffness contrast != 1 is a mismatch that shows as error.
         const double kirsch = study::kirsch_mean_convergence(
             base.sigma0, a, base.continuum.young_modulus, base.continuum.poisson_ratio);
-        std::cout << "demfem study: Kirsch mean wall convergence " << kirsch
-                  << " m (plane strain, E = " << base.continuum.young_modulus
-                  << " Pa, nu = " << base.continuum.poisson_ratio << ")\n";
+        if (!st.breakable)
+          std::cout << "demfem study: Kirsch mean wall convergence " << kirsch
+                    << " m (plane strain, E = " << base.continuum.young_modulus
+                    << " Pa, nu = " << base.continuum.poisson_ratio << ")\n";
 
         // Right-sizing (per resolution: the margin is in grain diameters).
         bool                                any_auto = false;
@@ -192,86 +381,115 @@ namespace demfem::apps
 
         const std::string out = base.output_directory;
         std::filesystem::create_directories(out);
+
+        // The region of a resolution (grain sizes scaled, d_max/d_min kept).
+        auto region_at = [&](double r, std::uint64_t seed) {
+          coupling::RegionParams g     = base.region;
+          const double           scale = (a / r) / base.region.mean_diameter();
+          g.d_lo                       = base.region.d_lo * scale;
+          g.d_hi                       = base.region.d_hi * scale;
+          g.seed                       = seed;
+          return g;
+        };
+
+        // Breakable mode: one full-DEM reference per resolution and seed,
+        // run before the embedded runs (its wall time is the speed-up base).
+        std::vector<study::Reference> refs;
+        auto                          reference_of = [&](double r, std::uint64_t seed) {
+          for (std::size_t i = 0; i < refs.size(); ++i)
+            if (refs[i].resolution == r && refs[i].seed == seed)
+              return int(i);
+          return -1;
+        };
+        if (st.breakable)
+          for (const double r : res)
+            for (const std::uint64_t seed : seeds)
+              {
+                study::Reference f;
+                f.resolution = r;
+                f.seed       = seed;
+                std::ostringstream dir;
+                dir << out << "/reference_" << std::setw(2) << std::setfill('0')
+                    << refs.size();
+                f.directory = dir.str();
+                coupling::FullDemReferenceParams q;
+                q.output_directory  = f.directory;
+                q.tunnel_radius     = a;
+                q.sigma0            = base.sigma0;
+                q.stages            = base.stages;
+                q.region            = region_at(r, seed);
+                q.region.radius     = st.reference_radius_factor * a;
+                q.min_radius_factor = 8;
+                // the most conservative swept safety, at most 0.8
+                q.safety = std::min(0.8, *std::min_element(ss.begin(), ss.end()));
+                q.ratio_tolerance  = base.ratio_tolerance;
+                q.ramp_steps       = base.ramp_steps;
+                q.phase_step_limit = base.phase_step_limit;
+                q.history_interval = base.history_interval;
+                q.servo.tolerance  = st.servo_tolerance;
+                std::cout << "demfem study: full-DEM reference (R = " << q.region.radius
+                          << " m, a/d = " << r << ", seed " << seed << ") ..."
+                          << std::endl;
+                std::ostringstream log;
+                try
+                  {
+                    f.result    = coupling::run_full_dem_reference(q, log);
+                    f.status    = f.result.diverged        ? "diverged"
+                                  : !f.result.equilibrated ? "not equilibrated"
+                                                           : "ok";
+                    f.diagnosis = f.result.diagnosis;
+                  }
+                catch (const std::exception &e)
+                  {
+                    f.status    = "invalid";
+                    f.diagnosis = exception_text(e);
+                  }
+                if (std::filesystem::is_directory(f.directory))
+                  std::ofstream(f.directory + "/log.txt") << log.str();
+                std::cout << "reference " << refs.size() << ": " << f.status;
+                if (f.status != "invalid")
+                  std::cout << ", " << f.result.n_particles << " grains, "
+                            << f.result.steps << " steps, " << f.result.wall_time_s
+                            << " s, damage-zone depth " << f.result.damage_zone_depth
+                            << " m, " << f.cracks_excavation()
+                            << " excavation cracks, servo error in situ "
+                            << f.result.servo_error_insitu;
+                if (!f.diagnosis.empty())
+                  std::cout << " (" << f.diagnosis << ")";
+                std::cout << std::endl;
+                refs.push_back(f);
+              }
+
         std::vector<study::Row> rows;
         for (const auto &f : factors)
           for (const double r : res)
-            for (const unsigned int k : ks)
-              for (const double s : ss)
-                for (const std::uint64_t seed : seeds)
-                  {
-                    study::Row row;
-                    row.index                = int(rows.size());
-                    coupling::TunnelParams p = base;
-                    row.region_auto          = !f;
-                    p.region.radius          = f ? *f * a : autos[r].radius;
-                    const double d           = a / r;
-                    const double scale       = d / base.region.mean_diameter();
-                    p.region.d_lo            = base.region.d_lo * scale;
-                    p.region.d_hi            = base.region.d_hi * scale;
-                    p.coupling.subcycles     = k;
-                    p.coupling.safety        = s;
-                    p.region.seed            = seed;
-                    row.seed                 = seed;
-                    std::ostringstream dir;
-                    dir << out << "/run_" << std::setw(3) << std::setfill('0')
-                        << row.index;
-                    p.output_directory = dir.str();
-                    row.region_radius  = p.region.radius;
-                    row.region_factor  = p.region.radius / a;
-                    row.resolution     = r;
-                    row.grain_d        = d;
-                    row.subcycles      = k;
-                    row.safety         = s;
-                    row.kirsch         = kirsch;
-                    std::ostringstream log;
-                    try
-                      {
-                        p.validate("parameter file");
-                        row.result    = coupling::run_tunnel(p, log);
-                        row.status    = row.result.diverged ? "unstable" : "stable";
-                        row.diagnosis = row.result.diagnosis;
-                        row.error =
-                            row.result.diverged
-                                ? 0.0
-                                : (row.result.wall_convergence_mean - kirsch) / kirsch;
-                        if (!std::isfinite(row.error))
-                          row.status = "unstable", row.error = 0,
-                          row.diagnosis = "non-finite wall convergence";
-                        row.final_ratio = final_ratio(p.output_directory);
-                        row.equilibrated =
-                            row.final_ratio >= 0 && row.final_ratio <= p.ratio_tolerance;
-                        if (row.status == "stable" && !row.equilibrated)
-                          row.diagnosis = "not equilibrated: unbalanced ratio " +
-                                          num(row.final_ratio) + " > " +
-                                          num(p.ratio_tolerance) +
-                                          " at the step limit (error not meaningful)";
-                      }
-                    catch (const std::exception &e)
-                      {
-                        // a combination the tunnel run rejects (e.g. region
-                        // too small for the grains) is recorded, not fatal
-                        row.status    = "invalid";
-                        row.diagnosis = exception_text(e);
-                      }
-                    if (std::filesystem::is_directory(p.output_directory))
-                      std::ofstream(p.output_directory + "/log.txt") << log.str();
-                    std::cout << "run " << row.index << ": b/a " << row.region_factor
-                              << ", a/d " << r << ", k " << k << ", safety " << s
-                              << ", seed " << seed << ": " << row.status;
-                    if (row.status == "stable" && row.equilibrated)
-                      std::cout << ", " << row.result.n_particles << " grains, "
-                                << row.result.steps << " steps, "
-                                << row.result.wall_time_s << " s, error "
-                                << 100 * row.error << " %";
-                    else
-                      std::cout << " (" << row.diagnosis << ")";
-                    std::cout << std::endl;
-                    rows.push_back(row);
-                  }
+            for (const auto &variant : variants)
+              for (const auto &scheme : schemes)
+                for (const unsigned int k : ks)
+                  for (const double s : ss)
+                    for (const double rx : relax)
+                      for (const double c : contrast)
+                        for (const std::uint64_t seed : seeds)
+                          rows.push_back(run_one(base, a, f, r, variant, scheme, k, s, rx,
+                                                 c, seed, autos, region_at(r, seed),
+                                                 kirsch, st, refs, reference_of(r, seed),
+                                                 out, int(rows.size())));
 
         study::mark_pareto(rows);
         study::write_csv(out + "/study.csv", rows);
-        study::write_chart(out + "/study_pareto.svg", rows);
+        double ref_time = 0;
+        for (const auto &f : refs)
+          ref_time = std::max(ref_time, f.result.wall_time_s);
+        study::write_chart(out + "/study_pareto.svg", rows, st.breakable, ref_time);
+        study::RegionAnswer answer;
+        std::size_t         n_speedup = 0;
+        if (st.breakable)
+          {
+            answer = study::region_answer(rows);
+            n_speedup =
+                study::write_speedup(out + "/study_speedup.csv", out + "/study.md", rows,
+                                     refs, st.agreement_tolerance, answer);
+          }
 
         std::ofstream j(out + "/summary.json");
         std::size_t   n_stable = 0, n_unstable = 0;
@@ -280,7 +498,8 @@ namespace demfem::apps
             n_stable += r.status == "stable";
             n_unstable += r.status == "unstable";
           }
-        j << "{\n  \"runs\": " << rows.size() << ",\n  \"stable\": " << n_stable
+        j << "{\n  \"mode\": \"" << (st.breakable ? "breakable" : "elastic")
+          << "\",\n  \"runs\": " << rows.size() << ",\n  \"stable\": " << n_stable
           << ",\n  \"unstable\": " << n_unstable
           << ",\n  \"invalid\": " << rows.size() - n_stable - n_unstable
           << ",\n  \"stable_not_equilibrated\": "
@@ -288,11 +507,24 @@ namespace demfem::apps
                            [](const study::Row &r) {
                              return r.status == "stable" && !r.equilibrated;
                            })
-          << ",\n  \"kirsch_convergence_m\": " << num(kirsch) << ",\n";
-        auto safety = [](const study::Row &r) { return r.safety; };
-        auto k      = [](const study::Row &r) { return double(r.subcycles); };
-        limits(j, "timestep_safety", rows, safety, k);
-        limits(j, "subcycles", rows, k, safety);
+          << ",\n";
+        if (!st.breakable)
+          j << "  \"kirsch_convergence_m\": " << num(kirsch) << ",\n";
+        // Stability map: over all runs (keys as before), then per scheme.
+        std::vector<const study::Row *> all;
+        for (const auto &r : rows)
+          all.push_back(&r);
+        limits(j, "", all, "");
+        for (const auto &scheme : schemes)
+          {
+            std::vector<const study::Row *> sub;
+            for (const auto &r : rows)
+              if (r.scheme == scheme)
+                sub.push_back(&r);
+            std::string key = scheme;
+            std::replace(key.begin(), key.end(), '-', '_');
+            limits(j, "stability_" + key + "_", sub, scheme + ": ");
+          }
         if (any_auto)
           {
             const auto &ar = autos.begin()->second;
@@ -303,6 +535,38 @@ namespace demfem::apps
               << ",\n  \"auto_region_radius_m\": " << num(ar.radius)
               << ",\n  \"auto_a_over_d\": " << num(autos.begin()->first) << ",\n";
           }
+        if (st.breakable)
+          {
+            j << "  \"agreement_tolerance\": " << num(st.agreement_tolerance)
+              << ",\n  \"reference_radius_factor\": " << num(st.reference_radius_factor)
+              << ",\n  \"references\": [";
+            for (std::size_t i = 0; i < refs.size(); ++i)
+              {
+                const auto &f = refs[i];
+                j << (i ? ", " : "") << "{\"directory\": \"" << f.directory
+                  << "\", \"status\": \"" << f.status
+                  << "\", \"a_over_d\": " << num(f.resolution) << ", \"seed\": " << f.seed
+                  << ", \"reference_particles\": " << f.result.n_particles
+                  << ", \"reference_steps\": " << f.result.steps
+                  << ", \"reference_wall_time_s\": " << num(f.result.wall_time_s)
+                  << ", \"reference_damage_zone_depth\": "
+                  << num(f.result.damage_zone_depth)
+                  << ", \"reference_cracks_excavation\": " << f.cracks_excavation()
+                  << ", \"reference_cracks_tensile\": " << f.result.cracks_tensile
+                  << ", \"reference_cracks_shear\": " << f.result.cracks_shear
+                  << ", \"reference_wall_convergence\": "
+                  << num(f.result.wall_convergence_mean)
+                  << ", \"reference_servo_error_insitu\": "
+                  << num(f.result.servo_error_insitu) << "}";
+              }
+            j << "],\n  \"speedup_rows\": " << n_speedup
+              << ",\n  \"region_factor_smallest_agreeing\": "
+              << (answer.smallest_agreeing < 0 ? "null" : num(answer.smallest_agreeing))
+              << ",\n  \"region_factor_largest_disagreeing\": "
+              << (answer.largest_disagreeing < 0 ? "null"
+                                                 : num(answer.largest_disagreeing))
+              << ",\n";
+          }
         j << "  \"pareto_runs\": [";
         bool first = true;
         for (const auto &r : rows)
@@ -310,8 +574,12 @@ namespace demfem::apps
             j << (first ? "" : ", ") << r.index, first = false;
         j << "]\n}\n";
         std::cout << "demfem study: " << rows.size() << " runs (" << n_stable
-                  << " stable, " << n_unstable << " unstable); output in " << out
-                  << std::endl;
+                  << " stable, " << n_unstable << " unstable)";
+        if (st.breakable)
+          std::cout << ", " << n_speedup
+                    << " agreeing with the reference (speed-up table " << out
+                    << "/study.md)";
+        std::cout << "; output in " << out << std::endl;
         return 0;
       }
     catch (const std::exception &e)

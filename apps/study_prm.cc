@@ -350,6 +350,32 @@ namespace demfem::apps::study
                       "region/material file");
     prm.declare_entry("margin grains", "3", Patterns::Double(0),
                       "Right-sizing margin in mean grain diameters");
+    prm.declare_entry("coupling variants", "", Patterns::Anything(),
+                      "Comma-separated Coupling/variant values (wall-facets, "
+                      "slaved-layer). Empty: Coupling/variant");
+    prm.declare_entry("schemes", "", Patterns::Anything(),
+                      "Comma-separated Coupling/scheme values (explicit, "
+                      "quasi-static). Empty: Coupling/scheme");
+    prm.declare_entry("relaxation factors", "", Patterns::Anything(),
+                      "Comma-separated Coupling/relaxation values in (0, 2). Empty: "
+                      "Coupling/relaxation");
+    prm.declare_entry("stiffness contrasts", "", Patterns::Anything(),
+                      "Comma-separated DEM/continuum stiffness contrasts: "
+                      "Continuum/young modulus = this x the material's E (1: matched). "
+                      "Empty: 1");
+    prm.declare_entry("breakable", "false", Patterns::Bool(),
+                      "true: breakable bonds, each run compared with a full-DEM "
+                      "reference (damage-zone depth, crack counts) instead of Kirsch; "
+                      "writes study_speedup.csv and study.md");
+    prm.declare_entry("reference radius factor", "8", Patterns::Double(),
+                      "Breakable mode: radius of the full-DEM reference domain / "
+                      "tunnel radius, in [8, 100]");
+    prm.declare_entry("servo tolerance", "0.02", Patterns::Double(),
+                      "Breakable mode: the reference's membrane holds the in-situ "
+                      "stress within this relative error, in (0, 0.5]");
+    prm.declare_entry("agreement tolerance", "0.1", Patterns::Double(),
+                      "Breakable mode: equal damage-zone depth within +- this "
+                      "fraction of the reference's, in (0, 1]");
     prm.leave_subsection();
   }
 
@@ -407,6 +433,40 @@ namespace demfem::apps::study
     s.damage_fraction = prm.get_double("damage threshold");
     s.ucs             = prm.get_double("ucs");
     s.margin_grains   = prm.get_double("margin grains");
+    for (const auto &t : split(prm.get("coupling variants")))
+      {
+        AssertThrow(
+            t == "wall-facets" || t == "slaved-layer",
+            ExcMessage("Study/coupling variants: '" + t +
+                       "' is not a variant (allowed: wall-facets, slaved-layer)"));
+        s.variants.push_back(t);
+      }
+    for (const auto &t : split(prm.get("schemes")))
+      {
+        AssertThrow(t == "explicit" || t == "quasi-static",
+                    ExcMessage("Study/schemes: '" + t +
+                               "' is not a scheme (allowed: explicit, quasi-static)"));
+        s.schemes.push_back(t);
+      }
+    for (const auto &t : split(prm.get("relaxation factors")))
+      {
+        s.relaxations.push_back(number("relaxation factors", t, 0, 2));
+        AssertThrow(s.relaxations.back() > 0 && s.relaxations.back() < 2,
+                    ExcMessage("Study/relaxation factors: '" + t +
+                               "' is not in the open interval (0, 2)"));
+      }
+    for (const auto &t : split(prm.get("stiffness contrasts")))
+      {
+        s.stiffness_contrasts.push_back(number("stiffness contrasts", t, 0, 1e3));
+        AssertThrow(s.stiffness_contrasts.back() > 0,
+                    ExcMessage("Study/stiffness contrasts: '" + t + "' must be > 0"));
+      }
+    s.breakable = prm.get_bool("breakable");
+    s.reference_radius_factor =
+        number("reference radius factor", prm.get("reference radius factor"), 8, 100);
+    s.servo_tolerance = number("servo tolerance", prm.get("servo tolerance"), 1e-6, 0.5);
+    s.agreement_tolerance =
+        number("agreement tolerance", prm.get("agreement tolerance"), 1e-6, 1);
     prm.leave_subsection();
     if (s.ucs == 0 && !material_file.empty())
       {

@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -88,12 +89,15 @@ namespace demfem::coupling::excavation
     return n;
   }
 
-  /// Largest distance from the wall r = a of the cracks with index >= from.
-  inline double damage_zone_depth(const dem::Model<2> &m, std::size_t from, double a)
+  /// Largest distance from the wall r = a of the cracks with index >= from
+  /// and centre distance <= r_max.
+  inline double damage_zone_depth(const dem::Model<2> &m, std::size_t from, double a,
+                                  double r_max = HUGE_VAL)
   {
     double d = 0;
     for (std::size_t k = from; k < m.cracks.size(); ++k)
-      d = std::max(d, m.cracks[k].position.norm() - a);
+      if (m.cracks[k].position.norm() <= r_max)
+        d = std::max(d, m.cracks[k].position.norm() - a);
     return d;
   }
 

@@ -107,9 +107,18 @@ namespace demfem::coupling
     double       wall_time_s = 0, timestep = 0;
     std::size_t  cracks_total = 0, cracks_tensile = 0, cracks_shear = 0;
     std::size_t  cracks_before_excavation = 0, cracks_near_boundary = 0;
-    double       damage_zone_depth     = 0;
-    double       wall_convergence_mean = 0; ///< mean inward radial displacement [m]
-    std::size_t  n_wall_particles      = 0;
+    /// Damage-zone depth: largest distance from the wall of the excavation
+    /// cracks within the evaluation radius R/2 (beyond, the membrane and the
+    /// in-situ cracks it causes influence the result: measured, a crack
+    /// 2.26 m from the wall at r = 0.83 R, at a spot cracked during the
+    /// in-situ ramp, broken by the excavation's unloading wave); the
+    /// unfiltered value and the count of excavation cracks beyond R/2.
+    double      damage_zone_depth        = 0;
+    double      damage_zone_depth_all    = 0;
+    std::size_t cracks_beyond_evaluation = 0;
+    double      evaluation_radius        = 0;
+    double      wall_convergence_mean    = 0; ///< mean inward radial displacement [m]
+    std::size_t n_wall_particles         = 0;
     /// In-situ state before excavation: stress held by the membrane, its
     /// relative error, whether within the servo tolerance, and the
     /// Love-Weber stress of the grains in the disk r < R/2 (an independent
