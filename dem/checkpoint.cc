@@ -19,7 +19,8 @@ namespace demfem::dem
   namespace
   {
     constexpr const char *format_name    = "demfem DEM checkpoint";
-    constexpr int         format_version = 1;
+    // 2: flat-joint element codes stored as bytes (FlatJointLaw state layout).
+    constexpr int         format_version = 2;
 
     // ----------------------------------------------------------------------
     // Law parameters. Params are stored as an opaque blob (with its size) and

@@ -32,6 +32,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -99,10 +100,12 @@ namespace demfem::dem
 
     // ---- state layout -----------------------------------------------------
     // Per contact: a header R, g_s, delta_ss, delta_st, theta_bs, theta_bt
-    // (memo Eq. 15/22), then one array over the elements per field: the bond
-    // state and slip flag packed in one double (B + 4 slip), the shear
-    // forces, the slip energy and (2D only) the normal force and bending
-    // moment. The update is memory-bound, so nothing derivable is stored:
+    // (memo Eq. 15/22), then the bond state and slip flag of each element in
+    // one byte (B + 4 slip; ceil(ne / 8) doubles hold them, and bytes 0-7
+    // always form a finite double, so the block copies and checkpoints as
+    // doubles), then one array of doubles over the elements per field: the
+    // shear forces, the slip energy and (2D only) the normal force and
+    // bending moment. The update is memory-bound, so nothing derivable is stored:
     // the element geometry depends only on (Nr, Nal, e) scaled by R (memo
     // Eq. 13, 16-17: A = R^2 A^, r = R r^); the centroid gap at the end of
     // the previous step (g_0 of Eq. 33) is the gap of the header before this
@@ -124,31 +127,45 @@ namespace demfem::dem
     };
     enum : int
     {
-      f_code, ///< B + 4 slip (B: 0 unbonded, 1/2 broke in tension/shear, 3 bonded)
       f_fss,
       f_fst,
       f_eslip,
       f_fn, ///< 2D only
       f_mb  ///< 2D only
     };
-    static constexpr int n_field = dim == 2 ? 6 : 4;
+    static constexpr int n_field = dim == 2 ? 5 : 3;
 
     static int element_count(const Params &p) { return dim == 2 ? p.Nr : p.Nr * p.Nal; }
-    static int state_size(const Params &p) { return n_head + n_field * element_count(p); }
+    /// Doubles holding the element codes (one byte each).
+    static int code_words(const Params &p) { return (element_count(p) + 7) / 8; }
+    static int state_size(const Params &p)
+    {
+      return n_head + code_words(p) + n_field * element_count(p);
+    }
 
     /// Array of field f over the elements.
     static double *field(const Params &p, double *st, int f)
     {
-      return st + n_head + f * element_count(p);
+      return st + n_head + code_words(p) + f * element_count(p);
     }
     static const double *field(const Params &p, const double *st, int f)
     {
-      return st + n_head + f * element_count(p);
+      return st + n_head + code_words(p) + f * element_count(p);
+    }
+    /// Element codes B + 4 slip (B: 0 unbonded, 1/2 broke in tension/shear,
+    /// 3 bonded), one byte per element (byte access to the doubles' storage).
+    static unsigned char *code_array(double *st)
+    {
+      return reinterpret_cast<unsigned char *>(st + n_head);
+    }
+    static const unsigned char *code_array(const double *st)
+    {
+      return reinterpret_cast<const unsigned char *>(st + n_head);
     }
 
-    static int    code_bond(double c) { return int(c) & 3; }
-    static bool   code_slip(double c) { return c >= 4; }
-    static double make_code(int B, bool slip) { return B + (slip ? 4 : 0); }
+    static int           code_bond(unsigned char c) { return c & 3; }
+    static bool          code_slip(unsigned char c) { return c >= 4; }
+    static unsigned char make_code(int B, bool slip) { return B + (slip ? 4 : 0); }
 
     /// 3D unit-radius element geometry per (Nr, Nal) (memo Eq. 16-17 with
     /// R = 1): four arrays over the elements, A^, r^_s, r^_t and 1/A^ (so that
@@ -324,7 +341,7 @@ namespace demfem::dem
       st[h_gs]            = p.gap0;                  // memo Eq. 31
       const bool bond_all = p.bonded && p.gap0 == 0; // Table 5: g_o > 0 => B = 0
       for (int e = 0; e < element_count(p); ++e)
-        field(p, st, f_code)[e] = make_code(bond_all ? 3 : 0, false);
+        code_array(st)[e] = make_code(bond_all ? 3 : 0, false);
     }
 
     static void update(const Params &p, const ContactStep<dim> &k, double *st,
@@ -359,15 +376,15 @@ namespace demfem::dem
           return;
 
       // Per-contact invariants hoisted out of the element loop.
-      const double  R   = st[h_R];
-      const double  gs1 = st[h_gs], tbs1 = st[h_tbs], tbt1 = dim == 3 ? st[h_tbt] : 0.0;
-      const double *ug      = dim == 3 ? unit_geometry(p.Nr, p.Nal) : nullptr;
-      const double  tan_phi = tan_deg(p.fa);
-      const int     ne      = element_count(p);
-      double       *codes   = field(p, st, f_code);
-      double       *fss_a   = field(p, st, f_fss);
-      double       *fst_a   = field(p, st, f_fst);
-      double       *eslip_a = field(p, st, f_eslip);
+      const double   R   = st[h_R];
+      const double   gs1 = st[h_gs], tbs1 = st[h_tbs], tbt1 = dim == 3 ? st[h_tbt] : 0.0;
+      const double  *ug      = dim == 3 ? unit_geometry(p.Nr, p.Nal) : nullptr;
+      const double   tan_phi = tan_deg(p.fa);
+      const int      ne      = element_count(p);
+      unsigned char *codes   = code_array(st);
+      double        *fss_a   = field(p, st, f_fss);
+      double        *fst_a   = field(p, st, f_fst);
+      double        *eslip_a = field(p, st, f_eslip);
 
       f         = ContactForce{};
       double mz = 0; // 2D resultant moment about +z
@@ -375,13 +392,13 @@ namespace demfem::dem
         {
           double A, rs, rt;
           scaled_geometry(p, R, ug, e, A, rs, rt);
-          const double g0       = gs0 + rt * tbs0 - rs * tbt0;
-          const double g1       = gs1 + rt * tbs1 - rs * tbt1;
-          const double code     = codes[e];
-          int          B        = code_bond(code);
-          const bool   was_slip = code_slip(code);
-          bool         bonded   = B == 3;
-          bool         slip     = false;
+          const double        g0       = gs0 + rt * tbs0 - rs * tbt0;
+          const double        g1       = gs1 + rt * tbs1 - rs * tbt1;
+          const unsigned char code     = codes[e];
+          int                 B        = code_bond(code);
+          const bool          was_slip = code_slip(code);
+          bool                bonded   = B == 3;
+          bool                slip     = false;
 
           auto break_event = [&](int mode, double strength) {
             LawEvent ev;
@@ -486,7 +503,7 @@ namespace demfem::dem
               normal_and_bending(p, st, A, rs, rt, false, fn_dummy, Mb);
             }
 
-          const double new_code = make_code(B, slip);
+          const unsigned char new_code = make_code(B, slip);
           if (new_code != code) // keep the cache line clean
             codes[e] = new_code;
           fss_a[e] = Fss;
@@ -529,43 +546,64 @@ namespace demfem::dem
     static bool update_bonded_3d(const Params &p, const ContactStep<dim> &k, double *st,
                                  ContactForce &f)
     {
-      constexpr int max_elements = 64; // stack arrays below
-      const int     ne           = element_count(p);
-      if (ne > max_elements)
+      // Two elements per instruction (SSE2, part of x86-64; the GCC/Clang
+      // vector extension lowers to scalar code elsewhere). Element-wise IEEE
+      // arithmetic, so the lanes give exactly the scalar results.
+      typedef double v2d __attribute__((vector_size(16)));
+      typedef long   v2l __attribute__((vector_size(16)));
+      constexpr int  max_elements = 64; // stack arrays below
+      const int      ne           = element_count(p);
+      if (ne > max_elements || ne % 2 != 0)
         return false;
-      const double *codes  = field(p, st, f_code);
-      int           n_bond = 0;
-      for (int e = 0; e < ne; ++e)
-        n_bond += codes[e] == 3.0; // make_code(3, false)
-      if (n_bond != ne)
-        return false;
+      auto load = [](const double *a) {
+        v2d v;
+        std::memcpy(&v, a, sizeof v);
+        return v;
+      };
+      auto store = [](double *a, v2d v) { std::memcpy(a, &v, sizeof v); };
+      auto splat = [](double x) { return v2d{x, x}; };
+
+      // Every code 3 (bonded, not slipping), eight at a time.
+      const unsigned char *codes = code_array(st);
+      for (int e = 0; e < ne; e += 8)
+        {
+          const int     n    = ne - e < 8 ? ne - e : 8;
+          std::uint64_t word = 0, all3 = 0x0303030303030303ull;
+          std::memcpy(&word, codes + e, n);
+          if (n < 8)
+            all3 &= (1ull << (8 * n)) - 1; // the bytes past ne read as 0
+          if (word != all3)
+            return false;
+        }
 
       const double *ug = unit_geometry(p.Nr, p.Nal);
       const double *uA = ug, *urs = ug + ne, *urt = ug + 2 * ne;
       double       *fss_a = field(p, st, f_fss), *fst_a = field(p, st, f_fst);
-      const double  R = st[h_R], gs1 = st[h_gs], tbs1 = st[h_tbs], tbt1 = st[h_tbt];
-      const double  d_ss = k.d_ss, d_st = k.d_st, d_tw = k.d_twist;
-      const double  kn = p.kn, ks = p.ks, ten = p.ten, coh = p.coh;
-      const double  tan_phi = tan_deg(p.fa);
-      double        Fn[max_elements], Fss[max_elements], Fst[max_elements];
-      double        rs_a[max_elements], rt_a[max_elements];
-      int           broken = 0;
-#pragma omp simd reduction(| : broken)
-      for (int e = 0; e < ne; ++e)
+      const v2d     R = splat(st[h_R]), RR = splat(st[h_R] * st[h_R]);
+      const v2d gs1 = splat(st[h_gs]), tbs1 = splat(st[h_tbs]), tbt1 = splat(st[h_tbt]);
+      const v2d d_ss = splat(k.d_ss), d_st = splat(k.d_st), d_tw = splat(k.d_twist);
+      const v2d kn = splat(p.kn), ks = splat(p.ks), ten = splat(p.ten),
+                coh     = splat(p.coh);
+      const v2d tan_phi = splat(tan_deg(p.fa)), zero = splat(0.0);
+      double    Fn[max_elements], Fss[max_elements], Fst[max_elements];
+      double    rs_a[max_elements], rt_a[max_elements];
+      v2l       broken = {0, 0};
+      for (int e = 0; e < ne; e += 2)
         {
-          const double A  = R * R * uA[e];
-          const double rs = R * urs[e], rt = R * urt[e];
-          const double g1 = gs1 + rt * tbs1 - rs * tbt1;
-          const double fn = kn * g1 * A;
-          const double ds = d_ss - d_tw * rt, dtt = d_st + d_tw * rs;
-          const double ksA = ks * A;
-          const double fs = fss_a[e] - ksA * ds, ft = fst_a[e] - ksA * dtt;
-          const double F2 = fs * fs + ft * ft;
-          const double Tc = coh * A - fn * tan_phi;
-          broken |= int(fn > ten * A) | int(Tc < 0) | int(F2 > Tc * Tc);
-          Fn[e] = fn, Fss[e] = fs, Fst[e] = ft, rs_a[e] = rs, rt_a[e] = rt;
+          const v2d A  = RR * load(uA + e);
+          const v2d rs = R * load(urs + e), rt = R * load(urt + e);
+          const v2d g1 = gs1 + rt * tbs1 - rs * tbt1;
+          const v2d fn = kn * g1 * A;
+          const v2d ds = d_ss - d_tw * rt, dtt = d_st + d_tw * rs;
+          const v2d ksA = ks * A;
+          const v2d fs = load(fss_a + e) - ksA * ds, ft = load(fst_a + e) - ksA * dtt;
+          const v2d F2 = fs * fs + ft * ft;
+          const v2d Tc = coh * A - fn * tan_phi;
+          broken |= (fn > ten * A) | (Tc < zero) | (F2 > Tc * Tc);
+          store(Fn + e, fn), store(Fss + e, fs), store(Fst + e, ft);
+          store(rs_a + e, rs), store(rt_a + e, rt);
         }
-      if (broken)
+      if (broken[0] | broken[1])
         return false;
       // Local sums: `f` could alias the state, which would force a store per
       // element.
@@ -649,13 +687,13 @@ namespace demfem::dem
     {
       if constexpr (dim == 3)
         return strain_energy_3d(p, st);
-      const double *ug   = dim == 3 ? unit_geometry(p.Nr, p.Nal) : nullptr;
-      const double  R    = st[h_R];
-      const double  rbar = R / p.Nr;
-      const double  I2d  = 2.0 / 3.0 * rbar * rbar * rbar;
-      const double *code = field(p, st, f_code), *fss = field(p, st, f_fss),
-                   *fst = field(p, st, f_fst);
-      double E          = 0;
+      const double        *ug   = dim == 3 ? unit_geometry(p.Nr, p.Nal) : nullptr;
+      const double         R    = st[h_R];
+      const double         rbar = R / p.Nr;
+      const double         I2d  = 2.0 / 3.0 * rbar * rbar * rbar;
+      const unsigned char *code = code_array(st);
+      const double        *fss = field(p, st, f_fss), *fst = field(p, st, f_fst);
+      double               E = 0;
       for (int e = 0; e < element_count(p); ++e)
         {
           double A, rs, rt;
@@ -689,11 +727,11 @@ namespace demfem::dem
       const double *ug = unit_geometry(p.Nr, p.Nal);
       const double *uA = ug, *urs = ug + ne, *urt = ug + 2 * ne, *uinvA = ug + 3 * ne;
       const double  R = st[h_R], gs = st[h_gs], tbs = st[h_tbs], tbt = st[h_tbt];
-      const double *code = field(p, st, f_code), *fss = field(p, st, f_fss),
-                   *fst       = field(p, st, f_fst);
-      const double half_kn_R2 = 0.5 * p.kn * R * R;
-      const double half_R2_ks = p.ks > 0 ? 0.5 / (p.ks * R * R) : 0.0;
-      double       E          = 0;
+      const unsigned char *code = code_array(st);
+      const double        *fss = field(p, st, f_fss), *fst = field(p, st, f_fst);
+      const double         half_kn_R2 = 0.5 * p.kn * R * R;
+      const double         half_R2_ks = p.ks > 0 ? 0.5 / (p.ks * R * R) : 0.0;
+      double               E          = 0;
       for (int e = 0; e < ne; ++e)
         {
           const double g       = gs + R * urt[e] * tbs - R * urs[e] * tbt;
@@ -735,8 +773,8 @@ namespace demfem::dem
         {
           if (element >= 0 && e != element)
             continue;
-          double *code = field(p, st, f_code) + e;
-          bool    zero;
+          unsigned char *code = code_array(st) + e;
+          bool           zero;
           if (dim == 2)
             {
               const double rbar = st[h_R] / p.Nr;
@@ -763,19 +801,19 @@ namespace demfem::dem
       for (int e = 0; e < element_count(p); ++e)
         if (element < 0 || e == element)
           {
-            double *code = field(p, st, f_code) + e;
-            *code        = make_code(0, code_slip(*code));
+            unsigned char *code = code_array(st) + e;
+            *code               = make_code(0, code_slip(*code));
           }
     }
 
     // ---- getters -------------------------------------------------------------
     static int bond_state(const Params &p, const double *st, int e)
     {
-      return code_bond(field(p, st, f_code)[e]);
+      return code_bond(code_array(st)[e]);
     }
     static bool slipping(const Params &p, const double *st, int e)
     {
-      return code_slip(field(p, st, f_code)[e]);
+      return code_slip(code_array(st)[e]);
     }
     static double element_area(const Params &p, const double *st, int e)
     {
