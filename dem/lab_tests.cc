@@ -392,9 +392,10 @@ namespace demfem::dem
 
       void load()
       {
-        const std::int64_t nmax = p_.step_limit;
-        r_.ended_by             = "step limit";
-        double peak             = -HUGE_VAL;
+        const std::int64_t nmax    = p_.step_limit;
+        r_.ended_by                = "step limit";
+        double      peak           = -HUGE_VAL;
+        std::size_t cracks_at_peak = 0;
         for (std::int64_t n = 1; n <= nmax; ++n)
           {
             m_.step();
@@ -405,8 +406,9 @@ namespace demfem::dem
             const std::size_t cracks = h.cracks_tension + h.cracks_shear;
             if (h.load > peak)
               {
-                peak        = h.load;
-                r_.peak_row = r_.history.size() - 1;
+                peak           = h.load;
+                cracks_at_peak = cracks;
+                r_.peak_row    = r_.history.size() - 1;
                 if (cb_.snapshot)
                   cb_.snapshot(s_, "peak");
               }
@@ -424,8 +426,10 @@ namespace demfem::dem
                 g.fraction_done = std::min(1.0, done);
                 cb_.progress(g);
               }
-            // Post-peak end (Table 10-12 load factor): only once the material
-            // has started to break, so start-up noise cannot end the test.
+            // Post-peak end (Table 10-12 load factor): only when the material
+            // broke after the peak, so that neither start-up noise nor the
+            // inertial spike of the platens starting at full speed (with a
+            // few weak bonds broken during it) can end the test.
             // The mean of the last three rows filters platen chatter.
             const std::size_t nh = r_.history.size();
             const double      recent =
@@ -433,7 +437,7 @@ namespace demfem::dem
                             : (r_.history[nh - 1].load + r_.history[nh - 2].load +
                           r_.history[nh - 3].load) /
                              3;
-            if (cracks > 0 && peak > 0 && recent < p_.load_fraction * peak)
+            if (cracks > cracks_at_peak && peak > 0 && recent < p_.load_fraction * peak)
               {
                 r_.ended_by = "post-peak";
                 break;
