@@ -261,7 +261,11 @@ namespace demfem::apps
                           ? (double(row.cracks_excavation) - ref.cracks_excavation()) /
                                 ref.cracks_excavation()
                           : std::nan("");
-                  row.agrees = std::abs(row.error) <= st.agreement_tolerance;
+                  // A run whose cracks reached the coupling boundary does not
+                  // agree whatever its number: its damage zone was cut by the
+                  // region (the continuum cannot crack).
+                  row.agrees = std::abs(row.error) <= st.agreement_tolerance &&
+                               !row.region_too_small;
                 }
               else if (row.diagnosis.empty())
                 row.diagnosis = "no usable full-DEM reference (failed or no damage)";

@@ -1,0 +1,127 @@
+// Full-DEM reference of the breakable tunnel (issue 6 item 2): the
+// membrane servo's target forces reproduce the in-situ stress exactly; the
+// servo holds it in a packed, bonded disk; bad parameters are refused.
+#include <catch2/catch.hpp>
+
+#include "coupling/full_dem_reference.h"
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+using namespace demfem;
+using dem::Vec;
+
+namespace
+{
+  // A closed ring of n facets around the origin, radii perturbed (a
+  // membrane after deformation is no longer a regular polygon).
+  int ring(dem::Model<2> &m, int n, double R)
+  {
+    const int        w = m.walls.add_wall("membrane");
+    std::vector<int> v(n);
+    for (int k = 0; k < n; ++k)
+      {
+        const double th = 2 * M_PI * k / n, r = R * (1 + 0.05 * std::sin(3.0 * k));
+        v[k] = m.walls.add_vertex(r * Vec<2>(std::cos(th), std::sin(th)));
+      }
+    for (int k = 0; k < n; ++k)
+      m.walls.add_facet(w, {{v[k], v[(k + 1) % n]}});
+    return w;
+  }
+} // namespace
+
+TEST_CASE("full-DEM reference: membrane target forces carry sigma0 exactly",
+          "[reference]")
+{
+  // Closed form: for a closed polygon, sum over edges of (sigma n_e) L_e (x)
+  // (x_a + x_b)/2 = sigma A (divergence theorem, exact for straight edges),
+  // so the half-edge lumped targets give back sigma0 to round-off, shear
+  // included, whatever the polygon.
+  dem::Model<2>         m;
+  const int             w = ring(m, 48, 2.0);
+  const Eigen::Matrix2d s0 =
+      (Eigen::Matrix2d() << -20e6, 5e6, 5e6, -50e6).finished(); // with shear
+  coupling::MembraneServo servo(m, w, coupling::MembraneServoParams(), 0.1, 4e10);
+  servo.set_target(s0);
+  const auto F = servo.target_forces(m, 1.0);
+  REQUIRE(F.size() == 48);
+  for (std::size_t j = 0; j < F.size(); ++j)
+    m.walls.vertex_force[servo.vertices()[j]] = F[j];
+  CHECK((servo.held_stress(m) - s0).norm() <= 1e-12 * s0.norm());
+  CHECK(servo.relative_error(m, 1.0) <= 1e-12);
+  // half the load: the error is the missing half
+  CHECK(servo.relative_error(m, 0.5) == Approx(0.5).epsilon(1e-12));
+  // compression pushes the vertices outward: F . x > 0 on average
+  double push = 0;
+  for (std::size_t j = 0; j < F.size(); ++j)
+    push += F[j].dot(m.walls.vertex[servo.vertices()[j]]);
+  CHECK(push > 0);
+}
+
+TEST_CASE("full-DEM reference: the servo holds the in-situ stress, elastic response",
+          "[reference]")
+{
+  // a = 0.4 m, R = 8 a, a/d = 3 (about 1 900 grains), unbreakable bonds:
+  // the membrane must hold sigma0 within its 2 % tolerance, and the grains'
+  // own (Love-Weber) stress in r < R/2 must match it as well.
+  coupling::FullDemReferenceParams p;
+  p.output_directory =
+      (std::filesystem::temp_directory_path() / "demfem_reference").string();
+  std::filesystem::remove_all(p.output_directory);
+  p.tunnel_radius    = 0.4;
+  p.sigma0           = (Eigen::Matrix2d() << -10e6, 0, 0, -20e6).finished();
+  p.region.radius    = 3.2;
+  const double d     = 0.4 / 3;
+  p.region.d_lo      = 0.8 * d;
+  p.region.d_hi      = 1.2 * d;
+  p.region.emod      = 20e9;
+  p.region.lnm_emod  = 20e9;
+  p.region.breakable = false;
+  p.phase_step_limit = 8000;
+  std::ostringstream log;
+  const auto         r = coupling::run_full_dem_reference(p, log);
+  INFO(log.str());
+  REQUIRE(!r.diverged);
+  CHECK(r.equilibrated);
+  CHECK(r.servo_held_insitu);
+  CHECK(r.servo_error_insitu <= p.servo.tolerance);
+  CHECK(r.servo_error_final <= p.servo.tolerance);
+  // Independent check: the Love-Weber stress of the contacts in r < R/2.
+  // Tolerance 5 %: the disk average truncates the contacts at its rim
+  // (O(d/r) ~ 1 % here) and the packing is anisotropic at this coarse
+  // resolution (measured 1.3 % at -20/-50 MPa, a/d = 4).
+  const double e = (r.region_stress_insitu - p.sigma0).norm() / p.sigma0.norm();
+  INFO("Love-Weber stress error " << e);
+  CHECK(e <= 0.05);
+  // Unbreakable: no cracks; the wall converges inward, of the Kirsch
+  // magnitude a (S1 + S2) / (4 G) with the plane-strain constants of this
+  // packing (E = 16.3 GPa, nu = 0.11, docs/tunnel.md); a/d = 3 is coarse
+  // (the embedded study measured -21 % to +10 % over seeds at a/d = 3),
+  // hence +-30 % (measured +15 %: 0.472 mm against 0.409 mm).
+  CHECK(r.cracks_total == 0);
+  const double G = 16.3e9 / (2 * 1.11), kirsch = 0.4 * 30e6 / (4 * G);
+  INFO("wall convergence " << r.wall_convergence_mean << " m, Kirsch " << kirsch);
+  CHECK(r.wall_convergence_mean == Approx(kirsch).epsilon(0.3));
+  CHECK(std::filesystem::exists(p.output_directory + "/summary.json"));
+  CHECK(std::filesystem::exists(p.output_directory + "/cracks.csv"));
+}
+
+TEST_CASE("full-DEM reference: bad parameters are refused before any output",
+          "[reference]")
+{
+  coupling::FullDemReferenceParams p;
+  p.output_directory =
+      (std::filesystem::temp_directory_path() / "demfem_reference_bad").string();
+  std::filesystem::remove_all(p.output_directory);
+  p.tunnel_radius = 1.0;
+  p.region.radius = 6.0; // < 8 a
+  std::ostringstream log;
+  CHECK_THROWS_WITH(coupling::run_full_dem_reference(p, log),
+                    Catch::Contains("at least 8 x Tunnel/radius"));
+  p.region.radius = 8.0;
+  p.sigma0.setZero();
+  CHECK_THROWS_WITH(coupling::run_full_dem_reference(p, log),
+                    Catch::Contains("in situ stress"));
+  CHECK(!std::filesystem::exists(p.output_directory));
+}
