@@ -262,7 +262,14 @@ namespace demfem::dem
           throw InputError("lab test: platen friction needs a linear grain-wall law");
         typename LinearLaw<dim>::Params lp = wg->params;
         lp.friction                        = p_.platen_friction;
-        const int g = m_.template add_law<LinearLaw<dim>>(lp, "platen friction");
+        // The grain-wall group is frictionless with ks = 0 (§4.1): without a
+        // shear stiffness no shear force ever builds and the friction
+        // coefficient does nothing (a coarse 3D disk rotated between the
+        // platens and carried no load). Shear stiffness of the material's
+        // linear group: ks = kn / kappa*.
+        const double krat = s_.material.lnm_krat > 0 ? s_.material.lnm_krat : 1.0;
+        lp.ks             = lp.kn / krat;
+        const int g       = m_.template add_law<LinearLaw<dim>>(lp, "platen friction");
         std::vector<ContactRef> walls;
         for (int k = 0; k < m_.n_groups(); ++k)
           for (std::size_t c = 0; c < m_.group(k).size(); ++c)
