@@ -150,13 +150,17 @@ namespace demfem::apps::study
                       "slaved-layer: width of the overlap of the continuum and the DEM "
                       "region, in mean grain diameters, in [0.5, 10]");
     prm.declare_entry("scheme", "explicit", Patterns::Selection("explicit|quasi-static"),
-                      "explicit (implemented); quasi-static is not implemented yet");
+                      "explicit: the continuum is stepped every `subcycles` DEM steps; "
+                      "quasi-static: its static interface response (precomputed "
+                      "flexibility), relaxed every `subcycles` DEM steps (use 200)");
     prm.declare_entry("subcycles", "1", Patterns::Integer(1, 1000),
                       "DEM steps per continuum step");
     prm.declare_entry("timestep safety", "0.8", Patterns::Double(),
                       "dt = safety x min(DEM critical, continuum critical / subcycles)");
-    prm.declare_entry("relaxation", "1.0", Patterns::Double(),
-                      "Relaxation of the quasi-static scheme (unused by explicit)");
+    prm.declare_entry("relaxation", "0.3", Patterns::Double(),
+                      "quasi-static: relaxation omega of the interface displacement, in "
+                      "(0, 2); 0.3 with subcycles = 200 (docs/tunnel.md; unused by "
+                      "explicit)");
     prm.declare_entry("equilibrium ratio", "1e-3", Patterns::Double(),
                       "Equilibrium: unbalanced-force ratio below this");
     prm.declare_entry("ramp steps", "2000", Patterns::Integer(1),

@@ -7,7 +7,6 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 
-
 #include "apps/commands.h"
 #include "apps/prm_cli.h"
 #include "apps/study.h"
@@ -31,8 +30,10 @@ namespace demfem::apps
         "[--restart CHECKPOINT.h5] [--print-parameters] [--help]\n"
         "\n"
         "Coupled DEM-continuum tunnel excavation (2D): a bonded-grain region of\n"
-        "radius 'DEM region/radius' around the tunnel is embedded in an explicit\n"
-        "elastic continuum through a ring of wall facets; in-situ stress ramp,\n"
+        "radius 'DEM region/radius' around the tunnel is embedded in an elastic\n"
+        "continuum (Coupling/variant: slaved-layer, the continuum overlapping the\n"
+        "region's rim whose grains follow it, or wall-facets, a ring of DEM walls;\n"
+        "Coupling/scheme: explicit or quasi-static); in-situ stress ramp,\n"
         "equilibrium, excavation (in stages), equilibrium. Writes summary.json,\n"
         "history.csv, wall_displacement.csv and VTK series (particles, bonds,\n"
         "cracks, continuum; tunnel.pvd opens all) into Problem/output directory.\n"
@@ -61,10 +62,10 @@ namespace demfem::apps
           prm.enter_subsection("DEM region");
           const std::string material = prm.get("material file");
           prm.leave_subsection();
-          const auto st = study::read_study_settings(prm, material);
-          const auto ar = study::auto_region_radius(s.sigma0, s.tunnel_radius, st.ucs,
-                                                    st.damage_fraction, st.margin_grains,
-                                                    s.region.mean_diameter());
+          const auto st   = study::read_study_settings(prm, material);
+          const auto ar   = study::auto_region_radius(s.sigma0, s.tunnel_radius, st.ucs,
+                                                      st.damage_fraction, st.margin_grains,
+                                                      s.region.mean_diameter());
           s.region.radius = ar.radius;
           std::cout << "demfem tunnel: DEM region/radius = auto: sigma1 - sigma3 >= "
                     << ar.threshold << " Pa reaches r = " << ar.damage_radius

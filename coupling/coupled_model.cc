@@ -94,6 +94,23 @@ namespace demfem::coupling
     fem_->set_coupling_vertices(points);
     accum.assign(points.size(), Vec<2>::Zero());
     nodal.assign(points.size(), Vec<2>::Zero());
+    if (kp.scheme == "quasi-static")
+      {
+        // Static response on the same mesh, far field and coupling nodes;
+        // the flexibility is computed once (2 n solves of the factorized K).
+        static_ = std::make_unique<fem::StaticInterfaceResponse<2>>(
+            tria, fem::StaticSettings::from(es), points);
+        static_->setup();
+        flex = static_->flexibility();
+        u_far.assign(2 * points.size(), 0.0);
+        u_reached.assign(2 * points.size(), 0.0);
+        if (progress)
+          *progress << "quasi-static continuum: interface flexibility " << flex.m()
+                    << " x " << flex.n() << " in "
+                    << static_->cost().setup_seconds() +
+                           static_->cost().flexibility_seconds
+                    << " s, relaxation " << kp.relaxation << "\n";
+      }
 
     fem_crit = fem_->critical_time_step();
     dem_crit = dem.critical_timestep();
@@ -121,6 +138,22 @@ namespace demfem::coupling
     sigma0         = s0;
     const double E = cp.young_modulus, nu = cp.poisson_ratio;
     eps0 = (1 + nu) / E * (s0 - nu * s0.trace() * Eigen::Matrix2d::Identity());
+    if (static_)
+      {
+        const auto r = static_->far_field_response(insitu_strain());
+        for (std::size_t k = 0; k < r.size(); ++k)
+          for (int c = 0; c < 2; ++c)
+            u_far[2 * k + c] = r[k][c];
+      }
+  }
+
+  dealii::Tensor<2, 2> CoupledModel::insitu_strain() const
+  {
+    dealii::Tensor<2, 2> e;
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        e[i][j] = eps0(i, j);
+    return e;
   }
 
   void CoupledModel::continuum_step()
@@ -141,7 +174,10 @@ namespace demfem::coupling
     const double diff    = std::hypot(held[0] - dem_sum[0], held[1] - dem_sum[1]);
     imb_last             = accum_abs > 0 ? diff / (inv * accum_abs) : 0.0;
     imb_max              = std::max(imb_max, imb_last);
-    explicit_step(f);
+    if (static_)
+      quasi_static_step(f);
+    else
+      explicit_step();
     for (auto &a : accum)
       a.setZero();
     accum_contacts.setZero();
@@ -149,7 +185,60 @@ namespace demfem::coupling
     n_accum   = 0;
   }
 
-  void CoupledModel::explicit_step(const std::vector<dealii::Tensor<1, 2>> &)
+  void CoupledModel::quasi_static_step(const std::vector<dealii::Tensor<1, 2>> &f)
+  {
+    // Target u* = lambda u_far + F f, relaxed from the displacement the
+    // coupling nodes reached (the previous window's u_new).
+    const std::size_t   n = points.size();
+    std::vector<double> fv(2 * n), target(2 * n);
+    for (std::size_t k = 0; k < n; ++k)
+      for (int c = 0; c < 2; ++c)
+        fv[2 * k + c] = f[k][c];
+    double dnorm = 0, tnorm = 0;
+    for (std::size_t i = 0; i < 2 * n; ++i)
+      {
+        double t = load_factor * u_far[i];
+        for (std::size_t j = 0; j < 2 * n; ++j)
+          t += flex(i, j) * fv[j];
+        target[i] = t;
+        dnorm += (t - u_reached[i]) * (t - u_reached[i]);
+        tnorm += t * t;
+      }
+    last_residual = residual;
+    residual      = tnorm > 0 ? std::sqrt(dnorm / tnorm) : 0.0;
+    residual_growth =
+        (residual > 1.2 * last_residual && last_residual > 0) ? residual_growth + 1 : 0;
+    if (!std::isfinite(residual) || residual_growth >= 15)
+      {
+        std::ostringstream msg;
+        msg << "the quasi-static coupling diverged at step " << n_steps
+            << ": the interface residual |u* - u| / |u*| = " << residual
+            << " grew by more than 20 % per window for " << residual_growth
+            << " windows; likely cause: Coupling/relaxation (" << kp.relaxation
+            << ") too large for the stiffness contrast between the grains and the "
+               "continuum (try 0.3), or Coupling/subcycles ("
+            << kp.subcycles << ") too small for the DEM to respond within a window";
+        throw dem::InstabilityError(msg.str());
+      }
+    std::vector<Vec<2>> u(n), v(n);
+    const double        window = kp.subcycles * dt_;
+    for (std::size_t k = 0; k < n; ++k)
+      {
+        Vec<2> du;
+        for (int c = 0; c < 2; ++c)
+          {
+            const std::size_t i = 2 * k + c;
+            u[k][c]             = u_reached[i];
+            du[c]               = kp.relaxation * (target[i] - u_reached[i]);
+            u_reached[i] += du[c];
+          }
+        v[k] = du / window;
+      }
+    applied_factor = load_factor;
+    move_interface(u, v);
+  }
+
+  void CoupledModel::explicit_step()
   {
     // Far-field displacement ramp u = lambda eps0 x: the fixed dofs move with
     // the load-factor increment over this continuum step.
@@ -200,7 +289,28 @@ namespace demfem::coupling
   {
     if (n_steps % kp.subcycles == 0)
       continuum_step();
-    dem.step();
+    if (!static_)
+      dem.step();
+    else
+      try
+        {
+          dem.step();
+        }
+      catch (const dem::InstabilityError &e)
+        {
+          // The relaxed static interface drives the grains: a diverging
+          // iteration shows first as a DEM instability (overlaps growing,
+          // the critical step falling below dt).
+          std::ostringstream msg;
+          msg << e.what() << " With the quasi-static coupling (interface residual "
+              << residual << ") the likely cause is Coupling/relaxation ("
+              << kp.relaxation
+              << ") too large for the stiffness contrast between the grains and the "
+                 "continuum (try 0.3) or Coupling/subcycles ("
+              << kp.subcycles
+              << ") too small for the DEM to respond within a window (try 200).";
+          throw dem::InstabilityError(msg.str());
+        }
     ++n_steps;
     for (auto &x : nodal)
       x.setZero();
@@ -257,14 +367,27 @@ namespace demfem::coupling
     std::vector<double> a;
     for (const auto &x : accum)
       a.insert(a.end(), {x[0], x[1]});
-    const std::vector<double> scalars = {
-        accum_contacts[0],  accum_contacts[1], accum_abs,      double(n_accum),
-        load_factor,        imb_max,           imb_last,       last_fem_ke,
-        double(fem_growth), double(n_steps),   applied_factor, far_moving ? 1.0 : 0.0,
-        last_force[0],      last_force[1]};
+    const std::vector<double> scalars = {accum_contacts[0],
+                                         accum_contacts[1],
+                                         accum_abs,
+                                         double(n_accum),
+                                         load_factor,
+                                         imb_max,
+                                         imb_last,
+                                         last_fem_ke,
+                                         double(fem_growth),
+                                         double(n_steps),
+                                         applied_factor,
+                                         far_moving ? 1.0 : 0.0,
+                                         last_force[0],
+                                         last_force[1],
+                                         residual,
+                                         last_residual,
+                                         double(residual_growth)};
     return {{"coupling.variant", variant() + " " + kp.scheme},
             {"coupling.accum", encode_doubles(a)},
             {"coupling.scalars", encode_doubles(scalars)},
+            {"coupling.reached", encode_doubles(u_reached)},
             {"coupling.continuum", encode_doubles(fem_->save_state())}};
   }
 
@@ -283,30 +406,39 @@ namespace demfem::coupling
                             "' coupling, this run uses '" + variant() + " " + kp.scheme +
                             "'");
     const auto a = get("coupling.accum"), s = get("coupling.scalars");
-    if (a.size() != 2 * accum.size() || s.size() != 14)
+    const auto reached = get("coupling.reached");
+    if (a.size() != 2 * accum.size() || s.size() != 17 ||
+        reached.size() != u_reached.size())
       throw dem::InputError(
           "checkpoint: the coupling interface differs (" + std::to_string(a.size() / 2) +
           " coupling nodes in the file, " + std::to_string(accum.size()) + " here)");
     fem_->load_state(get("coupling.continuum"));
     for (std::size_t k = 0; k < accum.size(); ++k)
       accum[k] = Vec<2>(a[2 * k], a[2 * k + 1]);
-    accum_contacts = Vec<2>(s[0], s[1]);
-    accum_abs      = s[2];
-    n_accum        = static_cast<unsigned int>(s[3]);
-    load_factor    = s[4];
-    imb_max        = s[5];
-    imb_last       = s[6];
-    last_fem_ke    = s[7];
-    fem_growth     = static_cast<int>(s[8]);
-    n_steps        = static_cast<std::int64_t>(s[9]);
-    applied_factor = s[10];
-    far_moving     = s[11] != 0;
-    last_force     = Vec<2>(s[12], s[13]);
+    accum_contacts  = Vec<2>(s[0], s[1]);
+    accum_abs       = s[2];
+    n_accum         = static_cast<unsigned int>(s[3]);
+    load_factor     = s[4];
+    imb_max         = s[5];
+    imb_last        = s[6];
+    last_fem_ke     = s[7];
+    fem_growth      = static_cast<int>(s[8]);
+    n_steps         = static_cast<std::int64_t>(s[9]);
+    applied_factor  = s[10];
+    far_moving      = s[11] != 0;
+    last_force      = Vec<2>(s[12], s[13]);
+    residual        = s[14];
+    last_residual   = s[15];
+    residual_growth = static_cast<int>(s[16]);
+    u_reached       = reached;
   }
 
-  double CoupledModel::continuum_kinetic_energy() const { return fem_->kinetic_energy(); }
+  double CoupledModel::continuum_kinetic_energy() const
+  {
+    return static_ ? 0.0 : fem_->kinetic_energy();
+  }
 
-  double CoupledModel::interface_residual() const { return 0; }
+  double CoupledModel::interface_residual() const { return residual; }
 
   std::size_t CoupledModel::n_fem_dofs() const
   {
@@ -320,8 +452,14 @@ namespace demfem::coupling
 
   std::vector<Vec<2>> CoupledModel::coupling_displacements() const
   {
-    const auto          u = fem_->interface_displacements();
-    std::vector<Vec<2>> r(u.size());
+    std::vector<Vec<2>> r(points.size());
+    if (static_)
+      {
+        for (std::size_t k = 0; k < r.size(); ++k)
+          r[k] = Vec<2>(u_reached[2 * k], u_reached[2 * k + 1]);
+        return r;
+      }
+    const auto u = fem_->interface_displacements();
     for (std::size_t k = 0; k < u.size(); ++k)
       r[k] = Vec<2>(u[k][0], u[k][1]);
     return r;
@@ -329,12 +467,18 @@ namespace demfem::coupling
 
   dealii::Vector<double> CoupledModel::displacement_field() const
   {
-    return dealii::Vector<double>(fem_->displacement());
+    if (!static_)
+      return dealii::Vector<double>(fem_->displacement());
+    // Quasi-static: the static field under the current load factor and the
+    // latest window's mean nodal forces (held in the explicit continuum's
+    // force vector); it equals the relaxed interface motion at convergence.
+    static_->solve(load_factor, insitu_strain(), fem_->interface_forces());
+    return dealii::Vector<double>(static_->displacement());
   }
 
   const dealii::DoFHandler<2> &CoupledModel::dof_handler() const
   {
-    return fem_->get_dof_handler();
+    return static_ ? static_->get_dof_handler() : fem_->get_dof_handler();
   }
 
   std::unique_ptr<CoupledModel> make_coupled_model(const RegionParams    &region,

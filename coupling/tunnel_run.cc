@@ -51,9 +51,6 @@ namespace demfem::coupling
           std::to_string(region.radius -
                          coupling.overlap_grains * region.mean_diameter()) +
           " m) by at least three of the largest grains");
-    if (coupling.scheme != "explicit")
-      throw dem::InputError(w + ": Coupling/scheme = '" + coupling.scheme +
-                            "' is not implemented yet (allowed: explicit)");
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j)
         if (!std::isfinite(sigma0(i, j)))
@@ -291,7 +288,8 @@ namespace demfem::coupling
                 << num(D.kinetic_energy()) << "," << num(D.strain_energy()) << ","
                 << num(kef) << "," << cracks(-1) << "," << cracks(0) << "," << cracks(1)
                 << "," << num(m.imbalance_last()) << "," << num(convergence()) << ","
-                << num(F[0]) << "," << num(F[1]) << "\n";
+                << num(F[0]) << "," << num(F[1]) << "," << num(m.interface_residual())
+                << "\n";
       }
 
       void progress_line(double ur)
@@ -369,7 +367,10 @@ namespace demfem::coupling
                       std::to_string(s) + ": the run diverged (time step too large?)");
                 if (n % 2000 == 0)
                   progress_line(ur);
-                if (n >= min_steps && ur < p.ratio_tolerance && ke <= 1e-4 * ke_peak)
+                // Quasi-static: no continuum inertia (ke = 0); the interface
+                // residual |u* - u| / |u*| must be down to the tolerance too.
+                if (n >= min_steps && ur < p.ratio_tolerance && ke <= 1e-4 * ke_peak &&
+                    m.interface_residual() < p.ratio_tolerance)
                   break;
               }
           }
@@ -557,7 +558,7 @@ namespace demfem::coupling
             history << "step,time,phase,load_factor,unbalanced_ratio,dem_kinetic_energy,"
                        "dem_strain_energy,continuum_kinetic_energy,cracks,cracks_tensile,"
                        "cracks_shear,interface_force_imbalance,wall_convergence_mean,"
-                       "ring_force_x,ring_force_y\n";
+                       "ring_force_x,ring_force_y,interface_residual\n";
             write_frame();
           }
         const int start = phase_index;

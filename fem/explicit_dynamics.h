@@ -90,6 +90,9 @@ namespace demfem::fem
     void set_fixed_velocity(
         const std::function<dealii::Tensor<1, dim>(const dealii::Point<dim> &)> &v);
 
+    /** The nodal forces held at the coupling vertices (same order). */
+    std::vector<dealii::Tensor<1, dim>> interface_forces() const;
+
     /** Sum over the coupling vertices of the nodal forces currently held
      *  in the external force vector (all ranks): what the continuum is
      *  actually loaded with, for the coupling's force-balance check. */

@@ -68,17 +68,28 @@ TEST_CASE("tunnel restart: stopped and continued run equals the uninterrupted on
 {
   test::ensure_mpi_coupling();
   // Both coupling variants (their coupling state differs).
-  const std::string variant = GENERATE(as<std::string>{}, "slaved-layer", "wall-facets");
+  // Both coupling variants and both schemes (their coupling states differ).
+  const std::string variant = GENERATE(as<std::string>{}, "slaved-layer", "wall-facets",
+                                       "slaved-layer/quasi-static");
   INFO("Coupling/variant = " << variant);
-  auto small = [&](const std::string &dir) {
+  const std::string scheme =
+      variant.find("/quasi-static") != std::string::npos ? "quasi-static" : "explicit";
+  const std::string name  = variant.substr(0, variant.find('/'));
+  auto              small = [&](const std::string &dir) {
     auto p             = ::small(dir);
-    p.coupling.variant = variant;
+    p.coupling.variant = name;
+    p.coupling.scheme  = scheme;
+    if (scheme == "quasi-static")
+      {
+        p.coupling.subcycles  = 200;
+        p.coupling.relaxation = 0.5;
+      }
     p.prm_text += "set variant = " + variant + "\n";
     return p;
   };
   const auto        tmp = std::filesystem::temp_directory_path();
-  const std::string da  = tmp / ("demfem_restart_a_" + variant),
-                    db  = tmp / ("demfem_restart_b_" + variant);
+  const std::string da  = tmp / ("demfem_restart_a_" + name + "_" + scheme),
+                    db  = tmp / ("demfem_restart_b_" + name + "_" + scheme);
   std::filesystem::remove_all(da);
   std::filesystem::remove_all(db);
   std::ostringstream log;
@@ -127,8 +138,8 @@ TEST_CASE("tunnel restart: stopped and continued run equals the uninterrupted on
                                  (near ? "true" : "false")));
   CHECK((log.str().find("DEM region is too small") != std::string::npos) == near);
   // summary.json reports the real coupling.
-  CHECK_THAT(sa, Catch::Contains("\"variant\": \"" + variant + "\""));
-  CHECK_THAT(sa, Catch::Contains("\"scheme\": \"explicit\""));
+  CHECK_THAT(sa, Catch::Contains("\"variant\": \"" + name + "\""));
+  CHECK_THAT(sa, Catch::Contains("\"scheme\": \"" + scheme + "\""));
 }
 
 TEST_CASE("tunnel restart: a checkpoint of other parameters is refused",
