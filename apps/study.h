@@ -122,12 +122,15 @@ namespace demfem::apps::study
 
   /// Where a smaller region starts to change the answer: the smallest region
   /// factor from which every larger swept factor agrees with the reference
-  /// (-1: none), and the largest factor with a disagreeing run (-1: none).
+  /// (-1: none), and the largest disagreeing factor (-1: none); a factor's
+  /// runs are pooled over seeds and other settings (mean depth against the
+  /// mean depth of their references).
   struct RegionAnswer
   {
     double smallest_agreeing = -1, largest_disagreeing = -1;
   };
-  RegionAnswer region_answer(const std::vector<Row> &rows);
+  RegionAnswer region_answer(const std::vector<Row>       &rows,
+                             const std::vector<Reference> &refs, double tolerance);
   /// study_speedup.csv and study.md: embedded wall time over the reference
   /// wall time for the runs that agree on the damage-zone depth; returns the
   /// number of table rows.

@@ -489,7 +489,7 @@ namespace demfem::apps
         std::size_t         n_speedup = 0;
         if (st.breakable)
           {
-            answer = study::region_answer(rows);
+            answer = study::region_answer(rows, refs, st.agreement_tolerance);
             n_speedup =
                 study::write_speedup(out + "/study_speedup.csv", out + "/study.md", rows,
                                      refs, st.agreement_tolerance, answer);
