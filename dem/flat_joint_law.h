@@ -386,8 +386,11 @@ namespace demfem::dem
       double        *fst_a   = field(p, st, f_fst);
       double        *eslip_a = field(p, st, f_eslip);
 
-      f         = ContactForce{};
-      double mz = 0; // 2D resultant moment about +z
+      // 3D: the resultant is summed in two partial sums, even and odd
+      // elements, as the two lanes of the fast path (update_bonded_3d), so
+      // both give the same bits.
+      ContactForce part[2];
+      double       mz = 0; // 2D resultant moment about +z
       for (int e = 0; e < ne; ++e)
         {
           double A, rs, rt;
@@ -515,18 +518,24 @@ namespace demfem::dem
             }
 
           // Resultant (memo Eq. 23-24), r = rs s + rt t, force -Fn n + Fs.
-          f.Fn += Fn;
-          f.Fss += Fss;
-          f.Fst += Fst;
-          f.Mt += rs * Fst - rt * Fss;
+          ContactForce &sum = part[dim == 3 ? e & 1 : 0];
+          sum.Fn += Fn;
+          sum.Fss += Fss;
+          sum.Fst += Fst;
+          sum.Mt += rs * Fst - rt * Fss;
           if (dim == 2)
             mz += rt * Fn + Mb;
           else
             {
-              f.Mbs += -Fn * rt;
-              f.Mbt += Fn * rs;
+              sum.Mbs += -Fn * rt;
+              sum.Mbt += Fn * rs;
             }
         }
+      f = part[0];
+      if (dim == 3)
+        f = ContactForce{part[0].Fn + part[1].Fn,   part[0].Fss + part[1].Fss,
+                         part[0].Fst + part[1].Fst, part[0].Mt + part[1].Mt,
+                         part[0].Mbs + part[1].Mbs, part[0].Mbt + part[1].Mbt};
       if (dim == 2)
         {
           f.Fss = f.Mt = f.Mbt = 0;
@@ -585,9 +594,11 @@ namespace demfem::dem
       const v2d kn = splat(p.kn), ks = splat(p.ks), ten = splat(p.ten),
                 coh     = splat(p.coh);
       const v2d tan_phi = splat(tan_deg(p.fa)), zero = splat(0.0);
-      double    Fn[max_elements], Fss[max_elements], Fst[max_elements];
-      double    rs_a[max_elements], rt_a[max_elements];
+      double    Fss[max_elements], Fst[max_elements];
       v2l       broken = {0, 0};
+      // Resultant (Eq. 23-24): lane 0 sums the even elements, lane 1 the odd
+      // ones, as the general loop does.
+      v2d sFn = zero, sFss = zero, sFst = zero, sMt = zero, sMbs = zero, sMbt = zero;
       for (int e = 0; e < ne; e += 2)
         {
           const v2d A  = RR * load(uA + e);
@@ -600,26 +611,20 @@ namespace demfem::dem
           const v2d F2 = fs * fs + ft * ft;
           const v2d Tc = coh * A - fn * tan_phi;
           broken |= (fn > ten * A) | (Tc < zero) | (F2 > Tc * Tc);
-          store(Fn + e, fn), store(Fss + e, fs), store(Fst + e, ft);
-          store(rs_a + e, rs), store(rt_a + e, rt);
+          store(Fss + e, fs), store(Fst + e, ft);
+          sFn += fn;
+          sFss += fs;
+          sFst += ft;
+          sMt += rs * ft - rt * fs;
+          sMbs += -fn * rt;
+          sMbt += fn * rs;
         }
       if (broken[0] | broken[1])
         return false;
-      // Local sums: `f` could alias the state, which would force a store per
-      // element.
-      double sFn = 0, sFss = 0, sFst = 0, sMt = 0, sMbs = 0, sMbt = 0;
-      for (int e = 0; e < ne; ++e)
-        {
-          fss_a[e] = Fss[e];
-          fst_a[e] = Fst[e];
-          sFn += Fn[e];
-          sFss += Fss[e];
-          sFst += Fst[e];
-          sMt += rs_a[e] * Fst[e] - rt_a[e] * Fss[e];
-          sMbs += -Fn[e] * rt_a[e];
-          sMbt += Fn[e] * rs_a[e];
-        }
-      f = ContactForce{sFn, sFss, sFst, sMt, sMbs, sMbt};
+      std::memcpy(fss_a, Fss, sizeof(double) * ne);
+      std::memcpy(fst_a, Fst, sizeof(double) * ne);
+      f = ContactForce{sFn[0] + sFn[1], sFss[0] + sFss[1], sFst[0] + sFst[1],
+                       sMt[0] + sMt[1], sMbs[0] + sMbs[1], sMbt[0] + sMbt[1]};
       return true;
     }
 
