@@ -8,34 +8,12 @@
 #include "helpers.h"
 
 #include <cmath>
-#include <iostream>
 
 using namespace demfem;
 using namespace demfem::coupling;
 
 namespace
 {
-  RegionParams small_region()
-  {
-    RegionParams r;
-    r.radius    = 1.0;
-    r.d_lo      = 0.08;
-    r.d_hi      = 0.12;
-    r.emod      = 20e9;
-    r.lnm_emod  = 20e9;
-    r.breakable = false;
-    return r;
-  }
-
-  ContinuumParams continuum(double E, double nu)
-  {
-    ContinuumParams c;
-    c.young_modulus = E;
-    c.poisson_ratio = nu;
-    c.outer_radius  = 10;
-    return c;
-  }
-
   struct Result
   {
     Eigen::Matrix2d          centre;
@@ -55,8 +33,9 @@ namespace
     cp.scheme     = scheme;
     cp.subcycles  = k;
     cp.relaxation = omega;
-    auto  mp = make_coupled_model(small_region(), continuum(E, 0.25), cp, MPI_COMM_WORLD);
-    auto &m  = *mp;
+    auto  mp      = make_coupled_model(test::small_region(), test::continuum(E, 0.25), cp,
+                                       MPI_COMM_WORLD);
+    auto &m       = *mp;
     m.build();
     m.set_insitu(-10e6 * Eigen::Matrix2d::Identity());
     Result r;

@@ -11,31 +11,6 @@
 using namespace demfem;
 using namespace demfem::coupling;
 
-namespace
-{
-  // A small region (about 330 grains): radius 1 m, grains 8-12 cm.
-  RegionParams small_region()
-  {
-    RegionParams r;
-    r.radius    = 1.0;
-    r.d_lo      = 0.08;
-    r.d_hi      = 0.12;
-    r.emod      = 20e9;
-    r.lnm_emod  = 20e9;
-    r.breakable = false;
-    return r;
-  }
-
-  ContinuumParams continuum(double E, double nu)
-  {
-    ContinuumParams c;
-    c.young_modulus = E;
-    c.poisson_ratio = nu;
-    c.outer_radius  = 10;
-    return c;
-  }
-} // namespace
-
 TEST_CASE("slaved layer: DEM force sum on the slaved grains equals the continuum's nodal "
           "force sum every step",
           "[coupling][slaved]")
@@ -45,7 +20,8 @@ TEST_CASE("slaved layer: DEM force sum on the slaved grains equals the continuum
     {
       CouplingParams cp;
       cp.subcycles = k;
-      SlavedLayerModel m(small_region(), continuum(20e9, 0.25), cp, MPI_COMM_WORLD);
+      SlavedLayerModel m(test::small_region(), test::continuum(20e9, 0.25), cp,
+                         MPI_COMM_WORLD);
       m.build();
       REQUIRE(m.n_slaved() > 50);
       Eigen::Matrix2d s0;
@@ -89,7 +65,8 @@ TEST_CASE("slaved layer: slaved-slaved contacts transfer no force to the continu
 {
   test::ensure_mpi_coupling();
   const double     E = 20e9, nu = 0.25, p = 10e6;
-  SlavedLayerModel m(small_region(), continuum(E, nu), CouplingParams{}, MPI_COMM_WORLD);
+  SlavedLayerModel m(test::small_region(), test::continuum(E, nu), CouplingParams{},
+                     MPI_COMM_WORLD);
   m.build();
   auto             &P = m.dem.particles;
   std::vector<char> rm(P.size());
@@ -138,7 +115,8 @@ TEST_CASE("slaved layer: a time-step safety far above 1 is detected as divergenc
   test::ensure_mpi_coupling();
   CouplingParams cp;
   cp.safety = 5;
-  SlavedLayerModel m(small_region(), continuum(20e9, 0.25), cp, MPI_COMM_WORLD);
+  SlavedLayerModel m(test::small_region(), test::continuum(20e9, 0.25), cp,
+                     MPI_COMM_WORLD);
   m.build();
   m.set_insitu(-10e6 * Eigen::Matrix2d::Identity());
   std::string what;

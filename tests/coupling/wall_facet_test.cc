@@ -10,31 +10,6 @@
 using namespace demfem;
 using namespace demfem::coupling;
 
-namespace
-{
-  // A small region (about 330 grains): radius 1 m, grains 8-12 cm.
-  RegionParams small_region(bool breakable)
-  {
-    RegionParams r;
-    r.radius    = 1.0;
-    r.d_lo      = 0.08;
-    r.d_hi      = 0.12;
-    r.emod      = 20e9;
-    r.lnm_emod  = 20e9;
-    r.breakable = breakable;
-    return r;
-  }
-
-  ContinuumParams continuum(double E, double nu)
-  {
-    ContinuumParams c;
-    c.young_modulus = E;
-    c.poisson_ratio = nu;
-    c.outer_radius  = 10;
-    return c;
-  }
-} // namespace
-
 TEST_CASE("wall facets: DEM force sum on the ring equals the continuum's nodal force sum "
           "every step",
           "[coupling]")
@@ -44,7 +19,8 @@ TEST_CASE("wall facets: DEM force sum on the ring equals the continuum's nodal f
     {
       CouplingParams cp;
       cp.subcycles = k;
-      WallFacetModel m(small_region(false), continuum(20e9, 0.25), cp, MPI_COMM_WORLD);
+      WallFacetModel m(test::small_region(false), test::continuum(20e9, 0.25), cp,
+                       MPI_COMM_WORLD);
       m.build();
       Eigen::Matrix2d s0;
       s0 << -10e6, 2e6, 2e6, -5e6;
