@@ -77,7 +77,7 @@ TEST_CASE("calibrate: tiny 2D material end to end", "[calibrate]")
   const auto        v    = json_numbers(text);
   for (const char *k :
        {"E", "nu", "E_plane_stress", "nu_plane_stress", "ucs", "bts", "direct_tension",
-        "crack_initiation", "porosity", "n_grains", "dim"})
+        "crack_initiation", "porosity", "measurement_porosity", "n_grains", "dim"})
     {
       INFO("key " << k);
       REQUIRE(v.count(k) == 1);
@@ -98,6 +98,9 @@ TEST_CASE("calibrate: tiny 2D material end to end", "[calibrate]")
   CHECK(v.at("crack_initiation") < v.at("ucs"));
   CHECK(v.at("porosity") > 0.05);
   CHECK(v.at("porosity") < 0.4);
+  // Measurement regions (fistPkg §5.1) leave out the loose wall layer.
+  CHECK(v.at("measurement_porosity") > 0.05);
+  CHECK(v.at("measurement_porosity") < v.at("porosity"));
   for (const char *f :
        {"summary.json", "history_ucs.csv", "history_brazilian.csv",
         "history_direct_tension.csv", "ucs_stress_strain.svg", "vtk/ucs_particles.pvd",
@@ -163,7 +166,8 @@ TEST_CASE("calibrate: bad parameter files write nothing", "[calibrate]")
   CHECK_FALSE(fs::exists(out));
 }
 
-TEST_CASE("calibrate: a specimen with a smooth-jointed interface is weaker", "[calibrate][joint]")
+TEST_CASE("calibrate: a specimen with a smooth-jointed interface is weaker",
+          "[calibrate][joint]")
 {
   // fistPkg §2.8: a frictional joint inclined at 60 degrees to the loading
   // axis (dip 30: n_j = (sin 30, cos 30)) through the centre; mu = 0.2
