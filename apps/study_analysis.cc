@@ -220,7 +220,7 @@ namespace demfem::apps::study
       << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
       << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
       << "<text x=\"" << L << "\" y=\"24\" font-size=\"15\">"
-      << (breakable ? "demfem study (breakable): wall time versus damage-zone depth "
+      << (breakable ? "breakable: wall time versus damage-zone depth "
                       "difference from the full-DEM reference"
                     : "demfem study: wall time versus error of the wall convergence "
                       "against Kirsch")
@@ -342,16 +342,17 @@ namespace demfem::apps::study
          "reference_cracks_excavation,region_too_small\n";
     m << "# demfem study: breakable tunnel versus the full-DEM reference\n\n"
       << "Full-DEM references (servo-controlled membrane at the in-situ stress):\n\n"
-      << "| a/d | seed | status | grains | steps | wall time [s] | damage-zone depth [m] "
+      << "| a/d | seed | status | grains | steps (+ packing) | wall time [s] | "
+         "damage-zone depth [m] "
          "| excavation cracks (tensile/shear) | servo error in situ |\n"
       << "|---|---|---|---|---|---|---|---|---|\n";
     for (const auto &f : refs)
       m << "| " << num(f.resolution) << " | " << f.seed << " | " << f.status << " | "
-        << f.result.n_particles << " | " << f.result.steps << " | "
-        << num(f.result.wall_time_s) << " | " << num(f.result.damage_zone_depth) << " | "
-        << f.cracks_excavation() << " (" << f.result.cracks_tensile << "/"
-        << f.result.cracks_shear << " in all) | " << num(f.result.servo_error_insitu)
-        << " |\n";
+        << f.result.n_particles << " | " << f.result.steps << " (+ "
+        << f.result.packing_steps << ") | " << num(f.result.wall_time_s) << " | "
+        << num(f.result.damage_zone_depth) << " | " << f.cracks_excavation() << " ("
+        << f.result.cracks_tensile << "/" << f.result.cracks_shear << " in all) | "
+        << num(f.result.servo_error_insitu) << " |\n";
     m << "\nSpeed-up of the embedded model at equal damage-zone depth (within +-"
       << num(100 * tolerance) << " % of the reference):\n\n"
       << "| run | b/a | a/d | variant, scheme, k, safety | grains (reference) | wall "
