@@ -1,11 +1,16 @@
-// `demfem study FILE.prm` (issue 6): runs the elastic embedded tunnel
-// (unbreakable bonds, no VTK) for every combination of the swept settings
-// (region radius, grain resolution a/d, subcycles, time-step safety) and
-// writes study.csv (one row per run), study_pareto.svg (wall time versus
-// error against Kirsch, Pareto front marked) and summary.json (stability
-// limits per scheme setting, the right-sized region radius). A run that
-// diverges is a result (unstable, with the engine's diagnosis), not an
-// error. Exit codes: 0 done, 1 bad input or error.
+// `demfem study FILE.prm` (issue 6): runs the embedded tunnel (no VTK) for
+// every combination of the swept settings (region radius, grain resolution
+// a/d, coupling variant, scheme, subcycles, time-step safety, relaxation,
+// stiffness contrast, seed) and writes study.csv (one row per run),
+// study_pareto.svg (wall time versus error, Pareto front marked) and
+// summary.json (stability limits per scheme setting, overall and per
+// scheme; the right-sized region radius). Elastic mode: unbreakable bonds,
+// error against Kirsch. Breakable mode (issue 6 item 2): a full-DEM
+// reference per resolution and seed (coupling/full_dem_reference.h), each
+// run's damage-zone depth and crack counts against it, study_speedup.csv
+// and study.md. A run that diverges is a result (unstable, with the
+// engine's diagnosis), not an error; a combination the tunnel run refuses
+// is an 'invalid' row. Exit codes: 0 done, 1 bad input or error.
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
@@ -37,16 +42,20 @@ namespace demfem::apps
         "usage: demfem study FILE.prm [--set \"Section/key=value\"]... "
         "[--print-parameters] [--help]\n"
         "\n"
-        "Speed versus accuracy of the coupled tunnel model (2D): runs the elastic\n"
-        "embedded tunnel (unbreakable bonds) for every combination of the values\n"
-        "listed in the Study subsection (region radius factors x tunnel radius,\n"
-        "grain resolutions a/d, subcycles, time-step safety factors, packing\n"
-        "seeds); the other\n"
-        "keys are those of `demfem tunnel`. 'DEM region/radius = auto' sizes the\n"
-        "region from a Kirsch pre-analysis (sigma1 - sigma3 >= Study/damage\n"
-        "threshold x UCS, plus Study/margin grains). Writes study.csv,\n"
-        "study_pareto.svg, summary.json and one directory per run into\n"
-        "Problem/output directory.\n";
+        "Speed versus accuracy of the coupled tunnel model (2D): runs the embedded\n"
+        "tunnel for every combination of the values listed in the Study subsection\n"
+        "(region radius factors x tunnel radius, grain resolutions a/d, coupling\n"
+        "variants, schemes, subcycles, time-step safety factors, relaxation factors,\n"
+        "stiffness contrasts, packing seeds); the other keys are those of `demfem\n"
+        "tunnel`. Elastic mode (default): unbreakable bonds, error against Kirsch.\n"
+        "Study/breakable = true: breakable bonds, damage-zone depth and crack counts\n"
+        "against a full-DEM reference (radius Study/reference radius factor x a,\n"
+        "in-situ stress held by a servo-controlled membrane), speed-up table.\n"
+        "'DEM region/radius = auto' sizes the region from a Kirsch pre-analysis\n"
+        "(sigma1 - sigma3 >= Study/damage threshold x UCS, plus Study/margin grains).\n"
+        "Writes study.csv, study_pareto.svg, summary.json (stability map per scheme),\n"
+        "in breakable mode study_speedup.csv and study.md, and one directory per run\n"
+        "into Problem/output directory.\n";
 
     std::string num(double v)
     {
