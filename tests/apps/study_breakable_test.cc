@@ -133,7 +133,7 @@ TEST_CASE("study: breakable mode, embedded runs against the full-DEM reference",
     CHECK(read(d + "/study.csv").find(bad) == std::string::npos);
 }
 
-TEST_CASE("study: variant, scheme, relaxation and stiffness-contrast axes; invalid and "
+TEST_CASE("study: variant, scheme, relaxation and stiffness-contrast axes, invalid and "
           "unstable rows, no NaN",
           "[study]")
 {
