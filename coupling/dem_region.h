@@ -1,18 +1,28 @@
 #pragma once
-// The embedded DEM region of the coupled tunnel model (DESIGN §5): a disk of
-// bonded grains packed inside a closed ring of wall facets (the continuum's
-// interface, boundary id 2) and bonded force-free, as the genesis
-// finalization of fistPkg §4.2.2 does for a vessel. 2D only.
+// The embedded DEM region of the coupled tunnel model (DESIGN §5): grains
+// packed inside a closed surface of wall facets (the continuum's interface,
+// boundary id 2) and bonded force-free, as the genesis finalization of
+// fistPkg §4.2.2 does for a vessel.
+//   2D: a disk of disks inside a ring of segments.
+//   3D: the slab 0 < z < t of the cylinder r < b, spheres (plane strain
+//       through walls, issue 5): the model holds the lateral ring of
+//       triangle facets (add_cylinder_ring, or the continuum's interface
+//       vertices); build_region adds the two planar walls z = 0 and z = t,
+//       fixed and frictionless, which carry the plane-strain szz.
 //
-// Packing (fistPkg §4.2.1, grain scaling): grains are placed at random in the
-// disk at a fraction of their size, grown to full size while cycling with
+// Packing (fistPkg §4.2.1, grain scaling): the grain count follows from the
+// target porosity and the mean grain area (volume); grains are placed at
+// random at half their size, grown to full size while cycling with
 // frictionless linear contacts, and relaxed to equilibrium. Finalization:
-// grain-wall overlaps are removed by shrinking the touching grains (the ring
-// is the continuum's boundary and cannot move, unlike a vessel wall), and
-// every grain pair within the installation gap gets a fully bonded flat
-// joint (kn = E*/L, memo Eq. 40), which carries no force when installed.
+// grain-wall overlaps are removed by shrinking the touching grains (the
+// walls are the continuum's boundary and cannot move, unlike a vessel
+// wall), every grain pair within the installation gap gets a fully bonded
+// flat joint (kn = E*/L, memo Eq. 40; 3D: Nr x Nal elements, memo §1.4),
+// which carries no force when installed, and grains left without a bond
+// (rattlers) are removed.
 #include "dem/model.h"
 
+#include <array>
 #include <cstdint>
 #include <ostream>
 #include <string>
@@ -24,30 +34,41 @@ namespace demfem::coupling
   /// dem::MaterialParams for a flat-jointed material; SI units).
   struct RegionParams
   {
-    double        radius    = 4.0;   ///< outer radius b of the region [m]
-    double        d_lo      = 0.16;  ///< smallest grain diameter [m]
-    double        d_hi      = 0.24;  ///< largest grain diameter [m]
-    double        density   = 2650;  ///< grain density [kg/m^3]
-    double        porosity  = 0.16;  ///< target porosity of the packing (2D)
-    double        damping   = 0.7;   ///< local damping alpha
-    std::uint64_t seed      = 10000; ///< packing seed
-    double        lnm_emod  = 4e9;   ///< E* of non-bonded contacts [Pa]
-    double        lnm_krat  = 1.5;
-    double        lnm_fric  = 0.5;
-    double        emod      = 4e9; ///< E* of the flat joints [Pa]
-    double        krat      = 1.5;
-    double        fric      = 0.6;
-    double        igap      = 0; ///< installation gap [m]
-    int           fj_Nr     = 2;
-    double        fj_ten    = 10e6; ///< tensile strength [Pa]
-    double        fj_coh    = 60e6; ///< cohesion [Pa]
-    double        fj_fa     = 30;   ///< friction angle [deg]
-    bool          breakable = true; ///< false: bonds never break (verification)
-    double        wall_fric = 1.0;  ///< grain-ring friction (shear transfer)
+    double radius   = 4.0;  ///< outer radius b of the region [m]
+    double d_lo     = 0.16; ///< smallest grain diameter [m]
+    double d_hi     = 0.24; ///< largest grain diameter [m]
+    double density  = 2650; ///< grain density [kg/m^3]
+    double porosity = 0.16; ///< target porosity of the packing (2D)
+    /// Target porosity of the 3D packing: about the jamming porosity of
+    /// frictionless spheres in a slab a few grains thick (0.36 in bulk; the
+    /// walls loosen the layers next to them; measured in
+    /// region_3d_test.cc: mean overlap 0.4 % of the radius).
+    double porosity_3d = 0.42;
+    /// 3D: slab thickness t [m] (grains in 0 < z < t).
+    double        slab_thickness = 0;
+    double        damping        = 0.7;   ///< local damping alpha
+    std::uint64_t seed           = 10000; ///< packing seed
+    double        lnm_emod       = 4e9;   ///< E* of non-bonded contacts [Pa]
+    double        lnm_krat       = 1.5;
+    double        lnm_fric       = 0.5;
+    double        emod           = 4e9; ///< E* of the flat joints [Pa]
+    double        krat           = 1.5;
+    double        fric           = 0.6;
+    double        igap           = 0; ///< installation gap [m]
+    int           fj_Nr          = 2;
+    int           fj_Nal         = 4;    ///< 3D: circumferential elements (memo §1.4)
+    double        fj_ten         = 10e6; ///< tensile strength [Pa]
+    double        fj_coh         = 60e6; ///< cohesion [Pa]
+    double        fj_fa          = 30;   ///< friction angle [deg]
+    bool          breakable      = true; ///< false: bonds never break (verification)
+    double        wall_fric      = 1.0;  ///< grain-ring friction (shear transfer)
 
-    /// Throws dem::InputError naming the key (prefixed by `where`).
-    void   validate(const std::string &where) const;
+    /// Throws dem::InputError naming the key (prefixed by `where`); dim 3
+    /// also checks the slab keys.
+    void   validate(const std::string &where, int dim = 2) const;
     double mean_diameter() const { return 0.5 * (d_lo + d_hi); }
+    /// Target porosity of the packing of dimension dim.
+    double target_porosity(int dim) const { return dim == 2 ? porosity : porosity_3d; }
   };
 
   /// Law groups of the built region.
@@ -58,18 +79,54 @@ namespace demfem::coupling
     std::vector<int> bonds;                     ///< flat-joint groups (binned by L)
     std::size_t      n_bonds    = 0;
     std::size_t      n_rattlers = 0; ///< unbonded grains removed
+    /// 3D: frictionless law of the slab walls and their wall ids (z = 0, t).
+    int                slab_wall  = -1;
+    std::array<int, 2> slab_walls = {{-1, -1}};
+    /// Porosity (grain volume over the volume inside the walls, overlaps
+    /// not subtracted) after packing and smoothing, and after the rattlers
+    /// were removed.
+    double packed_porosity = 0, porosity = 0;
+    /// Largest and mean grain-grain overlap over the mean radius at the end
+    /// of packing (how tight the packing is).
+    double max_overlap_ratio = 0, mean_overlap_ratio = 0;
   };
 
-  /// Fills `model` (which must already hold the closed ring of wall facets
-  /// whose vertices lie on the circle of radius p.radius) with the packed and
-  /// bonded region. Progress lines go to `progress` when given. Throws
-  /// std::runtime_error if packing does not settle.
-  RegionGroups build_disk_region(dem::Model<2> &model, const RegionParams &p,
-                                 std::ostream *progress = nullptr);
+  /// Fills `model` with the packed and bonded region. 2D: the model must
+  /// already hold the closed ring of wall facets whose vertices lie on the
+  /// circle of radius p.radius. 3D: the model must hold the closed lateral
+  /// surface (triangles) whose vertices lie on the cylinder r = p.radius,
+  /// 0 <= z <= p.slab_thickness; the slab walls are added here. Progress
+  /// lines go to `progress` when given. Throws std::runtime_error if packing
+  /// does not settle, dem::InputError for bad parameters or walls.
+  template <int dim>
+  RegionGroups build_region(dem::Model<dim> &model, const RegionParams &p,
+                            std::ostream *progress = nullptr);
+
+  /// The 2D region (the API the 2D models use).
+  inline RegionGroups build_disk_region(dem::Model<2> &model, const RegionParams &p,
+                                        std::ostream *progress = nullptr)
+  {
+    return build_region<2>(model, p, progress);
+  }
+
+  /// Adds a wall of triangle facets on the lateral surface of the cylinder
+  /// r = radius, 0 <= z <= thickness: n_around x n_layers straight-chord
+  /// quads (vertices on the circle), each split into two triangles; returns
+  /// the wall id.
+  int add_cylinder_ring(dem::Walls<3> &walls, double radius, double thickness,
+                        unsigned int n_around, unsigned int n_layers,
+                        const std::string &name);
 
   /// Love-Weber average stress (tension positive) over the grain-grain
   /// contacts whose contact point lies in the disk |x - c| < r, divided by
   /// the disk area (unit thickness).
   Eigen::Matrix2d region_stress(const dem::Model<2> &model, const dem::Vec<2> &c,
                                 double r);
+  /// 3D slab: Love-Weber average stress (tension positive) over the contacts
+  /// whose contact point lies in the cylinder |(x - c)_xy| < r (any z),
+  /// divided by pi r^2 thickness. Ball-wall contacts (the slab walls) count
+  /// with the branch from the grain centre to the contact point, so szz is
+  /// the wall force per area.
+  Eigen::Matrix3d region_stress(const dem::Model<3> &model, const dem::Vec<3> &c,
+                                double r, double thickness);
 } // namespace demfem::coupling
