@@ -55,6 +55,14 @@ namespace demfem::coupling
 
   void CoupledModel::build(std::ostream *progress)
   {
+    // The slaved layer must leave a free core: the continuum starts at
+    // r_in = b - h >= b / 2.
+    if (!(inner_radius() >= 0.5 * rp.radius))
+      throw dem::InputError(
+          "Coupling/overlap grains = " + std::to_string(kp.overlap_grains) +
+          " mean grain diameters (" + std::to_string(rp.radius - inner_radius()) +
+          " m) is too large for DEM region/radius = " + std::to_string(rp.radius) +
+          " m (allowed: overlap <= half the region radius)");
     // Continuum annulus r_in <= r <= R; its inner circle gets id 2.
     fem::GeneratedMeshSettings ms;
     ms.radius       = inner_radius();

@@ -140,3 +140,22 @@ TEST_CASE("slaved layer: a time-step safety far above 1 is detected as divergenc
   CHECK((what.find("time step") != std::string::npos ||
          what.find("timestep") != std::string::npos));
 }
+
+TEST_CASE("slaved layer: an overlap leaving no free core is refused with the key named",
+          "[coupling][slaved]")
+{
+  test::ensure_mpi_coupling();
+  CouplingParams cp;
+  cp.overlap_grains = 6; // 0.6 m of a 1 m region: more than half
+  SlavedLayerModel m(test::small_region(), test::continuum(20e9, 0.25), cp,
+                     MPI_COMM_WORLD);
+  try
+    {
+      m.build();
+      FAIL("an overlap of 6 grains in a 1 m region was accepted");
+    }
+  catch (const dem::InputError &e)
+    {
+      CHECK(std::string(e.what()).find("Coupling/overlap grains") != std::string::npos);
+    }
+}
