@@ -368,9 +368,14 @@ namespace demfem::coupling
                 if (n % 2000 == 0)
                   progress_line(ur);
                 // Quasi-static: no continuum inertia (ke = 0); the interface
-                // residual |u* - u| / |u*| must be down to the tolerance too.
-                if (n >= min_steps && ur < p.ratio_tolerance && ke <= 1e-4 * ke_peak &&
-                    m.interface_residual() < p.ratio_tolerance)
+                // residual |u* - u| / |u*| must be down to the tolerance too,
+                // measured in this phase: two windows of `subcycles` steps at
+                // least (else the residual of the previous phase's last
+                // window ended excavation stages early: measured convergence
+                // 0.0037 m instead of 0.0086 m with subcycles = 800).
+                const std::int64_t windows = 2 * p.coupling.subcycles;
+                if (n >= std::max(min_steps, windows) && ur < p.ratio_tolerance &&
+                    ke <= 1e-4 * ke_peak && m.interface_residual() < p.ratio_tolerance)
                   break;
               }
           }
