@@ -151,6 +151,11 @@ TEST_CASE("Brazilian test: Eq. 24 and measurement stress vs platen forces", "[la
   REQUIRE(r.R > 0);
   CHECK(r.peak == Approx(brazilian_strength(r.peak_force, r.R, 1.0)).epsilon(1e-12));
   CHECK(r.peak == Approx(r.peak_force / (M_PI * r.R)).epsilon(1e-12));
+  // Seating: the disk is loaded from a stable seat at the material
+  // pressure, F = P_m pi R t (2D: t = 1), not from first touch (a coarse 3D
+  // cylinder rocked on one grain per platen and the test ended at 0.11 MPa).
+  REQUIRE(!r.history.empty());
+  CHECK(r.history.front().load > 0.8 * p.Pm * M_PI * r.R);
 
   // Platens stopped (run_lab_test does that): let the disk settle.
   s.model.cycle(3000);
