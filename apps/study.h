@@ -19,7 +19,10 @@ namespace demfem::apps::study
   /// `demfem study`; 'DEM region/radius' accepts 'auto'.
   void declare_tunnel_parameters(dealii::ParameterHandler &prm);
   /// Reads them; region.radius < 0 means 'auto'. Not validated (per run).
-  coupling::TunnelParams read_tunnel_settings(dealii::ParameterHandler &prm);
+  /// allow_3d: Problem/dimension = 3 accepted (demfem tunnel); the study
+  /// refuses it with a message.
+  coupling::TunnelParams read_tunnel_settings(dealii::ParameterHandler &prm,
+                                              bool allow_3d = false);
 
   /// The `Study` subsection: the values to sweep and the right-sizing
   /// criterion. An empty list keeps the value of the tunnel keys.

@@ -62,7 +62,9 @@ namespace demfem::apps::study
   {
     prm.enter_subsection("Problem");
     prm.declare_entry("dimension", "2", Patterns::Integer(2, 3),
-                      "2 = plane strain (3 is not implemented for tunnel yet)");
+                      "2 = plane strain; 3 = a slab of the same problem, 0 < z < DEM "
+                      "region/slab thickness, plane strain through walls (demfem tunnel "
+                      "only)");
     prm.declare_entry("output directory", "out/tunnel", Patterns::Anything(),
                       "Directory for summary.json, CSV and VTK files");
     prm.leave_subsection();
@@ -130,7 +132,16 @@ namespace demfem::apps::study
     prm.declare_entry("fj ten", "10e6", Patterns::Double(), "Tensile strength [Pa]");
     prm.declare_entry("fj coh", "60e6", Patterns::Double(), "Cohesion [Pa]");
     prm.declare_entry("fj fa", "30", Patterns::Double(), "Friction angle [deg]");
-    prm.declare_entry("fj Nr", "2", Patterns::Integer(1, 64), "Elements per joint");
+    prm.declare_entry("fj Nr", "2", Patterns::Integer(1, 64),
+                      "Elements per joint (3D: radially)");
+    prm.declare_entry("fj Nal", "4", Patterns::Integer(3, 64),
+                      "3D: flat-joint elements circumferentially (memo §1.4)");
+    prm.declare_entry("slab thickness", "4", Patterns::Double(),
+                      "3D: thickness t of the slab (0 < z < t) in mean grain diameters, "
+                      ">= 2 largest grains; the DEM slab lies between fixed frictionless "
+                      "walls z = 0, t and the continuum's z faces are on rollers");
+    prm.declare_entry("porosity 3d", "0.42", Patterns::Double(),
+                      "3D: target porosity of the sphere packing, in [0.3, 0.6]");
     prm.declare_entry("lnm emod", "20e9", Patterns::Double(),
                       "E* of non-bonded contacts [Pa]");
     prm.declare_entry("lnm krat", "1.5", Patterns::Double(),
@@ -178,14 +189,14 @@ namespace demfem::apps::study
     prm.leave_subsection();
   }
 
-  coupling::TunnelParams read_tunnel_settings(ParameterHandler &prm)
+  coupling::TunnelParams read_tunnel_settings(ParameterHandler &prm, bool allow_3d)
   {
     coupling::TunnelParams s;
     prm.enter_subsection("Problem");
-    AssertThrow(
-        prm.get_integer("dimension") == 2,
-        ExcMessage("Problem/dimension: the coupled tunnel run is implemented for 2 "
-                   "only (3D slab / tunnel section: not done yet)"));
+    s.dimension = prm.get_integer("dimension");
+    AssertThrow(allow_3d || s.dimension == 2,
+                ExcMessage("Problem/dimension = 3: demfem study sweeps the 2D problem "
+                           "only; run the 3D slab with demfem tunnel"));
     s.output_directory = prm.get("output directory");
     prm.leave_subsection();
 
@@ -227,6 +238,9 @@ namespace demfem::apps::study
     r.fj_coh        = prm.get_double("fj coh");
     r.fj_fa         = prm.get_double("fj fa");
     r.fj_Nr         = prm.get_integer("fj Nr");
+    r.fj_Nal        = prm.get_integer("fj Nal");
+    const double slab_grains = prm.get_double("slab thickness");
+    r.porosity_3d   = prm.get_double("porosity 3d");
     r.lnm_emod      = prm.get_double("lnm emod");
     r.lnm_krat      = prm.get_double("lnm krat");
     r.lnm_fric      = prm.get_double("lnm fric");
@@ -237,11 +251,12 @@ namespace demfem::apps::study
         const auto t = read_json("DEM region/material file", dmat);
         try
           {
-            AssertThrow(t.get<int>("dim") == 2,
+            AssertThrow(t.get<int>("dim") == s.dimension,
                         ExcMessage("DEM region/material file '" + dmat +
                                    "': incompatible dimension " +
                                    t.get<std::string>("dim") +
-                                   " (the tunnel run is 2D)"));
+                                   " (Problem/dimension = " +
+                                   std::to_string(s.dimension) + ")"));
             const auto &m = t.get_child("microparameters");
             AssertThrow(m.get<std::string>("type", "flatjointed") == "flatjointed",
                         ExcMessage("DEM region/material file '" + dmat +
@@ -261,6 +276,7 @@ namespace demfem::apps::study
             r.fric            = m.get<double>("fric");
             r.igap            = m.get<double>("igap_m", 0.0);
             r.fj_Nr           = m.get<int>("fj_Nr");
+            r.fj_Nal          = m.get<int>("fj_Nal", r.fj_Nal);
             r.fj_ten          = m.get<double>("fj_ten_mean_Pa");
             r.fj_coh          = m.get<double>("fj_coh_mean_Pa");
             r.fj_fa           = m.get<double>("fj_fa_deg");
@@ -290,6 +306,12 @@ namespace demfem::apps::study
         r.d_lo *= k;
         r.d_hi *= k;
       }
+    // In grain diameters of the final size range; checked (>= 2 largest
+    // grains) by RegionParams::validate.
+    AssertThrow(slab_grains > 0,
+                ExcMessage("DEM region/slab thickness: " + std::to_string(slab_grains) +
+                           " mean grain diameters; must be > 0"));
+    r.slab_thickness = slab_grains * r.mean_diameter();
     if (!cmat.empty())
       {
         const auto t = read_json("Continuum/material file", cmat);

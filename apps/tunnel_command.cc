@@ -29,7 +29,9 @@ namespace demfem::apps
         "usage: demfem tunnel FILE.prm [--set \"Section/key=value\"]... "
         "[--restart CHECKPOINT.h5] [--print-parameters] [--help]\n"
         "\n"
-        "Coupled DEM-continuum tunnel excavation (2D): a bonded-grain region of\n"
+        "Coupled DEM-continuum tunnel excavation, 2D or (Problem/dimension = 3) a\n"
+        "slab 0 < z < 'DEM region/slab thickness' in plane strain through walls:\n"
+        "a bonded-grain region of\n"
         "radius 'DEM region/radius' around the tunnel is embedded in an elastic\n"
         "continuum (Coupling/variant: slaved-layer, the continuum overlapping the\n"
         "region's rim whose grains follow it, or wall-facets, a ring of DEM walls;\n"
@@ -56,7 +58,7 @@ namespace demfem::apps
 
     coupling::TunnelParams read_settings(ParameterHandler &prm)
     {
-      coupling::TunnelParams s = study::read_tunnel_settings(prm);
+      coupling::TunnelParams s = study::read_tunnel_settings(prm, true);
       if (s.region.radius < 0) // 'auto': Kirsch pre-analysis (issue 6)
         {
           prm.enter_subsection("DEM region");

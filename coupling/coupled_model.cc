@@ -30,14 +30,16 @@ namespace demfem::coupling
     dem::check_range(w, "Coupling/overlap grains", overlap_grains, 0.5, 10);
   }
 
-  CoupledModel::CoupledModel(const RegionParams &region, const ContinuumParams &continuum,
-                             const CouplingParams &coupling, MPI_Comm comm)
+  template <int dim>
+  CoupledModel<dim>::CoupledModel(const RegionParams    &region,
+                                  const ContinuumParams &continuum,
+                                  const CouplingParams &coupling, MPI_Comm comm)
       : rp(region)
       , cp(continuum)
       , kp(coupling)
       , tria(comm)
   {
-    rp.validate("DEM region");
+    rp.validate("DEM region", dim);
     kp.validate("Coupling");
     const double inf = HUGE_VAL;
     dem::check_range("Continuum", "young modulus", cp.young_modulus, 0, inf, true);
@@ -49,11 +51,17 @@ namespace demfem::coupling
           "the coupled model runs on one MPI rank (run without mpirun)");
   }
 
-  CoupledModel::~CoupledModel() = default;
+  template <int dim>
+  CoupledModel<dim>::~CoupledModel() = default;
 
-  double CoupledModel::continuum_inner_radius() const { return inner_radius(); }
+  template <int dim>
+  double CoupledModel<dim>::continuum_inner_radius() const
+  {
+    return inner_radius();
+  }
 
-  void CoupledModel::build(std::ostream *progress)
+  template <int dim>
+  void CoupledModel<dim>::build(std::ostream *progress)
   {
     // The slaved layer must leave a free core: the continuum starts at
     // r_in = b - h >= b / 2.
@@ -72,6 +80,15 @@ namespace demfem::coupling
       n = std::max(32u, 8 * static_cast<unsigned int>(std::ceil(
                                 2 * M_PI * ms.radius / (2 * rp.mean_diameter()) / 8)));
     ms.cells_around = n;
+    if (dim == 3)
+      {
+        // The slab 0 <= z <= t, element layers about two mean grain
+        // diameters thick; z faces on rollers (plane strain, id 4).
+        ms.thickness         = rp.slab_thickness;
+        ms.layers            = std::max(1u, static_cast<unsigned int>(std::lround(
+                                                rp.slab_thickness / (2 * rp.mean_diameter()))));
+        ms.plane_strain_slab = true;
+      }
     fem::generate_tunnel_mesh(tria, ms);
     for (const auto &cell : tria.active_cell_iterators())
       for (const auto &face : cell->face_iterators())
@@ -95,23 +112,25 @@ namespace demfem::coupling
         es.damping      = 2 * 0.5 * M_PI * cs / (cp.outer_radius - ms.radius);
       }
     es.fixed = {{fem::boundary_id::far_field, {true, true, true}}};
-    fem_     = std::make_unique<fem::ExplicitDynamics<2>>(tria, es);
+    if (dim == 3)
+      es.fixed.push_back({fem::boundary_id::roller_z, {false, false, true}});
+    fem_ = std::make_unique<fem::ExplicitDynamics<dim>>(tria, es);
     fem_->setup();
 
     points = build_interface(progress);
     fem_->set_coupling_vertices(points);
-    accum.assign(points.size(), Vec<2>::Zero());
-    nodal.assign(points.size(), Vec<2>::Zero());
+    accum.assign(points.size(), Vec<dim>::Zero());
+    nodal.assign(points.size(), Vec<dim>::Zero());
     if (kp.scheme == "quasi-static")
       {
         // Static response on the same mesh, far field and coupling nodes;
-        // the flexibility is computed once (2 n solves of the factorized K).
-        static_ = std::make_unique<fem::StaticInterfaceResponse<2>>(
+        // the flexibility is computed once (dim n solves of the factorized K).
+        static_ = std::make_unique<fem::StaticInterfaceResponse<dim>>(
             tria, fem::StaticSettings::from(es), points);
         static_->setup();
         flex = static_->flexibility();
-        u_far.assign(2 * points.size(), 0.0);
-        u_reached.assign(2 * points.size(), 0.0);
+        u_far.assign(dim * points.size(), 0.0);
+        u_reached.assign(dim * points.size(), 0.0);
         if (progress)
           *progress << "quasi-static continuum: interface flexibility " << flex.m()
                     << " x " << flex.n() << " in "
@@ -139,49 +158,61 @@ namespace demfem::coupling
                 << fem_crit << " s, continuum damping " << es.damping << " 1/s)\n";
   }
 
-  void CoupledModel::set_insitu(const Eigen::Matrix2d &s0)
+  template <int dim>
+  void CoupledModel<dim>::set_insitu(const Eigen::Matrix2d &s0)
   {
     // Plane-strain in-situ strain of the continuum: eps = ((1 + nu)/E)
-    // (sigma - nu tr(sigma) I) in plane.
+    // (sigma - nu tr(sigma) I) in plane; 3D: e_zz = e_xz = e_yz = 0 (szz =
+    // nu (sxx + syy)).
     sigma0         = s0;
     const double E = cp.young_modulus, nu = cp.poisson_ratio;
-    eps0 = (1 + nu) / E * (s0 - nu * s0.trace() * Eigen::Matrix2d::Identity());
+    eps0.setZero();
+    eps0.template topLeftCorner<2, 2>() =
+        (1 + nu) / E * (s0 - nu * s0.trace() * Eigen::Matrix2d::Identity());
     if (static_)
       {
         const auto r = static_->far_field_response(insitu_strain());
         for (std::size_t k = 0; k < r.size(); ++k)
-          for (int c = 0; c < 2; ++c)
-            u_far[2 * k + c] = r[k][c];
+          for (int c = 0; c < dim; ++c)
+            u_far[dim * k + c] = r[k][c];
       }
   }
 
-  dealii::Tensor<2, 2> CoupledModel::insitu_strain() const
+  template <int dim>
+  dealii::Tensor<2, dim> CoupledModel<dim>::insitu_strain() const
   {
-    dealii::Tensor<2, 2> e;
-    for (int i = 0; i < 2; ++i)
-      for (int j = 0; j < 2; ++j)
+    dealii::Tensor<2, dim> e;
+    for (int i = 0; i < dim; ++i)
+      for (int j = 0; j < dim; ++j)
         e[i][j] = eps0(i, j);
     return e;
   }
 
-  void CoupledModel::continuum_step()
+  template <int dim>
+  void CoupledModel<dim>::continuum_step()
   {
-    const std::size_t                 n = points.size();
-    std::vector<dealii::Tensor<1, 2>> f(n);
-    const double                      inv = n_accum > 0 ? 1.0 / n_accum : 0.0;
+    const std::size_t                   n = points.size();
+    std::vector<dealii::Tensor<1, dim>> f(n);
+    const double                        inv = n_accum > 0 ? 1.0 / n_accum : 0.0;
     for (std::size_t k = 0; k < n; ++k)
       {
-        f[k][0] = inv * accum[k][0];
-        f[k][1] = inv * accum[k][1];
+        for (int c = 0; c < dim; ++c)
+          f[k][c] = inv * accum[k][c];
       }
     fem_->set_interface_forces(f);
     // Force balance: what the continuum holds must equal the mean of the
     // DEM-side interface force (contact sums).
-    const auto   held    = fem_->interface_force_sum();
-    const Vec<2> dem_sum = inv * accum_contacts;
-    const double diff    = std::hypot(held[0] - dem_sum[0], held[1] - dem_sum[1]);
-    imb_last             = accum_abs > 0 ? diff / (inv * accum_abs) : 0.0;
-    imb_max              = std::max(imb_max, imb_last);
+    const auto     held    = fem_->interface_force_sum();
+    const Vec<dim> dem_sum = inv * accum_contacts;
+    double         diff    = 0;
+    if constexpr (dim == 2)
+      diff = std::hypot(held[0] - dem_sum[0], held[1] - dem_sum[1]);
+    else
+      diff = std::sqrt(dealii::Utilities::fixed_power<2>(held[0] - dem_sum[0]) +
+                       dealii::Utilities::fixed_power<2>(held[1] - dem_sum[1]) +
+                       dealii::Utilities::fixed_power<2>(held[2] - dem_sum[2]));
+    imb_last = accum_abs > 0 ? diff / (inv * accum_abs) : 0.0;
+    imb_max  = std::max(imb_max, imb_last);
     if (static_)
       quasi_static_step(f);
     else
@@ -193,20 +224,21 @@ namespace demfem::coupling
     n_accum   = 0;
   }
 
-  void CoupledModel::quasi_static_step(const std::vector<dealii::Tensor<1, 2>> &f)
+  template <int dim>
+  void CoupledModel<dim>::quasi_static_step(const std::vector<dealii::Tensor<1, dim>> &f)
   {
     // Target u* = lambda u_far + F f, relaxed from the displacement the
     // coupling nodes reached (the previous window's u_new).
     const std::size_t   n = points.size();
-    std::vector<double> fv(2 * n), target(2 * n);
+    std::vector<double> fv(dim * n), target(dim * n);
     for (std::size_t k = 0; k < n; ++k)
-      for (int c = 0; c < 2; ++c)
-        fv[2 * k + c] = f[k][c];
+      for (int c = 0; c < dim; ++c)
+        fv[dim * k + c] = f[k][c];
     double dnorm = 0, tnorm = 0;
-    for (std::size_t i = 0; i < 2 * n; ++i)
+    for (std::size_t i = 0; i < dim * n; ++i)
       {
         double t = load_factor * u_far[i];
-        for (std::size_t j = 0; j < 2 * n; ++j)
+        for (std::size_t j = 0; j < dim * n; ++j)
           t += flex(i, j) * fv[j];
         target[i] = t;
         dnorm += (t - u_reached[i]) * (t - u_reached[i]);
@@ -228,14 +260,14 @@ namespace demfem::coupling
             << kp.subcycles << ") too small for the DEM to respond within a window";
         throw dem::InstabilityError(msg.str());
       }
-    std::vector<Vec<2>> u(n), v(n);
-    const double        window = kp.subcycles * dt_;
+    std::vector<Vec<dim>> u(n), v(n);
+    const double          window = kp.subcycles * dt_;
     for (std::size_t k = 0; k < n; ++k)
       {
-        Vec<2> du;
-        for (int c = 0; c < 2; ++c)
+        Vec<dim> du;
+        for (int c = 0; c < dim; ++c)
           {
-            const std::size_t i = 2 * k + c;
+            const std::size_t i = dim * k + c;
             u[k][c]             = u_reached[i];
             du[c]               = kp.relaxation * (target[i] - u_reached[i]);
             u_reached[i] += du[c];
@@ -246,19 +278,24 @@ namespace demfem::coupling
     move_interface(u, v);
   }
 
-  void CoupledModel::explicit_step()
+  template <int dim>
+  void CoupledModel<dim>::explicit_step()
   {
     // Far-field displacement ramp u = lambda eps0 x: the fixed dofs move with
     // the load-factor increment over this continuum step.
     const double dl = load_factor - applied_factor;
     if (dl != 0 || far_moving)
       {
-        const double          rate = dl / (kp.subcycles * dt_);
-        const Eigen::Matrix2d e    = rate * eps0;
-        fem_->set_fixed_velocity([e](const dealii::Point<2> &x) {
-          dealii::Tensor<1, 2> v;
-          v[0] = e(0, 0) * x[0] + e(0, 1) * x[1];
-          v[1] = e(1, 0) * x[0] + e(1, 1) * x[1];
+        const double                          rate = dl / (kp.subcycles * dt_);
+        const Eigen::Matrix<double, dim, dim> e    = rate * eps0;
+        fem_->set_fixed_velocity([e](const dealii::Point<dim> &x) {
+          dealii::Tensor<1, dim> v;
+          for (int i = 0; i < dim; ++i)
+            {
+              v[i] = e(i, 0) * x[0] + e(i, 1) * x[1];
+              if constexpr (dim == 3)
+                v[i] += e(i, 2) * x[2];
+            }
           return v;
         });
         far_moving     = dl != 0;
@@ -282,18 +319,22 @@ namespace demfem::coupling
                "grains and the continuum";
         throw dem::InstabilityError(msg.str());
       }
-    const auto          u = fem_->interface_displacements();
-    const auto          v = fem_->interface_velocities();
-    std::vector<Vec<2>> uu(u.size()), vv(v.size());
+    const auto            u = fem_->interface_displacements();
+    const auto            v = fem_->interface_velocities();
+    std::vector<Vec<dim>> uu(u.size()), vv(v.size());
     for (std::size_t k = 0; k < u.size(); ++k)
       {
-        uu[k] = Vec<2>(u[k][0], u[k][1]);
-        vv[k] = Vec<2>(v[k][0], v[k][1]);
+        for (int c = 0; c < dim; ++c)
+          {
+            uu[k][c] = u[k][c];
+            vv[k][c] = v[k][c];
+          }
       }
     move_interface(uu, vv);
   }
 
-  void CoupledModel::step()
+  template <int dim>
+  void CoupledModel<dim>::step()
   {
     if (n_steps % kp.subcycles == 0)
       continuum_step();
@@ -370,28 +411,32 @@ namespace demfem::coupling
     return v;
   }
 
-  std::map<std::string, std::string> CoupledModel::save_state() const
+  template <int dim>
+  std::map<std::string, std::string> CoupledModel<dim>::save_state() const
   {
     std::vector<double> a;
     for (const auto &x : accum)
-      a.insert(a.end(), {x[0], x[1]});
-    const std::vector<double> scalars = {accum_contacts[0],
-                                         accum_contacts[1],
-                                         accum_abs,
-                                         double(n_accum),
-                                         load_factor,
-                                         imb_max,
-                                         imb_last,
-                                         last_fem_ke,
-                                         double(fem_growth),
-                                         double(n_steps),
-                                         applied_factor,
-                                         far_moving ? 1.0 : 0.0,
-                                         last_force[0],
-                                         last_force[1],
-                                         residual,
-                                         last_residual,
-                                         double(residual_growth)};
+      for (int c = 0; c < dim; ++c)
+        a.push_back(x[c]);
+    std::vector<double> scalars = {accum_contacts[0],
+                                   accum_contacts[1],
+                                   accum_abs,
+                                   double(n_accum),
+                                   load_factor,
+                                   imb_max,
+                                   imb_last,
+                                   last_fem_ke,
+                                   double(fem_growth),
+                                   double(n_steps),
+                                   applied_factor,
+                                   far_moving ? 1.0 : 0.0,
+                                   last_force[0],
+                                   last_force[1],
+                                   residual,
+                                   last_residual,
+                                   double(residual_growth)};
+    if constexpr (dim == 3) // the 2D layout, then the z components
+      scalars.insert(scalars.end(), {accum_contacts[2], last_force[2]});
     return {{"coupling.variant", variant() + " " + kp.scheme},
             {"coupling.accum", encode_doubles(a)},
             {"coupling.scalars", encode_doubles(scalars)},
@@ -399,7 +444,8 @@ namespace demfem::coupling
             {"coupling.continuum", encode_doubles(fem_->save_state())}};
   }
 
-  void CoupledModel::load_state(const std::map<std::string, std::string> &meta)
+  template <int dim>
+  void CoupledModel<dim>::load_state(const std::map<std::string, std::string> &meta)
   {
     auto raw = [&](const std::string &k) {
       const auto it = meta.find(k);
@@ -415,65 +461,85 @@ namespace demfem::coupling
                             "'");
     const auto a = get("coupling.accum"), s = get("coupling.scalars");
     const auto reached = get("coupling.reached");
-    if (a.size() != 2 * accum.size() || s.size() != 17 ||
+    if (a.size() != dim * accum.size() || s.size() != (dim == 2 ? 17u : 19u) ||
         reached.size() != u_reached.size())
-      throw dem::InputError(
-          "checkpoint: the coupling interface differs (" + std::to_string(a.size() / 2) +
-          " coupling nodes in the file, " + std::to_string(accum.size()) + " here)");
+      throw dem::InputError("checkpoint: the coupling interface differs (" +
+                            std::to_string(a.size() / dim) +
+                            " coupling nodes in the file, " +
+                            std::to_string(accum.size()) + " here)");
     fem_->load_state(get("coupling.continuum"));
     for (std::size_t k = 0; k < accum.size(); ++k)
-      accum[k] = Vec<2>(a[2 * k], a[2 * k + 1]);
-    accum_contacts  = Vec<2>(s[0], s[1]);
-    accum_abs       = s[2];
-    n_accum         = static_cast<unsigned int>(s[3]);
-    load_factor     = s[4];
-    imb_max         = s[5];
-    imb_last        = s[6];
-    last_fem_ke     = s[7];
-    fem_growth      = static_cast<int>(s[8]);
-    n_steps         = static_cast<std::int64_t>(s[9]);
-    applied_factor  = s[10];
-    far_moving      = s[11] != 0;
-    last_force      = Vec<2>(s[12], s[13]);
+      for (int c = 0; c < dim; ++c)
+        accum[k][c] = a[dim * k + c];
+    accum_contacts[0] = s[0];
+    accum_contacts[1] = s[1];
+    accum_abs         = s[2];
+    n_accum           = static_cast<unsigned int>(s[3]);
+    load_factor       = s[4];
+    imb_max           = s[5];
+    imb_last          = s[6];
+    last_fem_ke       = s[7];
+    fem_growth        = static_cast<int>(s[8]);
+    n_steps           = static_cast<std::int64_t>(s[9]);
+    applied_factor    = s[10];
+    far_moving        = s[11] != 0;
+    last_force[0]     = s[12];
+    last_force[1]     = s[13];
+    if constexpr (dim == 3)
+      {
+        accum_contacts[2] = s[17];
+        last_force[2]     = s[18];
+      }
     residual        = s[14];
     last_residual   = s[15];
     residual_growth = static_cast<int>(s[16]);
     u_reached       = reached;
   }
 
-  double CoupledModel::continuum_kinetic_energy() const
+  template <int dim>
+  double CoupledModel<dim>::continuum_kinetic_energy() const
   {
     return static_ ? 0.0 : fem_->kinetic_energy();
   }
 
-  double CoupledModel::interface_residual() const { return residual; }
+  template <int dim>
+  double CoupledModel<dim>::interface_residual() const
+  {
+    return residual;
+  }
 
-  std::size_t CoupledModel::n_fem_dofs() const
+  template <int dim>
+  std::size_t CoupledModel<dim>::n_fem_dofs() const
   {
     return fem_->get_dof_handler().n_dofs();
   }
 
-  const std::vector<dealii::Point<2>> &CoupledModel::coupling_points() const
+  template <int dim>
+  const std::vector<dealii::Point<dim>> &CoupledModel<dim>::coupling_points() const
   {
     return points;
   }
 
-  std::vector<Vec<2>> CoupledModel::coupling_displacements() const
+  template <int dim>
+  std::vector<Vec<dim>> CoupledModel<dim>::coupling_displacements() const
   {
-    std::vector<Vec<2>> r(points.size());
+    std::vector<Vec<dim>> r(points.size());
     if (static_)
       {
         for (std::size_t k = 0; k < r.size(); ++k)
-          r[k] = Vec<2>(u_reached[2 * k], u_reached[2 * k + 1]);
+          for (int c = 0; c < dim; ++c)
+            r[k][c] = u_reached[dim * k + c];
         return r;
       }
     const auto u = fem_->interface_displacements();
     for (std::size_t k = 0; k < u.size(); ++k)
-      r[k] = Vec<2>(u[k][0], u[k][1]);
+      for (int c = 0; c < dim; ++c)
+        r[k][c] = u[k][c];
     return r;
   }
 
-  dealii::Vector<double> CoupledModel::displacement_field() const
+  template <int dim>
+  dealii::Vector<double> CoupledModel<dim>::displacement_field() const
   {
     if (!static_)
       return dealii::Vector<double>(fem_->displacement());
@@ -484,19 +550,32 @@ namespace demfem::coupling
     return dealii::Vector<double>(static_->displacement());
   }
 
-  const dealii::DoFHandler<2> &CoupledModel::dof_handler() const
+  template <int dim>
+  const dealii::DoFHandler<dim> &CoupledModel<dim>::dof_handler() const
   {
     return static_ ? static_->get_dof_handler() : fem_->get_dof_handler();
   }
 
-  std::unique_ptr<CoupledModel> make_coupled_model(const RegionParams    &region,
-                                                   const ContinuumParams &continuum,
-                                                   const CouplingParams  &coupling,
-                                                   MPI_Comm               comm)
+  template <int dim>
+  std::unique_ptr<CoupledModel<dim>> make_coupled_model(const RegionParams    &region,
+                                                        const ContinuumParams &continuum,
+                                                        const CouplingParams  &coupling,
+                                                        MPI_Comm               comm)
   {
     coupling.validate("Coupling");
     if (coupling.variant == "wall-facets")
-      return std::make_unique<WallFacetModel>(region, continuum, coupling, comm);
-    return std::make_unique<SlavedLayerModel>(region, continuum, coupling, comm);
+      return std::make_unique<WallFacetModel<dim>>(region, continuum, coupling, comm);
+    return std::make_unique<SlavedLayerModel<dim>>(region, continuum, coupling, comm);
   }
+
+  template class CoupledModel<2>;
+  template class CoupledModel<3>;
+  template std::unique_ptr<CoupledModel<2>> make_coupled_model<2>(const RegionParams &,
+                                                                  const ContinuumParams &,
+                                                                  const CouplingParams &,
+                                                                  MPI_Comm);
+  template std::unique_ptr<CoupledModel<3>> make_coupled_model<3>(const RegionParams &,
+                                                                  const ContinuumParams &,
+                                                                  const CouplingParams &,
+                                                                  MPI_Comm);
 } // namespace demfem::coupling

@@ -1,6 +1,7 @@
 #pragma once
 // The coupled model of the embedded DEM region and the continuum (DESIGN §5),
-// 2D: what the two kinematic variants share. The tunnel workflow
+// 2D and 3D (template on dim, instantiated for 2 and 3): what the two
+// kinematic variants share. The tunnel workflow
 // (tunnel_run.cc) works on this interface only.
 //
 // The continuum (fem::ExplicitDynamics, Q1, far field fixed) is an annulus
@@ -100,6 +101,15 @@ namespace demfem::coupling
   std::string         encode_doubles(const std::vector<double> &v);
   std::vector<double> decode_doubles(const std::string &s, const std::string &what);
 
+  /// 3D (issue 5: a slab of the 2D problem, plane strain through walls):
+  /// the continuum is the annulus extruded over 0 <= z <= t (t =
+  /// RegionParams::slab_thickness, element layers about two mean grain
+  /// diameters thick) with rollers (u_z = 0) on its z faces; the DEM region
+  /// is the slab of spheres between two fixed frictionless walls z = 0, t
+  /// (dem_region.h). The in-situ stress is given in plane; szz = nu (sxx +
+  /// syy) follows from plane strain on both sides (the continuum's far-field
+  /// strain has e_zz = 0, the grains push on the slab walls).
+  template <int dim>
   class CoupledModel
   {
   public:
@@ -117,6 +127,7 @@ namespace demfem::coupling
     void build(std::ostream *progress = nullptr);
 
     /// In-situ stress (tension positive) and its load factor (ramp).
+    /// In plane (xx, xy, yy); 3D: szz from plane strain.
     void   set_insitu(const Eigen::Matrix2d &sigma0);
     void   set_load_factor(double f) { load_factor = f; }
     double get_load_factor() const { return load_factor; }
@@ -139,7 +150,7 @@ namespace demfem::coupling
     double interface_residual() const;
     /// Force the grains exert on the continuum at the latest DEM step (sum
     /// over the interface) [N].
-    dem::Vec<2> interface_force() const { return last_force; }
+    dem::Vec<dim> interface_force() const { return last_force; }
 
     /// Checkpoint state besides dem's own (dem::write_checkpoint): the
     /// continuum vectors and the coupling's accumulators and counters, as
@@ -151,21 +162,21 @@ namespace demfem::coupling
 
     /// Coupling nodes (continuum vertices) and their displacements, same
     /// order.
-    const std::vector<dealii::Point<2>> &coupling_points() const;
-    std::vector<dem::Vec<2>>             coupling_displacements() const;
+    const std::vector<dealii::Point<dim>> &coupling_points() const;
+    std::vector<dem::Vec<dim>>             coupling_displacements() const;
 
     /// The continuum's displacement field for output (explicit: the
     /// dynamic state; quasi-static: a static solve with the current
     /// interface forces) on dof_handler().
-    dealii::Vector<double>       displacement_field() const;
-    const dealii::DoFHandler<2> &dof_handler() const;
-    double                       continuum_inner_radius() const;
+    dealii::Vector<double>         displacement_field() const;
+    const dealii::DoFHandler<dim> &dof_handler() const;
+    double                         continuum_inner_radius() const;
 
-    dem::Model<2>                   dem;
-    RegionGroups                    groups;
-    fem::ExplicitDynamics<2>       &continuum() { return *fem_; }
-    const fem::ExplicitDynamics<2> &continuum() const { return *fem_; }
-    const dealii::parallel::distributed::Triangulation<2> &triangulation() const
+    dem::Model<dim>                   dem;
+    RegionGroups                      groups;
+    fem::ExplicitDynamics<dim>       &continuum() { return *fem_; }
+    const fem::ExplicitDynamics<dim> &continuum() const { return *fem_; }
+    const dealii::parallel::distributed::Triangulation<dim> &triangulation() const
     {
       return tria;
     }
@@ -178,54 +189,66 @@ namespace demfem::coupling
     /// Builds the DEM side once the continuum is set up (its boundary-id-2
     /// vertices are those of the inner circle) and returns the coupling
     /// nodes (mesh vertices) in a fixed order.
-    virtual std::vector<dealii::Point<2>> build_interface(std::ostream *progress) = 0;
+    virtual std::vector<dealii::Point<dim>> build_interface(std::ostream *progress) = 0;
     /// After a DEM step: adds the force the grains exert on each coupling
     /// node to `nodal` (coupling order), and returns the DEM-side sum of the
     /// same forces (contact sums, independent of the distribution).
-    virtual dem::Vec<2> gather_forces(std::vector<dem::Vec<2>> &nodal) const = 0;
+    virtual dem::Vec<dim> gather_forces(std::vector<dem::Vec<dim>> &nodal) const = 0;
     /// The coupling nodes are at displacement u and move with velocity v
     /// over the next window (coupling order).
-    virtual void move_interface(const std::vector<dem::Vec<2>> &u,
-                                const std::vector<dem::Vec<2>> &v) = 0;
+    virtual void move_interface(const std::vector<dem::Vec<dim>> &u,
+                                const std::vector<dem::Vec<dim>> &v) = 0;
 
     RegionParams    rp;
     ContinuumParams cp;
     CouplingParams  kp;
 
   private:
-    dealii::parallel::distributed::Triangulation<2> tria;
-    std::unique_ptr<fem::ExplicitDynamics<2>>       fem_;
-    std::vector<dealii::Point<2>>                   points;
-    std::vector<dem::Vec<2>> accum; // summed nodal forces over the window
-    std::vector<dem::Vec<2>> nodal; // nodal forces of one DEM step
-    dem::Vec<2>              accum_contacts = dem::Vec<2>::Zero();
-    dem::Vec<2>              last_force     = dem::Vec<2>::Zero();
-    double                   accum_abs      = 0;
-    unsigned int             n_accum        = 0;
-    double                   load_factor = 0, dt_ = 0, dem_crit = 0, fem_crit = 0;
-    double                   imb_max = 0, imb_last = 0;
-    double                   last_fem_ke = 0;
-    int                      fem_growth  = 0;
-    std::int64_t             n_steps     = 0;
-    Eigen::Matrix2d      sigma0 = Eigen::Matrix2d::Zero(), eps0 = Eigen::Matrix2d::Zero();
-    double               applied_factor = 0;
-    bool                 far_moving     = false;
-    dealii::Tensor<2, 2> insitu_strain() const;
-    void                 continuum_step();
-    void                 explicit_step();
-    void                 quasi_static_step(const std::vector<dealii::Tensor<1, 2>> &f);
-    // Quasi-static scheme: static response, flexibility (2n x 2n), far-field
-    // response and the coupling displacement reached at the window's end.
-    mutable std::unique_ptr<fem::StaticInterfaceResponse<2>> static_;
-    dealii::FullMatrix<double>                               flex;
-    std::vector<double>                                      u_far, u_reached;
+    dealii::parallel::distributed::Triangulation<dim> tria;
+    std::unique_ptr<fem::ExplicitDynamics<dim>>       fem_;
+    std::vector<dealii::Point<dim>>                   points;
+    std::vector<dem::Vec<dim>> accum; // summed nodal forces over the window
+    std::vector<dem::Vec<dim>> nodal; // nodal forces of one DEM step
+    dem::Vec<dim>              accum_contacts = dem::Vec<dim>::Zero();
+    dem::Vec<dim>              last_force     = dem::Vec<dim>::Zero();
+    double                     accum_abs      = 0;
+    unsigned int               n_accum        = 0;
+    double                     load_factor = 0, dt_ = 0, dem_crit = 0, fem_crit = 0;
+    double                     imb_max = 0, imb_last = 0;
+    double                     last_fem_ke = 0;
+    int                        fem_growth  = 0;
+    std::int64_t               n_steps     = 0;
+    /// In-situ stress (in plane) and the continuum's far-field strain (3D:
+    /// plane strain, e_zz = e_xz = e_yz = 0).
+    Eigen::Matrix2d                 sigma0 = Eigen::Matrix2d::Zero();
+    Eigen::Matrix<double, dim, dim> eps0   = Eigen::Matrix<double, dim, dim>::Zero();
+    double                          applied_factor = 0;
+    bool                            far_moving     = false;
+    dealii::Tensor<2, dim>          insitu_strain() const;
+    void                            continuum_step();
+    void                            explicit_step();
+    void quasi_static_step(const std::vector<dealii::Tensor<1, dim>> &f);
+    // Quasi-static scheme: static response, flexibility (dim n x dim n),
+    // far-field response and the coupling displacement reached at the
+    // window's end.
+    mutable std::unique_ptr<fem::StaticInterfaceResponse<dim>> static_;
+    dealii::FullMatrix<double>                                 flex;
+    std::vector<double>                                        u_far, u_reached;
     double residual = 0, last_residual = 0;
     int    residual_growth = 0;
   };
 
   /// The model of CouplingParams::variant ("slaved-layer" or "wall-facets").
-  std::unique_ptr<CoupledModel> make_coupled_model(const RegionParams    &region,
-                                                   const ContinuumParams &continuum,
-                                                   const CouplingParams  &coupling,
-                                                   MPI_Comm               comm);
+  template <int dim>
+  std::unique_ptr<CoupledModel<dim>> make_coupled_model(const RegionParams    &region,
+                                                        const ContinuumParams &continuum,
+                                                        const CouplingParams  &coupling,
+                                                        MPI_Comm               comm);
+  /// The 2D model (what the 2D callers use).
+  inline std::unique_ptr<CoupledModel<2>> make_coupled_model(
+      const RegionParams &region, const ContinuumParams &continuum,
+      const CouplingParams &coupling, MPI_Comm comm)
+  {
+    return make_coupled_model<2>(region, continuum, coupling, comm);
+  }
 } // namespace demfem::coupling

@@ -17,35 +17,46 @@ namespace demfem::coupling
 {
   using dem::Vec;
 
-  std::vector<dealii::Point<2>> SlavedLayerModel::build_interface(std::ostream *progress)
+  template <int dim>
+  std::vector<dealii::Point<dim>> SlavedLayerModel<dim>::build_interface(
+      std::ostream *progress)
   {
     auto        &P = dem.particles;
     const double b = rp.radius, h = overlap();
-    // Temporary ring at r = b for packing and bonding (build_disk_region):
-    // facets about two mean grain diameters long.
+    // Temporary ring at r = b for packing and bonding (build_region):
+    // facets about two mean grain diameters long (3D: one layer through the
+    // slab).
     const unsigned int n =
         std::max(32u, 8 * static_cast<unsigned int>(
                               std::ceil(2 * M_PI * b / (2 * rp.mean_diameter()) / 8)));
-    const int        ring = dem.walls.add_wall("packing ring");
-    std::vector<int> vtx(n);
-    for (unsigned int k = 0; k < n; ++k)
-      vtx[k] = dem.walls.add_vertex(
-          Vec<2>(b * std::cos(2 * M_PI * k / n), b * std::sin(2 * M_PI * k / n)));
-    for (unsigned int k = 0; k < n; ++k)
-      dem.walls.add_facet(ring, {vtx[k], vtx[(k + 1) % n]});
-    groups = build_disk_region(dem, rp, progress);
+    int ring = -1;
+    if constexpr (dim == 2)
+      {
+        ring = dem.walls.add_wall("packing ring");
+        std::vector<int> vtx(n);
+        for (unsigned int k = 0; k < n; ++k)
+          vtx[k] = dem.walls.add_vertex(
+              Vec<2>(b * std::cos(2 * M_PI * k / n), b * std::sin(2 * M_PI * k / n)));
+        for (unsigned int k = 0; k < n; ++k)
+          dem.walls.add_facet(ring, {{vtx[k], vtx[(k + 1) % n]}});
+      }
+    else
+      ring = add_cylinder_ring(dem.walls, b, rp.slab_thickness, n, 1, "packing ring");
+    groups = build_region<dim>(dem, rp, progress);
 
     // Null law (zero stiffness) for the ring's contacts and for contacts
     // between two slaved grains; the ring gets no new contacts.
-    dem::LinearLaw<2>::Params null_law; // kn = ks = friction = 0
-    null_ball = dem.add_law<dem::LinearLaw<2>>(null_law, "slaved layer (slaved-slaved)");
-    null_wall = dem.add_law<dem::LinearLaw<2>>(null_law, "slaved layer (packing ring)");
+    typename dem::LinearLaw<dim>::Params null_law; // kn = ks = friction = 0
+    null_ball = dem.template add_law<dem::LinearLaw<dim>>(null_law,
+                                                          "slaved layer (slaved-slaved)");
+    null_wall = dem.template add_law<dem::LinearLaw<dim>>(null_law,
+                                                          "slaved layer (packing ring)");
     dem.set_default_law(groups.linear, -1);
 
-    // Slaved grains: centres in the overlap.
+    // Slaved grains: centres in the overlap (distance from the axis).
     std::vector<char> is_slave(P.size(), 0);
     for (std::size_t i = 0; i < P.size(); ++i)
-      if (P.x[i].norm() > b - h)
+      if (P.x[i].template head<2>().norm() > b - h)
         {
           is_slave[i] = 1;
           P.fixity[i] = dem::fix_all;
@@ -58,8 +69,11 @@ namespace demfem::coupling
       {
         const auto &grp = dem.group(g);
         for (std::size_t k = 0; k < grp.size(); ++k)
-          if (grp.is_wall[k])
+          if (grp.is_wall[k] &&
+              (dem.walls.facet_wall[grp.end2[k]] == ring || is_slave[grp.end1[k]]))
             wall.emplace_back(grp.end1[k], grp.end2[k]);
+          else if (grp.is_wall[k])
+            continue; // a free grain on a slab wall (3D)
           else if (is_slave[grp.end1[k]] && is_slave[grp.end2[k]])
             ball.emplace_back(grp.end1[k], grp.end2[k]);
       }
@@ -68,29 +82,44 @@ namespace demfem::coupling
     for (const auto &[i, j] : ball)
       dem.install(i, j, null_ball);
     const int nb        = null_ball;
-    dem.new_contact_law = [nb](const dem::Particles<2> &Q, std::uint32_t i,
+    dem.new_contact_law = [nb](const dem::Particles<dim> &Q, std::uint32_t i,
                                std::uint32_t j) {
       return (Q.group[i] == slaved_tag && Q.group[j] == slaved_tag) ? nb : -1;
     };
+    if constexpr (dim == 3)
+      {
+        // New slab-wall contacts: null for slaved grains, else the region's
+        // frictionless slab law (build_region's rule). The particles live in
+        // this model, whose address does not change.
+        const auto                 rule = dem.new_wall_contact_law;
+        const int                  nw   = null_wall;
+        const dem::Particles<dim> *Q    = &dem.particles;
+        dem.new_wall_contact_law = [rule, nw, Q](std::uint32_t i, std::uint32_t k) {
+          const int g = rule ? rule(i, k) : -1;
+          return g >= 0 && Q->group[i] == slaved_tag ? nw : g;
+        };
+      }
 
     // Cell and unit point of every slaved grain; the coupling nodes are the
     // vertices of these cells (sorted by vertex index).
-    const auto                          &tria = triangulation();
-    const dealii::MappingQ<2>            mapping(1);
-    const dealii::FE_Q<2>                fe(1);
+    const auto                          &tria = this->triangulation();
+    const dealii::MappingQ<dim>          mapping(1);
+    const dealii::FE_Q<dim>              fe(1);
     std::map<unsigned int, unsigned int> node_of; // mesh vertex -> coupling index
     struct Located
     {
-      dealii::Triangulation<2>::active_cell_iterator cell;
-      dealii::Point<2>                               unit;
+      typename dealii::Triangulation<dim>::active_cell_iterator cell;
+      dealii::Point<dim>                                        unit;
     };
     std::vector<Located> where;
     slaved.clear();
     for (std::size_t i = 0; i < P.size(); ++i)
       if (is_slave[i])
         {
-          const dealii::Point<2> X(P.x[i][0], P.x[i][1]);
-          const auto             found =
+          dealii::Point<dim> X;
+          for (int c = 0; c < dim; ++c)
+            X[c] = P.x[i][c];
+          const auto found =
               dealii::GridTools::find_active_cell_around_point(mapping, tria, X);
           Slave s;
           s.id = P.id[i];
@@ -100,7 +129,7 @@ namespace demfem::coupling
           for (const unsigned int v : found.first->vertex_indices())
             node_of.emplace(found.first->vertex_index(v), 0);
         }
-    std::vector<dealii::Point<2>> pts;
+    std::vector<dealii::Point<dim>> pts;
     for (auto &[v, k] : node_of)
       {
         k = static_cast<unsigned int>(pts.size());
@@ -110,17 +139,18 @@ namespace demfem::coupling
       {
         // Shape values and real-space gradients at X (FE_Q(1): shape a
         // belongs to vertex a).
-        const dealii::Quadrature<2> q(std::vector<dealii::Point<2>>{where[s].unit},
-                                      std::vector<double>{1.0});
-        dealii::FEValues<2>         fv(mapping, fe, q,
-                                       dealii::update_values | dealii::update_gradients);
-        fv.reinit(typename dealii::Triangulation<2>::cell_iterator(where[s].cell));
+        const dealii::Quadrature<dim> q(std::vector<dealii::Point<dim>>{where[s].unit},
+                                        std::vector<double>{1.0});
+        dealii::FEValues<dim>         fv(mapping, fe, q,
+                                         dealii::update_values | dealii::update_gradients);
+        fv.reinit(typename dealii::Triangulation<dim>::cell_iterator(where[s].cell));
         double sum = 0;
-        for (unsigned int a = 0; a < 4; ++a)
+        for (unsigned int a = 0; a < n_nodes; ++a)
           {
             slaved[s].node[a] = node_of.at(where[s].cell->vertex_index(a));
             slaved[s].N[a]    = fv.shape_value(a, 0);
-            slaved[s].dN[a]   = Vec<2>(fv.shape_grad(a, 0)[0], fv.shape_grad(a, 0)[1]);
+            for (int c = 0; c < dim; ++c)
+              slaved[s].dN[a][c] = fv.shape_grad(a, 0)[c];
             sum += slaved[s].N[a];
           }
         if (std::abs(sum - 1) > 1e-12 ||
@@ -139,7 +169,8 @@ namespace demfem::coupling
     return pts;
   }
 
-  void SlavedLayerModel::refresh_index() const
+  template <int dim>
+  void SlavedLayerModel<dim>::refresh_index() const
   {
     const auto &P  = dem.particles;
     bool        ok = index.size() == slaved.size() && index_n == P.size();
@@ -164,21 +195,32 @@ namespace demfem::coupling
     index_n = P.size();
   }
 
-  Vec<2> SlavedLayerModel::gather_forces(std::vector<Vec<2>> &nodal) const
+  template <int dim>
+  Vec<dim> SlavedLayerModel<dim>::gather_forces(std::vector<Vec<dim>> &nodal) const
   {
     refresh_index();
     const auto &P = dem.particles;
     for (std::size_t s = 0; s < slaved.size(); ++s)
       {
-        const auto   &S = slaved[s];
-        const Vec<2> &f = P.f[index[s]];
-        const double  m = P.m[index[s]][0];
-        for (int a = 0; a < 4; ++a) // work conjugate of v_p and w_p
-          nodal[S.node[a]] += S.N[a] * f + 0.5 * m * Vec<2>(-S.dN[a][1], S.dN[a][0]);
+        const auto     &S = slaved[s];
+        const Vec<dim> &f = P.f[index[s]];
+        // Work conjugate of v_p and w_p: N_a f + 0.5 m x grad N_a.
+        if constexpr (dim == 2)
+          {
+            const double m = P.m[index[s]][0];
+            for (unsigned int a = 0; a < n_nodes; ++a)
+              nodal[S.node[a]] += S.N[a] * f + 0.5 * m * Vec<2>(-S.dN[a][1], S.dN[a][0]);
+          }
+        else
+          {
+            const Vec<3> m = P.m[index[s]];
+            for (unsigned int a = 0; a < n_nodes; ++a)
+              nodal[S.node[a]] += S.N[a] * f + 0.5 * m.cross(S.dN[a]);
+          }
       }
     // DEM side of the balance: the forces on the slaved ends of the
     // free-slaved contacts (force[k] acts on end2, -force[k] on end1).
-    Vec<2> sum = Vec<2>::Zero();
+    Vec<dim> sum = Vec<dim>::Zero();
     for (int g = 0; g < dem.n_groups(); ++g)
       {
         const auto &grp = dem.group(g);
@@ -196,26 +238,33 @@ namespace demfem::coupling
     return sum;
   }
 
-  void SlavedLayerModel::move_interface(const std::vector<Vec<2>> &u,
-                                        const std::vector<Vec<2>> &v)
+  template <int dim>
+  void SlavedLayerModel<dim>::move_interface(const std::vector<Vec<dim>> &u,
+                                             const std::vector<Vec<dim>> &v)
   {
     refresh_index();
     auto &P = dem.particles;
     for (std::size_t s = 0; s < slaved.size(); ++s)
       {
-        const auto &S  = slaved[s];
-        Vec<2>      up = Vec<2>::Zero(), vp = Vec<2>::Zero();
-        double      w = 0;
-        for (int a = 0; a < 4; ++a)
+        const auto      &S  = slaved[s];
+        Vec<dim>         up = Vec<dim>::Zero(), vp = Vec<dim>::Zero();
+        dem::RotVec<dim> w = dem::RotVec<dim>::Zero();
+        for (unsigned int a = 0; a < n_nodes; ++a)
           {
             up += S.N[a] * u[S.node[a]];
             vp += S.N[a] * v[S.node[a]];
-            w += 0.5 * (S.dN[a][0] * v[S.node[a]][1] - S.dN[a][1] * v[S.node[a]][0]);
+            if constexpr (dim == 2) // 0.5 curl v
+              w[0] += 0.5 * (S.dN[a][0] * v[S.node[a]][1] - S.dN[a][1] * v[S.node[a]][0]);
+            else
+              w += 0.5 * S.dN[a].cross(v[S.node[a]]);
           }
         const auto i = index[s];
         P.x[i]       = S.X + up; // re-synchronized (round-off only)
         P.v[i]       = vp;
-        P.w[i][0]    = w;
+        P.w[i]       = w;
       }
   }
+
+  template class SlavedLayerModel<2>;
+  template class SlavedLayerModel<3>;
 } // namespace demfem::coupling

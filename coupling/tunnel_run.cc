@@ -24,7 +24,10 @@ namespace demfem::coupling
   void TunnelParams::validate(const std::string &w) const
   {
     const double inf = HUGE_VAL;
-    region.validate(w);
+    if (dimension != 2 && dimension != 3)
+      throw dem::InputError(w + ": Problem/dimension = " + std::to_string(dimension) +
+                            " (allowed: 2, 3)");
+    region.validate(w, dimension);
     dem::check_range(w, "Tunnel/radius", tunnel_radius, 0, inf, true);
     if (tunnel_radius + 3 * region.d_hi > region.radius)
       throw dem::InputError(w + ": Tunnel/radius (" + std::to_string(tunnel_radius) +
@@ -103,39 +106,41 @@ namespace demfem::coupling
       return it->second;
     }
 
+    template <int dim>
     struct Runner
     {
       const TunnelParams                                      &p;
       std::ostream                                            &out;
-      std::unique_ptr<CoupledModel>                            model;
-      CoupledModel                                            &m;
+      std::unique_ptr<CoupledModel<dim>>                       model;
+      CoupledModel<dim>                                       &m;
       std::string                                              dir;
       std::ofstream                                            history;
       int                                                      frame = 0;
       std::vector<std::pair<double, std::vector<std::string>>> frames;
-      std::vector<Vec<2>> ref; // positions by id at excavation start
-      bool                excavated            = false;
-      std::size_t         cracks_before        = 0; // cracks before the excavation
-      std::string         phase                = "build";
+      std::vector<Vec<dim>> ref; // positions by id at excavation start
+      bool                  excavated          = false;
+      std::size_t           cracks_before      = 0; // cracks before the excavation
+      std::string           phase              = "build";
       std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
       std::int64_t budget = 0; // expected coupled steps for the ETA (upper bound)
       std::int64_t step0  = 0; // steps of the packing
       // Checkpoint / restart state (DESIGN §8): the workflow position is the
       // phase index (0 in-situ, 1..stages excavation stage, stages+1
       // equilibrium, stages+2 done) and the iteration n of its cycle loop.
-      int                 phase_index = 0;
-      bool                resuming    = false;
-      std::int64_t        resume_n    = 1;
-      double              resume_peak = 0;
-      std::vector<Vec<2>> fex; // forces of the removed grains, by id
-      Eigen::Matrix2d     stress_before = Eigen::Matrix2d::Zero();
-      std::string         last_checkpoint;
+      int                             phase_index = 0;
+      bool                            resuming    = false;
+      std::int64_t                    resume_n    = 1;
+      double                          resume_peak = 0;
+      std::vector<Vec<dim>>           fex; // forces of the removed grains, by id
+      Eigen::Matrix<double, dim, dim> stress_before =
+          Eigen::Matrix<double, dim, dim>::Zero();
+      std::string last_checkpoint;
 
       Runner(const TunnelParams &pp, std::ostream &o)
           : p(pp)
           , out(o)
-          , model(
-                make_coupled_model(pp.region, pp.continuum, pp.coupling, MPI_COMM_WORLD))
+          , model(make_coupled_model<dim>(pp.region, pp.continuum, pp.coupling,
+                                          MPI_COMM_WORLD))
           , m(*model)
           , dir(pp.output_directory)
       {
@@ -150,9 +155,10 @@ namespace demfem::coupling
       }
 
       // Mean inward radial displacement of the grains within one mean
-      // diameter of the wall since excavation started; count in n.
+      // diameter of the wall since excavation started (radial: in the xy
+      // plane); count in n; rows x, y, z, ux, uy, uz.
       double convergence(std::size_t                        *n    = nullptr,
-                         std::vector<std::array<double, 4>> *rows = nullptr) const
+                         std::vector<std::array<double, 6>> *rows = nullptr) const
       {
         if (!excavated)
           return 0;
@@ -162,15 +168,16 @@ namespace demfem::coupling
         std::size_t  c = 0;
         for (std::size_t i = 0; i < P.size(); ++i)
           {
-            const Vec<2> &X = ref[P.id[i]];
-            const double  r = X.norm();
+            const Vec<dim> &X = ref[P.id[i]];
+            const double    r = X.template head<2>().norm();
             if (r < a + d)
               {
-                const Vec<2> u = P.x[i] - X;
-                s -= u.dot(X / r);
+                const Vec<dim> u = P.x[i] - X;
+                s -= u.template head<2>().dot(X.template head<2>() / r);
                 ++c;
                 if (rows)
-                  rows->push_back({X[0], X[1], u[0], u[1]});
+                  rows->push_back({{X[0], X[1], dim == 3 ? X[dim - 1] : 0.0, u[0], u[1],
+                                    dim == 3 ? u[dim - 1] : 0.0}});
               }
           }
         if (n)
@@ -184,7 +191,8 @@ namespace demfem::coupling
         // in-situ loading are not excavation damage).
         double d = 0;
         for (std::size_t k = cracks_before; k < m.dem.cracks.size(); ++k)
-          d = std::max(d, m.dem.cracks[k].position.norm() - p.tunnel_radius);
+          d = std::max(d, m.dem.cracks[k].position.template head<2>().norm() -
+                              p.tunnel_radius);
         return d;
       }
 
@@ -194,7 +202,7 @@ namespace demfem::coupling
       {
         std::size_t n = 0;
         for (const auto &c : m.dem.cracks)
-          n += c.position.norm() >
+          n += c.position.template head<2>().norm() >
                m.continuum_inner_radius() - 2 * p.region.mean_diameter();
         return n;
       }
@@ -212,39 +220,51 @@ namespace demfem::coupling
         dem::vtkout::write_contacts(dir + "/" + bf, m.dem);
         dem::vtkout::write_cracks(dir + "/" + cf, m.dem.current_cracks());
         {
-          dealii::DataOut<2> data_out;
+          dealii::DataOut<dim> data_out;
           data_out.attach_dof_handler(m.dof_handler());
           std::vector<dealii::DataComponentInterpretation::DataComponentInterpretation>
-              ci(2, dealii::DataComponentInterpretation::component_is_part_of_vector);
+              ci(dim, dealii::DataComponentInterpretation::component_is_part_of_vector);
           const dealii::Vector<double> u = m.displacement_field();
-          data_out.add_data_vector(u, std::vector<std::string>(2, "displacement"),
-                                   dealii::DataOut<2>::type_dof_data, ci);
+          data_out.add_data_vector(u, std::vector<std::string>(dim, "displacement"),
+                                   dealii::DataOut<dim>::type_dof_data, ci);
           // Total stress per cell (both sides start stress-free, so sigma(u)
-          // is the total stress; plane strain), at the cell centre.
+          // is the total stress; plane strain, 3D: the slab on rollers), at
+          // the cell centre.
           const auto  &dh = m.dof_handler();
           const double E = p.continuum.young_modulus, nu = p.continuum.poisson_ratio;
           const double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
-          dealii::Vector<double> sxx(dh.get_triangulation().n_active_cells()), syy(sxx),
-              sxy(sxx);
-          dealii::MappingQ<2>  mapping(1);
-          dealii::QMidpoint<2> q;
-          dealii::FEValues<2>  fv(mapping, dh.get_fe(), q, dealii::update_gradients);
-          std::vector<std::vector<dealii::Tensor<1, 2>>> g(
-              1, std::vector<dealii::Tensor<1, 2>>(2));
+          const char  *xyz                       = "xyz";
+          std::vector<std::pair<int, int>> comps = {{0, 0}, {1, 1}, {0, 1}};
+          if (dim == 3)
+            comps.insert(comps.end(), {{2, 2}, {0, 2}, {1, 2}});
+          std::vector<dealii::Vector<double>> sig(
+              comps.size(),
+              dealii::Vector<double>(dh.get_triangulation().n_active_cells()));
+          dealii::MappingQ<dim>  mapping(1);
+          dealii::QMidpoint<dim> q;
+          dealii::FEValues<dim>  fv(mapping, dh.get_fe(), q, dealii::update_gradients);
+          std::vector<std::vector<dealii::Tensor<1, dim>>> g(
+              1, std::vector<dealii::Tensor<1, dim>>(dim));
           for (const auto &cell : dh.active_cell_iterators())
             {
               fv.reinit(cell);
               fv.get_function_gradients(u, g);
-              const double exx = g[0][0][0], eyy = g[0][1][1],
-                           exy = 0.5 * (g[0][0][1] + g[0][1][0]);
-              const auto c     = cell->active_cell_index();
-              sxx[c]           = lam * (exx + eyy) + 2 * mu * exx;
-              syy[c]           = lam * (exx + eyy) + 2 * mu * eyy;
-              sxy[c]           = 2 * mu * exy;
+              double tr = 0;
+              for (int a = 0; a < dim; ++a)
+                tr += g[0][a][a];
+              const auto c = cell->active_cell_index();
+              for (std::size_t k = 0; k < comps.size(); ++k)
+                {
+                  const auto [a, b] = comps[k];
+                  const double e    = 0.5 * (g[0][a][b] + g[0][b][a]);
+                  sig[k][c]         = (a == b ? lam * tr : 0.0) + 2 * mu * e;
+                }
             }
-          data_out.add_data_vector(sxx, "stress_xx", dealii::DataOut<2>::type_cell_data);
-          data_out.add_data_vector(syy, "stress_yy", dealii::DataOut<2>::type_cell_data);
-          data_out.add_data_vector(sxy, "stress_xy", dealii::DataOut<2>::type_cell_data);
+          for (std::size_t k = 0; k < comps.size(); ++k)
+            data_out.add_data_vector(sig[k],
+                                     std::string("stress_") + xyz[comps[k].first] +
+                                         xyz[comps[k].second],
+                                     dealii::DataOut<dim>::type_cell_data);
           data_out.build_patches();
           std::ostringstream text;
           data_out.write_vtu(text);
@@ -288,8 +308,10 @@ namespace demfem::coupling
                 << num(D.kinetic_energy()) << "," << num(D.strain_energy()) << ","
                 << num(kef) << "," << cracks(-1) << "," << cracks(0) << "," << cracks(1)
                 << "," << num(m.imbalance_last()) << "," << num(convergence()) << ","
-                << num(F[0]) << "," << num(F[1]) << "," << num(m.interface_residual())
-                << "\n";
+                << num(F[0]) << "," << num(F[1]) << "," << num(m.interface_residual());
+        if constexpr (dim == 3)
+          history << "," << num(F[dim - 1]);
+        history << "\n";
       }
 
       void progress_line(double ur)
@@ -387,9 +409,9 @@ namespace demfem::coupling
         std::map<std::string, std::string> md = m.save_state();
         std::vector<double>                r, f;
         for (const auto &x : ref)
-          r.insert(r.end(), {x[0], x[1]});
+          r.insert(r.end(), x.data(), x.data() + dim);
         for (const auto &x : fex)
-          f.insert(f.end(), {x[0], x[1]});
+          f.insert(f.end(), x.data(), x.data() + dim);
         std::ostringstream fr;
         fr << std::setprecision(17);
         for (const auto &x : frames)
@@ -405,10 +427,12 @@ namespace demfem::coupling
         md["run.cracks_before"] = std::to_string(cracks_before);
         md["run.ref"]           = encode_doubles(r);
         md["run.fex"]           = encode_doubles(f);
-        md["run.stress_before"] =
-            encode_doubles({stress_before(0, 0), stress_before(0, 1), stress_before(1, 0),
-                            stress_before(1, 1)});
-        md["run.frames"] = fr.str();
+        std::vector<double> sb; // row by row
+        for (int a = 0; a < dim; ++a)
+          for (int b = 0; b < dim; ++b)
+            sb.push_back(stress_before(a, b));
+        md["run.stress_before"] = encode_doubles(sb);
+        md["run.frames"]        = fr.str();
         history.flush();
         last_checkpoint = dir + "/checkpoint.h5";
         dem::write_checkpoint(m.dem, last_checkpoint, md);
@@ -423,10 +447,11 @@ namespace demfem::coupling
           return std::stoll(meta_get(md, k, file));
         };
         auto vecs = [&](const std::string &k) {
-          const auto          v = decode_doubles(meta_get(md, k, file), k);
-          std::vector<Vec<2>> r(v.size() / 2);
+          const auto            v = decode_doubles(meta_get(md, k, file), k);
+          std::vector<Vec<dim>> r(v.size() / dim);
           for (std::size_t i = 0; i < r.size(); ++i)
-            r[i] = Vec<2>(v[2 * i], v[2 * i + 1]);
+            for (int c = 0; c < dim; ++c)
+              r[i][c] = v[dim * i + c];
           return r;
         };
         phase       = meta_get(md, "run.phase", file);
@@ -438,9 +463,11 @@ namespace demfem::coupling
         ref           = vecs("run.ref");
         fex           = vecs("run.fex");
         const auto sb = decode_doubles(meta_get(md, "run.stress_before", file), "stress");
-        if (sb.size() != 4)
+        if (sb.size() != dim * dim)
           throw dem::InputError("restart: checkpoint " + file + ": damaged entry");
-        stress_before << sb[0], sb[1], sb[2], sb[3];
+        for (int a = 0; a < dim; ++a)
+          for (int b = 0; b < dim; ++b)
+            stress_before(a, b) = sb[dim * a + b];
         std::istringstream fr(meta_get(md, "run.frames", file));
         std::string        line;
         frames.clear();
@@ -479,14 +506,14 @@ namespace demfem::coupling
         if (start == 0)
           {
             ref.assign(P.size() ? *std::max_element(P.id.begin(), P.id.end()) + 1 : 0,
-                       Vec<2>::Zero());
+                       Vec<dim>::Zero());
             for (std::size_t i = 0; i < P.size(); ++i)
               ref[P.id[i]] = P.x[i];
             std::vector<char> rm(P.size(), 0);
             for (std::size_t i = 0; i < P.size(); ++i)
-              rm[i] = P.x[i].norm() < a;
+              rm[i] = P.x[i].template head<2>().norm() < a; // 3D: through the slab
             // Forces the removed grains exerted on the remaining ones, by id.
-            fex.assign(ref.size(), Vec<2>::Zero());
+            fex.assign(ref.size(), Vec<dim>::Zero());
             for (int g = 0; g < m.dem.n_groups(); ++g)
               {
                 const auto &grp = m.dem.group(g);
@@ -563,7 +590,8 @@ namespace demfem::coupling
             history << "step,time,phase,load_factor,unbalanced_ratio,dem_kinetic_energy,"
                        "dem_strain_energy,continuum_kinetic_energy,cracks,cracks_tensile,"
                        "cracks_shear,interface_force_imbalance,wall_convergence_mean,"
-                       "ring_force_x,ring_force_y,interface_residual\n";
+                       "ring_force_x,ring_force_y,interface_residual"
+                    << (dim == 3 ? ",ring_force_z\n" : "\n");
             write_frame();
           }
         const int start = phase_index;
@@ -576,8 +604,13 @@ namespace demfem::coupling
                       [&](std::int64_t n) {
                         m.set_load_factor(std::min(1.0, double(n) / p.ramp_steps));
                       });
-                stress_before =
-                    region_stress(m.dem, Vec<2>::Zero(), 0.5 * p.region.radius);
+                if constexpr (dim == 2)
+                  stress_before =
+                      region_stress(m.dem, Vec<2>::Zero(), 0.5 * p.region.radius);
+                else
+                  stress_before =
+                      region_stress(m.dem, Vec<3>::Zero(), 0.5 * p.region.radius,
+                                    p.region.slab_thickness);
                 write_frame();
               }
             if (start <= p.stages)
@@ -612,9 +645,13 @@ namespace demfem::coupling
               checkpoint(0, 0);
           }
         history.close();
-        r.region_stress_before = stress_before;
-        r.checkpoint           = last_checkpoint;
-        r.positions            = m.dem.particles.x;
+        r.region_stress_before    = stress_before.template topLeftCorner<2, 2>();
+        r.region_stress_before_zz = dim == 3 ? stress_before(dim - 1, dim - 1) : 0.0;
+        r.checkpoint              = last_checkpoint;
+        if constexpr (dim == 2)
+          r.positions = m.dem.particles.x;
+        else
+          r.positions_3d = m.dem.particles.x;
 
         r.n_particles                   = m.dem.particles.size();
         r.n_contacts                    = m.dem.n_contacts();
@@ -624,7 +661,7 @@ namespace demfem::coupling
         r.cracks_shear                  = cracks(1);
         r.damage_zone_depth             = damage_depth();
         r.interface_force_imbalance_max = m.imbalance_max();
-        std::vector<std::array<double, 4>> rows;
+        std::vector<std::array<double, 6>> rows;
         r.wall_convergence_mean = convergence(&r.n_wall_particles, &rows);
         r.wall_time_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -633,7 +670,8 @@ namespace demfem::coupling
             std::ostringstream w;
             w << "x,y,z,ux,uy,uz\n" << std::setprecision(12);
             for (const auto &q : rows)
-              w << q[0] << "," << q[1] << ",0," << q[2] << "," << q[3] << ",0\n";
+              w << q[0] << "," << q[1] << "," << q[2] << "," << q[3] << "," << q[4] << ","
+                << q[5] << "\n";
             dem::vtkout::write_text_atomically(dir + "/wall_displacement.csv", w.str());
           }
         std::ostringstream s;
@@ -645,6 +683,9 @@ namespace demfem::coupling
               d += (c == '"' || c == '\\') ? '\'' : c;
             s << "  \"diagnosis\": \"" << d << "\",\n";
           }
+        s << "  \"dimension\": " << dim << ",\n";
+        if (dim == 3)
+          s << "  \"slab_thickness\": " << num(p.region.slab_thickness) << ",\n";
         s << "  \"variant\": \"" << m.variant() << "\",\n  \"scheme\": \"" << m.scheme()
           << "\",\n"
           << "  \"n_particles\": " << r.n_particles
@@ -668,7 +709,11 @@ namespace demfem::coupling
           << ",\n  \"region_stress_before_excavation\": ["
           << num(r.region_stress_before(0, 0)) << ", "
           << num(r.region_stress_before(1, 1)) << ", "
-          << num(r.region_stress_before(0, 1)) << "]\n}\n";
+          << num(r.region_stress_before(0, 1)) << "]";
+        if (dim == 3)
+          s << ",\n  \"region_stress_zz_before_excavation\": "
+            << num(r.region_stress_before_zz);
+        s << "\n}\n";
         dem::vtkout::write_text_atomically(dir + "/summary.json", s.str());
         return r;
       }
@@ -678,7 +723,12 @@ namespace demfem::coupling
   TunnelResult run_tunnel(const TunnelParams &p, std::ostream &progress)
   {
     p.validate("tunnel parameters");
-    Runner runner(p, progress);
+    if (p.dimension == 3)
+      {
+        Runner<3> runner(p, progress);
+        return runner.run();
+      }
+    Runner<2> runner(p, progress);
     return runner.run();
   }
 } // namespace demfem::coupling

@@ -1,6 +1,6 @@
 #pragma once
 // The `demfem tunnel` workflow (issue 5) on the coupled model (either
-// variant, coupled_model.h):
+// variant, coupled_model.h; 2D or the 3D plane-strain slab):
 // build, in-situ stress ramp and equilibrium, excavation (at once or in
 // stages with the removed grains' forces relaxed to zero), cycling to
 // equilibrium; cracks, wall convergence, damage-zone depth, interface
@@ -17,10 +17,13 @@ namespace demfem::coupling
 {
   struct TunnelParams
   {
-    std::string     output_directory = "out/tunnel";
-    double          tunnel_radius    = 1.0;
-    Eigen::Matrix2d sigma0 = (Eigen::Matrix2d() << -30e6, 0, 0, -60e6).finished();
-    int             stages = 1; ///< excavation stages
+    std::string output_directory = "out/tunnel";
+    /// 2: plane strain; 3: the slab 0 < z < region.slab_thickness of the
+    /// same problem (plane strain through walls, coupled_model.h).
+    int             dimension     = 2;
+    double          tunnel_radius = 1.0;
+    Eigen::Matrix2d sigma0        = (Eigen::Matrix2d() << -30e6, 0, 0, -60e6).finished();
+    int             stages        = 1; ///< excavation stages
     RegionParams    region;
     ContinuumParams continuum;
     CouplingParams  coupling;
@@ -61,12 +64,14 @@ namespace demfem::coupling
     double          interface_force_imbalance_max = 0;
     std::size_t     n_wall_particles              = 0;
     Eigen::Matrix2d region_stress_before =
-        Eigen::Matrix2d::Zero(); ///< centre disk, pre-excavation
-    double mean_grain_diameter = 0;
+        Eigen::Matrix2d::Zero();        ///< centre disk, pre-excavation (in plane)
+    double region_stress_before_zz = 0; ///< 3D: szz of the same region
+    double mean_grain_diameter     = 0;
     /// Stopped on request (signal): a checkpoint was written, no summary.
     bool                     interrupted = false;
-    std::string              checkpoint; ///< latest checkpoint written ("" none)
-    std::vector<dem::Vec<2>> positions;  ///< final grain positions (model order)
+    std::string              checkpoint;   ///< latest checkpoint written ("" none)
+    std::vector<dem::Vec<2>> positions;    ///< final grain positions (model order), 2D
+    std::vector<dem::Vec<3>> positions_3d; ///< same, 3D
   };
 
   /// Set by a SIGINT/SIGTERM handler (nothing else is async-signal-safe):

@@ -39,7 +39,7 @@ namespace
     return c;
   }
 
-  void load(CoupledModel &m, int ramp, int total)
+  void load(CoupledModel<2> &m, int ramp, int total)
   {
     for (int n = 0; n < total; ++n)
       {
@@ -51,7 +51,7 @@ namespace
   // Mean radial and deviatoric strain of the coupling nodes (ring vertices
   // or the nodes of the slaved layer's cells; rings of nodes symmetric
   // about the axes in both cases).
-  std::pair<double, double> ring_strain(const CoupledModel &m)
+  std::pair<double, double> ring_strain(const CoupledModel<2> &m)
   {
     const auto  u   = m.coupling_displacements();
     const auto &pts = m.coupling_points();
@@ -66,7 +66,7 @@ namespace
   }
 
   // "variant" or "variant/quasi-static" (subcycles 200, relaxation 0.3).
-  std::unique_ptr<CoupledModel> model(const std::string &variant, double E, double nu)
+  std::unique_ptr<CoupledModel<2>> model(const std::string &variant, double E, double nu)
   {
     CouplingParams cp;
     cp.variant = variant.substr(0, variant.find('/'));

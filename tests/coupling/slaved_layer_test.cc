@@ -20,8 +20,8 @@ TEST_CASE("slaved layer: DEM force sum on the slaved grains equals the continuum
     {
       CouplingParams cp;
       cp.subcycles = k;
-      SlavedLayerModel m(test::small_region(), test::continuum(20e9, 0.25), cp,
-                         MPI_COMM_WORLD);
+      SlavedLayerModel<2> m(test::small_region(), test::continuum(20e9, 0.25), cp,
+                            MPI_COMM_WORLD);
       m.build();
       REQUIRE(m.n_slaved() > 50);
       Eigen::Matrix2d s0;
@@ -39,7 +39,7 @@ TEST_CASE("slaved layer: DEM force sum on the slaved grains equals the continuum
       // slaved grains, a scale for the (cancelling) resultant.
       double sum_abs = 0;
       for (std::size_t i = 0; i < m.dem.particles.size(); ++i)
-        if (m.dem.particles.group[i] == SlavedLayerModel::slaved_tag)
+        if (m.dem.particles.group[i] == SlavedLayerModel<2>::slaved_tag)
           sum_abs += m.dem.particles.f[i].norm();
       INFO("subcycles " << k << ": max relative imbalance " << worst
                         << ", sum |f| on slaved grains " << sum_abs);
@@ -64,15 +64,15 @@ TEST_CASE("slaved layer: slaved-slaved contacts transfer no force to the continu
           "[coupling][slaved]")
 {
   test::ensure_mpi_coupling();
-  const double     E = 20e9, nu = 0.25, p = 10e6;
-  SlavedLayerModel m(test::small_region(), test::continuum(E, nu), CouplingParams{},
-                     MPI_COMM_WORLD);
+  const double        E = 20e9, nu = 0.25, p = 10e6;
+  SlavedLayerModel<2> m(test::small_region(), test::continuum(E, nu), CouplingParams{},
+                        MPI_COMM_WORLD);
   m.build();
   auto             &P = m.dem.particles;
   std::vector<char> rm(P.size());
   std::size_t       n_free = 0;
   for (std::size_t i = 0; i < P.size(); ++i)
-    n_free += (rm[i] = P.group[i] != SlavedLayerModel::slaved_tag);
+    n_free += (rm[i] = P.group[i] != SlavedLayerModel<2>::slaved_tag);
   REQUIRE(n_free > 100);
   m.dem.remove_particles(rm);
   m.dem.reset_energy_baseline();
@@ -115,8 +115,8 @@ TEST_CASE("slaved layer: a time-step safety far above 1 is detected as divergenc
   test::ensure_mpi_coupling();
   CouplingParams cp;
   cp.safety = 5;
-  SlavedLayerModel m(test::small_region(), test::continuum(20e9, 0.25), cp,
-                     MPI_COMM_WORLD);
+  SlavedLayerModel<2> m(test::small_region(), test::continuum(20e9, 0.25), cp,
+                        MPI_COMM_WORLD);
   m.build();
   m.set_insitu(-10e6 * Eigen::Matrix2d::Identity());
   std::string what;
@@ -147,8 +147,8 @@ TEST_CASE("slaved layer: an overlap leaving no free core is refused with the key
   test::ensure_mpi_coupling();
   CouplingParams cp;
   cp.overlap_grains = 6; // 0.6 m of a 1 m region: more than half
-  SlavedLayerModel m(test::small_region(), test::continuum(20e9, 0.25), cp,
-                     MPI_COMM_WORLD);
+  SlavedLayerModel<2> m(test::small_region(), test::continuum(20e9, 0.25), cp,
+                        MPI_COMM_WORLD);
   try
     {
       m.build();

@@ -89,7 +89,13 @@ TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing",
       {"--set \"DEM region/radius=20\"", "DEM region/radius"}, // larger than the domain
       {"--set \"Tunnel/radius=3.4\"", "Tunnel/radius"}, // tunnel larger than region
       {"--set \"DEM region/material file=/no/such.json\"", "DEM region/material file"},
-      {"--set \"Problem/dimension=3\"", "Problem/dimension"},
+      // 3D with the 2D material, and a slab thinner than two grains.
+      {"--set \"Problem/dimension=3\" --set \"DEM region/material file=" +
+           std::string(DEMFEM_SOURCE_DIR) +
+           "/apps/examples/lac_du_bonnet_2d.material.json\"",
+       "incompatible dimension"},
+      {"--set \"Problem/dimension=3\" --set \"DEM region/slab thickness=1\"",
+       "DEM region/slab thickness"},
       {"--set \"Continuum/poisson ratio=0.7\"", "poisson ratio"},
       {"--set \"Coupling/variant=glued\"", "Coupling/variant"},
       {"--set \"Coupling/overlap grains=0.1\"", "Coupling/overlap grains"},

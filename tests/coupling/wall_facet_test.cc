@@ -19,8 +19,8 @@ TEST_CASE("wall facets: DEM force sum on the ring equals the continuum's nodal f
     {
       CouplingParams cp;
       cp.subcycles = k;
-      WallFacetModel m(test::small_region(false), test::continuum(20e9, 0.25), cp,
-                       MPI_COMM_WORLD);
+      WallFacetModel<2> m(test::small_region(false), test::continuum(20e9, 0.25), cp,
+                          MPI_COMM_WORLD);
       m.build();
       Eigen::Matrix2d s0;
       s0 << -10e6, 2e6, 2e6, -5e6;
