@@ -216,7 +216,12 @@ namespace demfem::coupling
         const auto   bf = frame_name("bonds", frame, ".vtp");
         const auto   cf = frame_name("cracks", frame, ".vtp");
         const auto   uf = frame_name("continuum", frame, ".vtu");
-        dem::vtkout::write_particles(dir + "/" + pf, m.dem);
+        // averaged_stress as continuum-equivalent stress: the grain stress
+        // times the region's solid fraction after packing (particle_stress.h),
+        // comparable with the continuum's stress_* arrays.
+        const double solid =
+            m.groups.porosity > 0 && m.groups.porosity < 1 ? 1 - m.groups.porosity : 1.0;
+        dem::vtkout::write_particles(dir + "/" + pf, m.dem, solid);
         dem::vtkout::write_contacts(dir + "/" + bf, m.dem);
         dem::vtkout::write_cracks(dir + "/" + cf, m.dem.current_cracks());
         {

@@ -10,7 +10,8 @@ import vtk
 
 out, t = sys.argv[1], float(sys.argv[2])
 expected = {
-    "particles": (vtk.vtkXMLPolyDataReader, ["radius", "velocity", "displacement"]),
+    "particles": (vtk.vtkXMLPolyDataReader, ["radius", "velocity", "displacement",
+                                             "averaged_stress"]),
     "bonds": (vtk.vtkXMLPolyDataReader, []),
     "cracks": (vtk.vtkXMLPolyDataReader, []),
     "continuum": (vtk.vtkXMLUnstructuredGridReader,
@@ -48,6 +49,8 @@ for series, (Reader, arrays) in expected.items():
                     for c in range(arr.GetNumberOfComponents())]
             if not all(math.isfinite(v) for v in vals):
                 failed.append(f"{path}: {a} not finite")
+            if a == "averaged_stress" and arr.GetNumberOfComponents() != 9:
+                failed.append(f"{path}: {a} has {arr.GetNumberOfComponents()} components")
             if a in ("velocity", "displacement") and arr.GetNumberOfComponents() != 3:
                 failed.append(f"{path}: {a} has {arr.GetNumberOfComponents()} components")
         for c in range(g.GetNumberOfCells()):
