@@ -140,11 +140,28 @@ namespace demfem::coupling
       }
 
     fem_crit = fem_->critical_time_step();
+    {
+      // Coupled limit of the continuum step (Gershgorin, as the continuum's
+      // own bound): omega_a^2 <= (sum_b |K_ab| + 2 k_att,a) / M_a, the factor
+      // 2 bounding the off-diagonal terms of the attached contacts. Without
+      // it a sub-cycled slaved layer (k = 4, grains as stiff as the
+      // continuum) went silently unstable during the in-situ ramp and
+      // settled into a wrong state (region stress +200 MPa for -10 MPa).
+      std::vector<double> katt(points.size(), 0.0);
+      add_attached_stiffness(katt);
+      const auto mass  = fem_->interface_masses();
+      double     extra = 0;
+      for (std::size_t k = 0; k < katt.size(); ++k)
+        if (mass[k] > 0 && std::isfinite(mass[k]))
+          extra = std::max(extra, 2 * katt[k] / mass[k]);
+      fem_crit = 2 / std::sqrt(4 / (fem_crit * fem_crit) + extra);
+    }
     dem_crit = dem.critical_timestep();
     // The quasi-static continuum has no inertia: only the DEM limits dt.
-    const double fem_limit =
-        kp.scheme == "quasi-static" ? HUGE_VAL : fem_crit / kp.subcycles;
-    dt_ = kp.safety * std::min(dem_crit, fem_limit);
+    const double fem_limit = kp.scheme == "quasi-static"
+                                 ? HUGE_VAL
+                                 : window_limit_fraction() * fem_crit / kp.subcycles;
+    dt_                    = kp.safety * std::min(dem_crit, fem_limit);
     // A safety above 1 is allowed so that divergence can be shown to be
     // caught; the DEM's own refusal of a supercritical step would hide it.
     dem.check_timestep = kp.safety <= 1;

@@ -198,6 +198,14 @@ namespace demfem::coupling
     /// over the next window (coupling order).
     virtual void move_interface(const std::vector<dem::Vec<dim>> &u,
                                 const std::vector<dem::Vec<dim>> &v) = 0;
+    /// Adds to k (coupling order) a bound of the DEM contact stiffness
+    /// [N/m] the interface hangs on each coupling node: the continuum's
+    /// explicit step must also resolve the coupling nodes oscillating on
+    /// the grains' contacts (default: none).
+    virtual void add_attached_stiffness(std::vector<double> &k) const { (void)k; }
+    /// Fraction of the coupled continuum limit a sub-cycled window k dt may
+    /// use (the interface forces of a window act on the next one: a lag).
+    virtual double window_limit_fraction() const { return 1.0; }
 
     RegionParams    rp;
     ContinuumParams cp;

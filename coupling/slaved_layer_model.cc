@@ -196,6 +196,30 @@ namespace demfem::coupling
   }
 
   template <int dim>
+  void SlavedLayerModel<dim>::add_attached_stiffness(std::vector<double> &k) const
+  {
+    // A slaved grain's contact stiffness (translational kt; rotational kr
+    // through the moment map 0.5 m x grad N) is felt by its cell's nodes with
+    // the weights of gather_forces. Slaved-slaved contacts are null (zero
+    // stiffness), so kt and kr count the free-slaved contacts only.
+    refresh_index();
+    const auto         &P = dem.particles;
+    std::vector<double> kt(P.size(), 0.0), kr(P.size(), 0.0);
+    for (int g = 0; g < dem.n_groups(); ++g)
+      dem.group(g).accumulate_stiffness(P, kt, kr);
+    for (std::size_t s = 0; s < slaved.size(); ++s)
+      {
+        const auto &S    = slaved[s];
+        double      grad = 0;
+        for (unsigned int b = 0; b < n_nodes; ++b)
+          grad += S.dN[b].norm();
+        for (unsigned int a = 0; a < n_nodes; ++a)
+          k[S.node[a]] +=
+              S.N[a] * kt[index[s]] + 0.25 * S.dN[a].norm() * grad * kr[index[s]];
+      }
+  }
+
+  template <int dim>
   Vec<dim> SlavedLayerModel<dim>::gather_forces(std::vector<Vec<dim>> &nodal) const
   {
     refresh_index();

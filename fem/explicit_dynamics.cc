@@ -265,6 +265,16 @@ namespace demfem::fem
   }
 
   template <int dim>
+  std::vector<double> ExplicitDynamics<dim>::interface_masses() const
+  {
+    std::vector<double> r(iface_dofs.size(), HUGE_VAL);
+    for (std::size_t k = 0; k < r.size(); ++k)
+      for (unsigned int c = 0; c < dim; ++c)
+        r[k] = std::min<double>(r[k], mass(iface_dofs[k][c]));
+    return r;
+  }
+
+  template <int dim>
   std::vector<Tensor<1, dim>> ExplicitDynamics<dim>::interface_forces() const
   {
     std::vector<Tensor<1, dim>> r(iface_dofs.size());

@@ -80,6 +80,9 @@ namespace demfem::fem
     void step(double dt);
 
     std::vector<dealii::Tensor<1, dim>> interface_displacements() const;
+    /** Lumped (scaled) mass of each coupling vertex's dofs [kg], same order
+     *  (smallest over its components). */
+    std::vector<double> interface_masses() const;
     /** Velocities at the latest half step t - dt/2. */
     std::vector<dealii::Tensor<1, dim>> interface_velocities() const;
 
