@@ -1,5 +1,7 @@
 #include "fem/elastic_problem.h"
 
+#include "fem/isotropic_elasticity.h"
+
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/utilities.h>
 #include <deal.II/distributed/grid_refinement.h>
@@ -282,10 +284,8 @@ namespace demfem::fem
     const QGauss<dim>                    quadrature(fe.degree + 1);
     FEValues<dim>                        fe_values(*mapping, fe, quadrature,
                                                    update_gradients | update_JxW_values);
-    const FEValuesExtractors::Vector     u(0);
     const unsigned int                   n = fe.n_dofs_per_cell();
     FullMatrix<double>                   cell_matrix(n, n);
-    Vector<double>                       cell_rhs(n);
     std::vector<types::global_dof_index> dofs(n);
     std::vector<SymmetricTensor<2, dim>> eps(n);
 
@@ -293,22 +293,8 @@ namespace demfem::fem
       if (cell->is_locally_owned())
         {
           cell_matrix = 0;
-          cell_rhs    = 0;
           fe_values.reinit(cell);
-          for (const unsigned int q : fe_values.quadrature_point_indices())
-            {
-              for (unsigned int i = 0; i < n; ++i)
-                eps[i] = fe_values[u].symmetric_gradient(i, q);
-              const double w = fe_values.JxW(q);
-              for (unsigned int i = 0; i < n; ++i)
-                for (unsigned int j = 0; j <= i; ++j)
-                  cell_matrix(i, j) += (lambda * trace(eps[i]) * trace(eps[j]) +
-                                        2 * mu * (eps[i] * eps[j])) *
-                                       w;
-            }
-          for (unsigned int i = 0; i < n; ++i)
-            for (unsigned int j = i + 1; j < n; ++j)
-              cell_matrix(i, j) = cell_matrix(j, i);
+          add_isotropic_stiffness(fe_values, {lambda, mu}, eps, cell_matrix);
           cell->get_dof_indices(dofs);
           constraints.distribute_local_to_global(cell_matrix, dofs, system_matrix);
         }

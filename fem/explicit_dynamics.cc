@@ -1,4 +1,5 @@
 #include "fem/explicit_dynamics.h"
+#include "fem/isotropic_elasticity.h"
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/utilities.h>
@@ -57,15 +58,13 @@ namespace demfem::fem
     for (auto *vec : {&mass, &u, &v, &f_ext, &work})
       vec->reinit(owned, comm);
 
-    const double E = settings.young_modulus, nu = settings.poisson_ratio;
-    const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
-    const double mu     = E / (2 * (1 + nu));
-    const double rho    = settings.density * settings.mass_scaling;
+    const double        E = settings.young_modulus, nu = settings.poisson_ratio;
+    const LameConstants elastic = lame_constants(E, nu);
+    const double        rho     = settings.density * settings.mass_scaling;
 
     const QGauss<dim>                    quadrature(fe.degree + 1);
     FEValues<dim>                        fe_values(mapping, fe, quadrature,
                                                    update_values | update_gradients | update_JxW_values);
-    const FEValuesExtractors::Vector     ex(0);
     const unsigned int                   n = fe.n_dofs_per_cell();
     FullMatrix<double>                   cell_k(n, n);
     Vector<double>                       cell_m(n);
@@ -77,25 +76,15 @@ namespace demfem::fem
           cell_k = 0;
           cell_m = 0;
           fe_values.reinit(cell);
+          add_isotropic_stiffness(fe_values, elastic, eps, cell_k);
           for (const unsigned int q : fe_values.quadrature_point_indices())
-            {
-              const double w = fe_values.JxW(q);
-              for (unsigned int i = 0; i < n; ++i)
-                {
-                  eps[i] = fe_values[ex].symmetric_gradient(i, q);
-                  // Row-sum lumping: sum_j int rho phi_i.phi_j = int rho phi_i
-                  // over the component of i (the scalar shapes sum to one).
-                  cell_m(i) += rho *
-                               fe_values.shape_value_component(
-                                   i, q, fe.system_to_component_index(i).first) *
-                               w;
-                }
-              for (unsigned int i = 0; i < n; ++i)
-                for (unsigned int j = 0; j < n; ++j)
-                  cell_k(i, j) += (lambda * trace(eps[i]) * trace(eps[j]) +
-                                   2 * mu * (eps[i] * eps[j])) *
-                                  w;
-            }
+            for (unsigned int i = 0; i < n; ++i)
+              // Row-sum lumping: sum_j int rho phi_i.phi_j = int rho phi_i
+              // over the component of i (the scalar shapes sum to one).
+              cell_m(i) += rho *
+                           fe_values.shape_value_component(
+                               i, q, fe.system_to_component_index(i).first) *
+                           fe_values.JxW(q);
           cell->get_dof_indices(dofs);
           stiffness.add(dofs, cell_k);
           for (unsigned int i = 0; i < n; ++i)

@@ -1,5 +1,7 @@
 #include "fem/static_interface.h"
 
+#include "fem/isotropic_elasticity.h"
+
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -217,15 +219,13 @@ namespace demfem::fem
       vec->reinit(owned, comm);
 
     // Same bilinear form, FE, mapping and quadrature as ExplicitDynamics.
-    const double      E = settings.young_modulus, nu = settings.poisson_ratio;
-    const double      lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
-    const double      mu     = E / (2 * (1 + nu));
-    const QGauss<dim> quadrature(fe.degree + 1);
-    FEValues<dim>     fe_values(mapping, fe, quadrature,
-                                update_gradients | update_JxW_values);
-    const FEValuesExtractors::Vector     ex(0);
-    const unsigned int                   n = fe.n_dofs_per_cell();
-    FullMatrix<double>                   cell_k(n, n);
+    const double        E = settings.young_modulus, nu = settings.poisson_ratio;
+    const LameConstants elastic = lame_constants(E, nu);
+    const QGauss<dim>   quadrature(fe.degree + 1);
+    FEValues<dim>       fe_values(mapping, fe, quadrature,
+                                  update_gradients | update_JxW_values);
+    const unsigned int  n = fe.n_dofs_per_cell();
+    FullMatrix<double>  cell_k(n, n);
     std::vector<types::global_dof_index> dofs(n);
     std::vector<SymmetricTensor<2, dim>> eps(n);
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -233,17 +233,7 @@ namespace demfem::fem
         {
           cell_k = 0;
           fe_values.reinit(cell);
-          for (const unsigned int q : fe_values.quadrature_point_indices())
-            {
-              const double w = fe_values.JxW(q);
-              for (unsigned int i = 0; i < n; ++i)
-                eps[i] = fe_values[ex].symmetric_gradient(i, q);
-              for (unsigned int i = 0; i < n; ++i)
-                for (unsigned int j = 0; j < n; ++j)
-                  cell_k(i, j) += (lambda * trace(eps[i]) * trace(eps[j]) +
-                                   2 * mu * (eps[i] * eps[j])) *
-                                  w;
-            }
+          add_isotropic_stiffness(fe_values, elastic, eps, cell_k);
           cell->get_dof_indices(dofs);
           stiffness.add(dofs, cell_k);
           constraints.distribute_local_to_global(cell_k, dofs, condensed);
