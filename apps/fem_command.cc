@@ -46,15 +46,7 @@ namespace demfem::apps
 
       prm.enter_subsection("Tunnel");
       prm.declare_entry("radius", "1.0", Patterns::Double(), "Tunnel radius a [m] (> 0)");
-      for (const std::string c : {"xx", "yy", "zz", "xy", "xz", "yz"})
-        prm.declare_entry("in situ stress " + c,
-                          c == "xx"   ? "-30e6"
-                          : c == "yy" ? "-60e6"
-                          : c == "zz" ? "-45e6"
-                                      : "0",
-                          Patterns::Double(),
-                          "In-situ stress component " + c +
-                              " [Pa], tension positive; z is the tunnel axis");
+      declare_in_situ_stress(prm);
       prm.declare_entry("excavation stages", "1", Patterns::Integer(1, 1000),
                         "The wall traction is released in this many equal "
                         "steps; one VTK output per stage");
@@ -83,7 +75,6 @@ namespace demfem::apps
                         "AMG-preconditioned CG, or a direct solver (small problems)");
       prm.leave_subsection();
     }
-
 
     fem::ElasticSettings read_settings(ParameterHandler &prm)
     {
@@ -152,16 +143,16 @@ namespace demfem::apps
         declare_parameters(prm);
         switch (read_parameters(argc, argv, prm, usage, file))
           {
-            case PrmAction::help:
-              if (Utilities::MPI::this_mpi_process(comm) == 0)
-                std::cout << usage;
-              return 0;
-            case PrmAction::print:
-              if (Utilities::MPI::this_mpi_process(comm) == 0)
-                prm.print_parameters(std::cout, ParameterHandler::Text);
-              return 0;
-            case PrmAction::run:
-              break;
+          case PrmAction::help:
+            if (Utilities::MPI::this_mpi_process(comm) == 0)
+              std::cout << usage;
+            return 0;
+          case PrmAction::print:
+            if (Utilities::MPI::this_mpi_process(comm) == 0)
+              prm.print_parameters(std::cout, ParameterHandler::Text);
+            return 0;
+          case PrmAction::run:
+            break;
           }
 
         const fem::ElasticSettings settings = read_settings(prm);

@@ -101,4 +101,17 @@ namespace demfem::apps
         }
     return print ? PrmAction::print : PrmAction::run;
   }
+  void declare_in_situ_stress(dealii::ParameterHandler &prm)
+  {
+    for (const std::string c : {"xx", "yy", "zz", "xy", "xz", "yz"})
+      prm.declare_entry("in situ stress " + c,
+                        c == "xx"   ? "-30e6"
+                        : c == "yy" ? "-60e6"
+                        : c == "zz" ? "-45e6"
+                                    : "0",
+                        dealii::Patterns::Double(),
+                        "In-situ stress component " + c +
+                            " [Pa], tension positive; z is the tunnel axis (2D uses "
+                            "xx, yy, xy)");
+  }
 } // namespace demfem::apps

@@ -11,6 +11,7 @@
 #include <boost/property_tree/json_parser.hpp>
 #include <boost/property_tree/ptree.hpp>
 
+#include "apps/prm_cli.h"
 #include "apps/study.h"
 
 #include <filesystem>
@@ -71,16 +72,7 @@ namespace demfem::apps::study
 
     prm.enter_subsection("Tunnel");
     prm.declare_entry("radius", "1.0", Patterns::Double(), "Tunnel radius a [m] (> 0)");
-    for (const std::string c : {"xx", "yy", "zz", "xy", "xz", "yz"})
-      prm.declare_entry("in situ stress " + c,
-                        c == "xx"   ? "-30e6"
-                        : c == "yy" ? "-60e6"
-                        : c == "zz" ? "-45e6"
-                                    : "0",
-                        Patterns::Double(),
-                        "In-situ stress component " + c +
-                            " [Pa], tension positive; z is the tunnel axis (2D uses "
-                            "xx, yy, xy)");
+    declare_in_situ_stress(prm);
     prm.declare_entry("excavation stages", "1", Patterns::Integer(1, 1000),
                       "The forces of the removed grains on the remaining ones are "
                       "relaxed to zero in this many equal stages");
@@ -156,8 +148,7 @@ namespace demfem::apps::study
                       "slaved-layer: the continuum overlaps the region's rim, whose "
                       "grains follow it; wall-facets: the continuum's inner boundary "
                       "is a ring of DEM wall facets (DESIGN §5, docs/tunnel.md)");
-    prm.declare_entry("overlap grains", "2",
-                      Patterns::Double(),
+    prm.declare_entry("overlap grains", "2", Patterns::Double(),
                       "slaved-layer: width of the overlap of the continuum and the DEM "
                       "region, in mean grain diameters, in [0.5, 10]");
     prm.declare_entry("scheme", "explicit", Patterns::Selection("explicit|quasi-static"),
@@ -223,40 +214,39 @@ namespace demfem::apps::study
     prm.leave_subsection();
 
     prm.enter_subsection("DEM region");
-    auto &r         = s.region;
-    r.radius        = parse_radius(prm.get("radius"));
-    const auto dmat = prm.get("material file");
-    r.breakable     = prm.get_bool("breakable");
-    const auto gd   = prm.get("grain diameter");
-    r.d_lo          = prm.get_double("grain diameter min");
-    r.d_hi          = prm.get_double("grain diameter max");
-    r.density       = prm.get_double("density");
-    r.emod          = prm.get_double("emod");
-    r.krat          = prm.get_double("krat");
-    r.fric          = prm.get_double("fric");
-    r.fj_ten        = prm.get_double("fj ten");
-    r.fj_coh        = prm.get_double("fj coh");
-    r.fj_fa         = prm.get_double("fj fa");
-    r.fj_Nr         = prm.get_integer("fj Nr");
-    r.fj_Nal        = prm.get_integer("fj Nal");
+    auto &r                  = s.region;
+    r.radius                 = parse_radius(prm.get("radius"));
+    const auto dmat          = prm.get("material file");
+    r.breakable              = prm.get_bool("breakable");
+    const auto gd            = prm.get("grain diameter");
+    r.d_lo                   = prm.get_double("grain diameter min");
+    r.d_hi                   = prm.get_double("grain diameter max");
+    r.density                = prm.get_double("density");
+    r.emod                   = prm.get_double("emod");
+    r.krat                   = prm.get_double("krat");
+    r.fric                   = prm.get_double("fric");
+    r.fj_ten                 = prm.get_double("fj ten");
+    r.fj_coh                 = prm.get_double("fj coh");
+    r.fj_fa                  = prm.get_double("fj fa");
+    r.fj_Nr                  = prm.get_integer("fj Nr");
+    r.fj_Nal                 = prm.get_integer("fj Nal");
     const double slab_grains = prm.get_double("slab thickness");
-    r.porosity_3d   = prm.get_double("porosity 3d");
-    r.lnm_emod      = prm.get_double("lnm emod");
-    r.lnm_krat      = prm.get_double("lnm krat");
-    r.lnm_fric      = prm.get_double("lnm fric");
-    r.seed          = prm.get_integer("seed");
+    r.porosity_3d            = prm.get_double("porosity 3d");
+    r.lnm_emod               = prm.get_double("lnm emod");
+    r.lnm_krat               = prm.get_double("lnm krat");
+    r.lnm_fric               = prm.get_double("lnm fric");
+    r.seed                   = prm.get_integer("seed");
     prm.leave_subsection();
     if (!dmat.empty())
       {
         const auto t = read_json("DEM region/material file", dmat);
         try
           {
-            AssertThrow(t.get<int>("dim") == s.dimension,
-                        ExcMessage("DEM region/material file '" + dmat +
-                                   "': incompatible dimension " +
-                                   t.get<std::string>("dim") +
-                                   " (Problem/dimension = " +
-                                   std::to_string(s.dimension) + ")"));
+            AssertThrow(
+                t.get<int>("dim") == s.dimension,
+                ExcMessage("DEM region/material file '" + dmat +
+                           "': incompatible dimension " + t.get<std::string>("dim") +
+                           " (Problem/dimension = " + std::to_string(s.dimension) + ")"));
             const auto &m = t.get_child("microparameters");
             AssertThrow(m.get<std::string>("type", "flatjointed") == "flatjointed",
                         ExcMessage("DEM region/material file '" + dmat +
@@ -329,15 +319,15 @@ namespace demfem::apps::study
       }
 
     prm.enter_subsection("Coupling");
-    s.coupling.variant    = prm.get("variant");
-    s.coupling.scheme     = prm.get("scheme");
-    s.coupling.relaxation = prm.get_double("relaxation");
+    s.coupling.variant        = prm.get("variant");
+    s.coupling.scheme         = prm.get("scheme");
+    s.coupling.relaxation     = prm.get_double("relaxation");
     s.coupling.overlap_grains = prm.get_double("overlap grains");
-    s.coupling.subcycles = prm.get_integer("subcycles");
-    s.coupling.safety    = prm.get_double("timestep safety");
-    s.ratio_tolerance    = prm.get_double("equilibrium ratio");
-    s.ramp_steps         = prm.get_integer("ramp steps");
-    s.phase_step_limit   = prm.get_integer("step limit");
+    s.coupling.subcycles      = prm.get_integer("subcycles");
+    s.coupling.safety         = prm.get_double("timestep safety");
+    s.ratio_tolerance         = prm.get_double("equilibrium ratio");
+    s.ramp_steps              = prm.get_integer("ramp steps");
+    s.phase_step_limit        = prm.get_integer("step limit");
     AssertThrow(s.ratio_tolerance > 0,
                 ExcMessage("Coupling/equilibrium ratio must be > 0"));
     prm.leave_subsection();
