@@ -100,6 +100,13 @@ namespace demfem::apps::study
     prm.declare_entry("solver", "amg-cg", Patterns::Selection("amg-cg|direct"),
                       "Unused by the explicit scheme (kept for demfem fem files)");
     prm.declare_entry("density", "2650", Patterns::Double(), "Density [kg/m^3] (> 0)");
+    prm.declare_entry(
+        "axial extension", "0", Patterns::Double(),
+        "3D only: length L [m] of continuum beyond each end of the DEM "
+        "section (>= 0). 0: the plane-strain slab (DEM between walls z = 0, "
+        "t). > 0: a tunnel section in a 3D continuum that surrounds it on "
+        "every side, with the tunnel through its whole length (slaved-layer "
+        "variant, explicit scheme)");
     prm.leave_subsection();
 
     prm.enter_subsection("DEM region");
@@ -131,7 +138,9 @@ namespace demfem::apps::study
     prm.declare_entry("slab thickness", "4", Patterns::Double(),
                       "3D: thickness t of the slab (0 < z < t) in mean grain diameters, "
                       ">= 2 largest grains; the DEM slab lies between fixed frictionless "
-                      "walls z = 0, t and the continuum's z faces are on rollers");
+                      "walls z = 0, t and the continuum's z faces are on rollers. With "
+                      "Continuum/axial extension > 0 the length of the DEM section, >= 2 "
+                      "overlaps + 1 largest grain");
     prm.declare_entry("porosity 3d", "0.42", Patterns::Double(),
                       "3D: target porosity of the sphere packing, in [0.3, 0.6]");
     prm.declare_entry("lnm emod", "20e9", Patterns::Double(),
@@ -203,11 +212,12 @@ namespace demfem::apps::study
         prm.get("mesh") == "generate",
         ExcMessage("Continuum/mesh: the coupled run generates its mesh around the "
                    "DEM region; only 'generate' is allowed"));
-    s.continuum.outer_radius  = prm.get_double("outer radius");
-    s.continuum.young_modulus = prm.get_double("young modulus");
-    s.continuum.poisson_ratio = prm.get_double("poisson ratio");
-    s.continuum.density       = prm.get_double("density");
-    std::string cmat          = prm.get("material file");
+    s.continuum.outer_radius    = prm.get_double("outer radius");
+    s.continuum.young_modulus   = prm.get_double("young modulus");
+    s.continuum.poisson_ratio   = prm.get_double("poisson ratio");
+    s.continuum.density         = prm.get_double("density");
+    s.continuum.axial_extension = prm.get_double("axial extension");
+    std::string cmat            = prm.get("material file");
     AssertThrow(prm.get_integer("element degree") == 1,
                 ExcMessage("Continuum/element degree: the wall-facet coupling needs 1 "
                            "(facet vertices are the element nodes)"));

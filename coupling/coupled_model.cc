@@ -46,6 +46,22 @@ namespace demfem::coupling
     dem::check_range("Continuum", "poisson ratio", cp.poisson_ratio, -1, 0.5, true, true);
     dem::check_range("Continuum", "outer radius", cp.outer_radius, 2 * rp.radius, inf,
                      true);
+    dem::check_range("Continuum", "axial extension", cp.axial_extension, 0, inf);
+    if (cp.axial_extension > 0)
+      {
+        if (dim != 3)
+          throw dem::InputError(
+              "Continuum/axial extension = " + std::to_string(cp.axial_extension) +
+              " m: a tunnel section in a 3D continuum needs "
+              "Problem/dimension = 3 (allowed in 2D: 0)");
+        if (kp.variant != "slaved-layer" || kp.scheme != "explicit")
+          throw dem::InputError(
+              "Continuum/axial extension = " + std::to_string(cp.axial_extension) +
+              " m (a tunnel section in a 3D continuum) is implemented for "
+              "Coupling/variant = slaved-layer with Coupling/scheme = explicit (given: " +
+              kp.variant + ", " + kp.scheme + "); use axial extension = 0 (the slab)");
+        dem::check_range("Tunnel", "radius", cp.tunnel_radius, 0, inf, true);
+      }
     if (dealii::Utilities::MPI::n_mpi_processes(comm) != 1)
       throw dem::InputError(
           "the coupled model runs on one MPI rank (run without mpirun)");
@@ -53,6 +69,18 @@ namespace demfem::coupling
 
   template <int dim>
   CoupledModel<dim>::~CoupledModel() = default;
+
+  template <int dim>
+  bool CoupledModel<dim>::in_continuum(const Vec<dim> &x) const
+  {
+    const double r = x.template head<2>().norm();
+    if (r > inner_radius())
+      return true;
+    if (!section())
+      return false;
+    const double z = x[dim - 1], h = end_overlap();
+    return r > cp.tunnel_radius && (z < h || z > rp.slab_thickness - h);
+  }
 
   template <int dim>
   double CoupledModel<dim>::continuum_inner_radius() const
@@ -89,11 +117,43 @@ namespace demfem::coupling
                                                 rp.slab_thickness / (2 * rp.mean_diameter()))));
         ms.plane_strain_slab = true;
       }
-    fem::generate_tunnel_mesh(tria, ms);
-    for (const auto &cell : tria.active_cell_iterators())
-      for (const auto &face : cell->face_iterators())
-        if (face->at_boundary() && face->boundary_id() == fem::boundary_id::tunnel_wall)
-          face->set_boundary_id(fem::boundary_id::interface);
+    if constexpr (dim == 3)
+      if (section())
+        {
+          // The section's ends must leave a free core between the end layers
+          // (at least one largest grain) and the tunnel inside it.
+          const double h = end_overlap(), t = rp.slab_thickness;
+          if (!(t >= 2 * h + rp.d_hi))
+            throw dem::InputError("DEM region/slab thickness = " + std::to_string(t) +
+                                  " m is too thin for a tunnel section: the continuum "
+                                  "overlaps both ends by " +
+                                  std::to_string(h) +
+                                  " m (Coupling/overlap grains), so it must be >= " +
+                                  std::to_string(2 * h + rp.d_hi) + " m");
+          if (!(cp.tunnel_radius < ms.radius))
+            throw dem::InputError("Tunnel/radius = " + std::to_string(cp.tunnel_radius) +
+                                  " m must be smaller than the section's free core r < " +
+                                  std::to_string(ms.radius) + " m");
+          fem::SectionMeshSettings ss;
+          ss.tunnel_radius  = cp.tunnel_radius;
+          ss.hole_radius    = ms.radius;
+          ss.section_length = t;
+          ss.end_overlap    = h;
+          ss.extension      = cp.axial_extension;
+          ss.outer_radius   = cp.outer_radius;
+          ss.cells_around   = n;
+          ss.element_size   = 2 * rp.mean_diameter();
+          fem::generate_section_mesh(tria, ss);
+        }
+    if (!section())
+      {
+        fem::generate_tunnel_mesh(tria, ms);
+        for (const auto &cell : tria.active_cell_iterators())
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary() &&
+                face->boundary_id() == fem::boundary_id::tunnel_wall)
+              face->set_boundary_id(fem::boundary_id::interface);
+      }
 
     fem::ExplicitSettings es;
     es.young_modulus = cp.young_modulus;
@@ -186,6 +246,18 @@ namespace demfem::coupling
     eps0.setZero();
     eps0.template topLeftCorner<2, 2>() =
         (1 + nu) / E * (s0 - nu * s0.trace() * Eigen::Matrix2d::Identity());
+    if (section())
+      {
+        // The traction of the rock in the tunnel on the continuum's tunnel
+        // wall (plane strain in situ: szz = nu (sxx + syy); the wall's normal
+        // is radial, so only the in-plane part acts).
+        dealii::Tensor<2, dim> sig;
+        for (int i = 0; i < 2; ++i)
+          for (int j = 0; j < 2; ++j)
+            sig[i][j] = s0(i, j);
+        sig[dim - 1][dim - 1] = nu * s0.trace();
+        fem_->set_boundary_traction_load(fem::boundary_id::tunnel_wall, sig);
+      }
     if (static_)
       {
         const auto r = static_->far_field_response(insitu_strain());
@@ -318,6 +390,7 @@ namespace demfem::coupling
         far_moving     = dl != 0;
         applied_factor = load_factor;
       }
+    fem_->set_boundary_load_factor(load_factor * release);
     fem_->step(kp.subcycles * dt_);
 
     // Divergence of the continuum: non-finite or exponentially growing
@@ -452,8 +525,8 @@ namespace demfem::coupling
                                    residual,
                                    last_residual,
                                    double(residual_growth)};
-    if constexpr (dim == 3) // the 2D layout, then the z components
-      scalars.insert(scalars.end(), {accum_contacts[2], last_force[2]});
+    if constexpr (dim == 3) // the 2D layout, then the z components, the release
+      scalars.insert(scalars.end(), {accum_contacts[2], last_force[2], release});
     return {{"coupling.variant", variant() + " " + kp.scheme},
             {"coupling.accum", encode_doubles(a)},
             {"coupling.scalars", encode_doubles(scalars)},
@@ -478,7 +551,7 @@ namespace demfem::coupling
                             "'");
     const auto a = get("coupling.accum"), s = get("coupling.scalars");
     const auto reached = get("coupling.reached");
-    if (a.size() != dim * accum.size() || s.size() != (dim == 2 ? 17u : 19u) ||
+    if (a.size() != dim * accum.size() || s.size() != (dim == 2 ? 17u : 20u) ||
         reached.size() != u_reached.size())
       throw dem::InputError("checkpoint: the coupling interface differs (" +
                             std::to_string(a.size() / dim) +
@@ -506,6 +579,7 @@ namespace demfem::coupling
       {
         accum_contacts[2] = s[17];
         last_force[2]     = s[18];
+        release           = s[19];
       }
     residual        = s[14];
     last_residual   = s[15];

@@ -74,6 +74,12 @@ namespace demfem::coupling
     unsigned int cells_around  = 0;  ///< 0: cells about 2 mean grain diameters wide
     double       damping       = -1; ///< mass-proportional a [1/s]; < 0: automatic
     double       mass_scaling  = 1;
+    /// 3D: length L of continuum beyond each end of the DEM section [m].
+    /// 0: the plane-strain slab (continuum over 0 <= z <= t only); > 0: a
+    /// tunnel section in a 3D continuum (below; slaved layer, explicit).
+    double axial_extension = 0;
+    /// Tunnel radius a (the tunnel through the continuum of a section) [m].
+    double tunnel_radius = 0;
   };
 
   struct CouplingParams
@@ -109,6 +115,23 @@ namespace demfem::coupling
   /// (dem_region.h). The in-situ stress is given in plane; szz = nu (sxx +
   /// syy) follows from plane strain on both sides (the continuum's far-field
   /// strain has e_zz = 0, the grains push on the slab walls).
+  ///
+  /// 3D tunnel section in a 3D continuum (ContinuumParams::axial_extension
+  /// L > 0; issue 5): the DEM section (r < b, 0 <= z <= t, spheres packed
+  /// and bonded as the slab) is surrounded by continuum on every side: the
+  /// mesh (fem::generate_section_mesh) covers r <= R, -L <= z <= t + L
+  /// with the tunnel r < a through its whole length, and overlaps the
+  /// section's rim (r > b - h) and both ends (z < h, z > t - h, r > a) by
+  /// the slaved layer's width h; grains whose centres lie in the continuum
+  /// are slaved (in_continuum). The ends z = -L, t + L are on rollers (as
+  /// the rock far ahead and behind a long tunnel), the far cylinder moves
+  /// with the in-situ strain, and the continuum's tunnel wall (r = a outside
+  /// the section) carries the traction sigma0.n of the rock it replaces,
+  /// ramped with the load factor and released by excavation
+  /// (set_excavation_release). The free core r < a of the section keeps the
+  /// fixed frictionless walls z = 0, t until it is excavated. With the
+  /// tunnel excavated along the whole length the exact answer is plane
+  /// strain, so Kirsch checks the section's ends too.
   template <int dim>
   class CoupledModel
   {
@@ -128,8 +151,19 @@ namespace demfem::coupling
 
     /// In-situ stress (tension positive) and its load factor (ramp).
     /// In plane (xx, xy, yy); 3D: szz from plane strain.
-    void   set_insitu(const Eigen::Matrix2d &sigma0);
-    void   set_load_factor(double f) { load_factor = f; }
+    void set_insitu(const Eigen::Matrix2d &sigma0);
+    void set_load_factor(double f) { load_factor = f; }
+    /// Tunnel section (3D): remaining fraction of the in-situ traction on
+    /// the continuum's tunnel wall (1 before excavation, 0 when excavated).
+    void   set_excavation_release(double remaining) { release = remaining; }
+    double get_excavation_release() const { return release; }
+    /// A tunnel section in a 3D continuum (ContinuumParams::axial_extension).
+    bool section() const { return dim == 3 && cp.axial_extension > 0; }
+    /// Whether a point lies in the continuum (the slaved layer's overlap
+    /// incl. a section's end layers).
+    bool in_continuum(const dem::Vec<dim> &x) const;
+    /// Width of the continuum's overlap of the section's ends (and rim) [m].
+    double end_overlap() const { return rp.radius - inner_radius(); }
     double get_load_factor() const { return load_factor; }
 
     /// One DEM step (and a continuum update every `subcycles` DEM steps).
@@ -222,6 +256,7 @@ namespace demfem::coupling
     double                     accum_abs      = 0;
     unsigned int               n_accum        = 0;
     double                     load_factor = 0, dt_ = 0, dem_crit = 0, fem_crit = 0;
+    double                     release = 1; // section: tunnel-wall traction left
     double                     imb_max = 0, imb_last = 0;
     double                     last_fem_ke = 0;
     int                        fem_growth  = 0;

@@ -527,30 +527,49 @@ namespace demfem::coupling
     return 0.5 * (s + s.transpose());
   }
 
+  namespace
+  {
+    // Love-Weber sum over the contacts whose contact point lies in the
+    // cylinder |(x - c)_xy| < r, z0 <= z <= z1, divided by `volume`.
+    Eigen::Matrix3d love_weber_3d(const dem::Model<3> &m, const Vec<3> &c, double r,
+                                  double z0, double z1, double volume)
+    {
+      // sigma = (1/V) sum over the grains p of sum over their contacts of
+      // (x_c - x_p) f_p^T (f_p the force on p; tension positive). A
+      // grain-grain contact (force[k] on end 2, -force[k] on end 1) gives
+      // -force[k] (x2 - x1)^T; a grain-wall contact (force[k] on the wall)
+      // gives -force[k] (x_c - x1)^T, x_c the contact location (within half
+      // the overlap of the wall surface). Transposes do not matter: the
+      // result is symmetrized.
+      Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
+      for (int g = 0; g < m.n_groups(); ++g)
+        {
+          const auto &grp = m.group(g);
+          for (std::size_t k = 0; k < grp.size(); ++k)
+            if ((grp.xc[k] - c).head<2>().norm() < r && grp.xc[k][2] >= z0 &&
+                grp.xc[k][2] <= z1)
+              {
+                const Vec<3> l =
+                    grp.is_wall[k]
+                        ? Vec<3>(grp.xc[k] - m.particles.x[grp.end1[k]])
+                        : Vec<3>(m.particles.x[grp.end2[k]] - m.particles.x[grp.end1[k]]);
+                s -= grp.force[k] * l.transpose();
+              }
+        }
+      s /= volume;
+      return 0.5 * (s + s.transpose());
+    }
+  } // namespace
+
   Eigen::Matrix3d region_stress(const dem::Model<3> &m, const Vec<3> &c, double r,
                                 double thickness)
   {
-    // sigma = (1/V) sum over the grains p of sum over their contacts of
-    // (x_c - x_p) f_p^T (f_p the force on p; tension positive). A grain-grain
-    // contact (force[k] on end 2, -force[k] on end 1) gives -force[k] (x2 -
-    // x1)^T; a grain-wall contact (force[k] on the wall) gives -force[k] (x_c
-    // - x1)^T, x_c the contact location (within half the overlap of the wall
-    // surface). Transposes do not matter: the result is symmetrized.
-    Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
-    for (int g = 0; g < m.n_groups(); ++g)
-      {
-        const auto &grp = m.group(g);
-        for (std::size_t k = 0; k < grp.size(); ++k)
-          if ((grp.xc[k] - c).head<2>().norm() < r)
-            {
-              const Vec<3> l =
-                  grp.is_wall[k]
-                      ? Vec<3>(grp.xc[k] - m.particles.x[grp.end1[k]])
-                      : Vec<3>(m.particles.x[grp.end2[k]] - m.particles.x[grp.end1[k]]);
-              s -= grp.force[k] * l.transpose();
-            }
-      }
-    s /= M_PI * r * r * thickness;
-    return 0.5 * (s + s.transpose());
+    return love_weber_3d(m, c, r, -HUGE_VAL, HUGE_VAL, M_PI * r * r * thickness);
+  }
+
+  Eigen::Matrix3d region_stress(const dem::Model<3> &m, const Vec<3> &c, double r,
+                                double z0, double z1)
+  {
+    return love_weber_3d(m, c, r, z0, z1, M_PI * r * r * (z1 - z0));
   }
 } // namespace demfem::coupling

@@ -129,4 +129,9 @@ namespace demfem::coupling
   /// the wall force per area.
   Eigen::Matrix3d region_stress(const dem::Model<3> &model, const dem::Vec<3> &c,
                                 double r, double thickness);
+  /// 3D: the same over the contacts whose contact point lies in the
+  /// cylinder |(x - c)_xy| < r, z0 <= z <= z1, divided by pi r^2 (z1 - z0)
+  /// (a tunnel section's free core between its end layers).
+  Eigen::Matrix3d region_stress(const dem::Model<3> &model, const dem::Vec<3> &c,
+                                double r, double z0, double z1);
 } // namespace demfem::coupling

@@ -53,10 +53,11 @@ namespace demfem::coupling
                                                           "slaved layer (packing ring)");
     dem.set_default_law(groups.linear, -1);
 
-    // Slaved grains: centres in the overlap (distance from the axis).
+    // Slaved grains: centres in the overlap (r > b - h; a 3D section's
+    // end layers too: in_continuum).
     std::vector<char> is_slave(P.size(), 0);
     for (std::size_t i = 0; i < P.size(); ++i)
-      if (P.x[i].template head<2>().norm() > b - h)
+      if (this->in_continuum(P.x[i]))
         {
           is_slave[i] = 1;
           P.fixity[i] = dem::fix_all;

@@ -43,6 +43,12 @@ namespace demfem::coupling
     dem::check_range(w, "Continuum/poisson ratio", continuum.poisson_ratio, -1, 0.5, true,
                      true);
     dem::check_range(w, "Tunnel/excavation stages", stages, 1, 1000);
+    dem::check_range(w, "Continuum/axial extension", continuum.axial_extension, 0, inf);
+    if (dimension == 2 && continuum.axial_extension > 0)
+      throw dem::InputError(w + ": Continuum/axial extension = " +
+                            std::to_string(continuum.axial_extension) +
+                            " m is for Problem/dimension = 3 (a tunnel section in a 3D "
+                            "continuum); allowed in 2D: 0");
     coupling.validate(w);
     if (coupling.variant == "slaved-layer" &&
         tunnel_radius + 3 * region.d_hi >
@@ -106,6 +112,14 @@ namespace demfem::coupling
       return it->second;
     }
 
+    // The continuum of a tunnel section (3D) has the tunnel through it.
+    ContinuumParams with_tunnel(const TunnelParams &p)
+    {
+      ContinuumParams c = p.continuum;
+      c.tunnel_radius   = p.tunnel_radius;
+      return c;
+    }
+
     template <int dim>
     struct Runner
     {
@@ -139,7 +153,7 @@ namespace demfem::coupling
       Runner(const TunnelParams &pp, std::ostream &o)
           : p(pp)
           , out(o)
-          , model(make_coupled_model<dim>(pp.region, pp.continuum, pp.coupling,
+          , model(make_coupled_model<dim>(pp.region, with_tunnel(pp), pp.coupling,
                                           MPI_COMM_WORLD))
           , m(*model)
           , dir(pp.output_directory)
@@ -542,6 +556,8 @@ namespace demfem::coupling
             phase_index = s;
             phase = "excavation " + std::to_string(s) + "/" + std::to_string(p.stages);
             const double rem = 1.0 - double(s) / p.stages;
+            // A section's continuum tunnel wall is released with the grains.
+            m.set_excavation_release(rem);
             if (!resuming) // a resumed stage has its loads in the checkpoint
               {
                 for (std::size_t i = 0; i < P.size(); ++i)
@@ -612,6 +628,10 @@ namespace demfem::coupling
                 if constexpr (dim == 2)
                   stress_before =
                       region_stress(m.dem, Vec<2>::Zero(), 0.5 * p.region.radius);
+                else if (m.section()) // the free core between the end layers
+                  stress_before = region_stress(
+                      m.dem, Vec<3>::Zero(), 0.5 * p.region.radius, m.end_overlap(),
+                      p.region.slab_thickness - m.end_overlap());
                 else
                   stress_before =
                       region_stress(m.dem, Vec<3>::Zero(), 0.5 * p.region.radius,
@@ -690,7 +710,10 @@ namespace demfem::coupling
           }
         s << "  \"dimension\": " << dim << ",\n";
         if (dim == 3)
-          s << "  \"slab_thickness\": " << num(p.region.slab_thickness) << ",\n";
+          s << "  \"slab_thickness\": " << num(p.region.slab_thickness)
+            << ",\n  \"embedding\": \"" << (m.section() ? "section" : "slab")
+            << "\",\n  \"axial_extension\": " << num(p.continuum.axial_extension)
+            << ",\n";
         s << "  \"variant\": \"" << m.variant() << "\",\n  \"scheme\": \"" << m.scheme()
           << "\",\n"
           << "  \"n_particles\": " << r.n_particles

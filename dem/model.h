@@ -5,6 +5,7 @@
 #include "dem/contact_group.h"
 #include "dem/neighbor_grid.h"
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <unordered_map>
@@ -28,9 +29,9 @@ namespace demfem::dem
     /// Kept to follow the material after breakage (fistPkg §3.4): element
     /// centroid relative to the contact location, element gap and contact
     /// gap at breakage.
-    Vec<dim>     offset      = Vec<dim>::Zero();
-    double       gap_break   = 0;
-    double       contact_gap_break = 0;
+    Vec<dim> offset            = Vec<dim>::Zero();
+    double   gap_break         = 0;
+    double   contact_gap_break = 0;
   };
 
   /// Start or end of slip at a contact element.
@@ -77,7 +78,8 @@ namespace demfem::dem
     /// the pair (i, j), or -1 to use the default (e.g. the smooth-joint law
     /// for pairs across a joint plane, fistPkg §2.8). Called once per new
     /// contact, never per step.
-    std::function<int(const Particles<dim> &, std::uint32_t, std::uint32_t)> new_contact_law;
+    std::function<int(const Particles<dim> &, std::uint32_t, std::uint32_t)>
+        new_contact_law;
     /// Same for new ball-wall contacts: returns the law group for particle i
     /// and facet k, or -1 to use the default wall law (e.g. frictionless
     /// plane-strain walls of a 3D slab next to a frictional interface).
@@ -93,17 +95,17 @@ namespace demfem::dem
 
     ContactGroupBase<dim>       &group(int g) { return *groups_[g]; }
     const ContactGroupBase<dim> &group(int g) const { return *groups_[g]; }
-    int                          n_groups() const { return static_cast<int>(groups_.size()); }
-    std::size_t                  n_contacts() const;
+    int         n_groups() const { return static_cast<int>(groups_.size()); }
+    std::size_t n_contacts() const;
     /// Looks up the contact between particles i and j (group -1 if none).
     ContactRef find(std::uint32_t i, std::uint32_t j, bool wall = false) const;
 
     // ---- stepping --------------------------------------------------------
-    double local_damping = 0.7;  ///< PFC local damping factor alpha
-    double skin          = 0;    ///< detection skin; 0: 0.1 * min radius
-    double safety_factor = 0.8;  ///< dt = safety * critical when automatic
-    Vec<dim> gravity     = Vec<dim>::Zero();
-    bool   check_timestep = true; ///< refuse dt above the critical estimate
+    double   local_damping  = 0.7; ///< PFC local damping factor alpha
+    double   skin           = 0;   ///< detection skin; 0: 0.1 * min radius
+    double   safety_factor  = 0.8; ///< dt = safety * critical when automatic
+    Vec<dim> gravity        = Vec<dim>::Zero();
+    bool     check_timestep = true; ///< refuse dt above the critical estimate
 
     /// Fixed time step (> 0) or automatic (0: safety * critical, updated at
     /// every contact-detection pass).
@@ -128,9 +130,9 @@ namespace demfem::dem
     /// force magnitude (PFC ratio-average, fistPkg §4.2.1).
     double unbalanced_ratio() const;
 
-    std::vector<CrackRecord<dim>>                          cracks;
-    std::function<void(const CrackRecord<dim> &)>          on_crack;
-    std::function<void(const SlipRecord &)>                on_slip;
+    std::vector<CrackRecord<dim>>                 cracks;
+    std::function<void(const CrackRecord<dim> &)> on_crack;
+    std::function<void(const SlipRecord &)>       on_slip;
 
     /// Work done on the assembly by prescribed motions, walls, external
     /// forces and gravity since the energy baseline was taken.
@@ -162,12 +164,12 @@ namespace demfem::dem
 
   private:
     friend struct ModelCheckpoint<dim>;
-    void        compute_forces();
-    void        suppress_duplicate_wall_contacts(ContactGroupBase<dim> &g);
+    void                     compute_forces();
+    void                     suppress_duplicate_wall_contacts(ContactGroupBase<dim> &g);
     std::vector<std::size_t> wall_scratch_;
-    void        integrate();
-    bool        rebuild_needed() const;
-    std::uint64_t key(std::uint32_t i, std::uint32_t j, bool wall) const
+    void                     integrate();
+    bool                     rebuild_needed() const;
+    std::uint64_t            key(std::uint32_t i, std::uint32_t j, bool wall) const
     {
       // Ball pairs are keyed independently of which end is piece 1, so a
       // renumbering (reorder_by_cell) never flips a contact's orientation.
@@ -183,17 +185,21 @@ namespace demfem::dem
     std::unordered_map<std::uint64_t, ContactRef>       index_;
     NeighborGrid<dim>                                   grid_;
     std::vector<EventSink>                              sinks_;
-    int            default_ball_ = -1, default_wall_ = -1;
-    double         dt_ = 0;
-    bool           auto_dt_ = true;
-    bool           need_rebuild_ = true;
+    int                   default_ball_ = -1, default_wall_ = -1;
+    double                dt_           = 0;
+    bool                  auto_dt_      = true;
+    bool                  need_rebuild_ = true;
     std::vector<Vec<dim>> x_at_rebuild_, wall_at_rebuild_;
-    std::int64_t   step_ = 0;
-    double         time_ = 0;
-    double         last_ke_ = 0;
-    int            growth_steps_ = 0;
-    bool           baseline_valid_ = false;
-    double         energy0_ = 0, work_in_ = 0;
-    void           check_energy_balance();
+    std::int64_t          step_         = 0;
+    double                time_         = 0;
+    double                last_ke_      = 0;
+    int                   growth_steps_ = 0;
+    /// Log-ratios of the kinetic energy over the current growth streak
+    /// (ring, the latest 15) and the streak's length in it.
+    std::array<double, 15> growth_log_{};
+    int                    growth_n_       = 0;
+    bool                   baseline_valid_ = false;
+    double                 energy0_ = 0, work_in_ = 0;
+    void                   check_energy_balance();
   };
 } // namespace demfem::dem

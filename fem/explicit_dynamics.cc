@@ -55,8 +55,9 @@ namespace demfem::fem
     DoFTools::make_sparsity_pattern(dof_handler, dsp);
     SparsityTools::distribute_sparsity_pattern(dsp, owned, comm, relevant);
     stiffness.reinit(owned, owned, dsp, comm);
-    for (auto *vec : {&mass, &u, &v, &f_ext, &work})
+    for (auto *vec : {&mass, &u, &v, &f_ext, &work, &f_boundary})
       vec->reinit(owned, comm);
+    boundary_factor = 0;
 
     const double        E = settings.young_modulus, nu = settings.poisson_ratio;
     const LameConstants elastic = lame_constants(E, nu);
@@ -233,14 +234,55 @@ namespace demfem::fem
     const double c1 = 1 - 0.5 * a * dt, c2 = 1.0 / (1 + 0.5 * a * dt);
     for (const auto i : owned)
       {
-        const double acc = (f_ext(i) - work(i)) / mass(i);
-        v(i)             = (c1 * v(i) + dt * acc) * c2;
+        const double acc =
+            (f_ext(i) + boundary_factor * f_boundary(i) - work(i)) / mass(i);
+        v(i) = (c1 * v(i) + dt * acc) * c2;
       }
     for (std::size_t k = 0; k < fixed_dofs.size(); ++k)
       v(fixed_dofs[k]) = fixed_velocity.empty() ? 0.0 : fixed_velocity[k];
     v.compress(VectorOperation::insert);
     u.add(dt, v);
     current_time += dt;
+  }
+
+  template <int dim>
+  void ExplicitDynamics<dim>::set_boundary_traction_load(const types::boundary_id id,
+                                                         const Tensor<2, dim>    &sigma)
+  {
+    // f_i = int_Gamma phi_i . (sigma n) dA over the faces of id `id`.
+    f_boundary = 0;
+    Tensor<1, dim>                       sum;
+    const QGauss<dim - 1>                quadrature(fe.degree + 1);
+    FEFaceValues<dim>                    fv(mapping, fe, quadrature,
+                                            update_values | update_normal_vectors | update_JxW_values);
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    std::vector<types::global_dof_index> dofs(n);
+    Vector<double>                       cell_f(n);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary() && face->boundary_id() == id)
+            {
+              fv.reinit(cell, face);
+              cell_f = 0;
+              for (const unsigned int q : fv.quadrature_point_indices())
+                {
+                  const Tensor<1, dim> traction = sigma * fv.normal_vector(q);
+                  for (unsigned int i = 0; i < n; ++i)
+                    {
+                      const unsigned int c = fe.system_to_component_index(i).first;
+                      cell_f(i) += fv.shape_value(i, q) * traction[c] * fv.JxW(q);
+                    }
+                }
+              cell->get_dof_indices(dofs);
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  f_boundary(dofs[i]) += cell_f(i);
+                  sum[fe.system_to_component_index(i).first] += cell_f(i);
+                }
+            }
+    f_boundary.compress(VectorOperation::add);
+    boundary_sum = Utilities::MPI::sum(sum, comm);
   }
 
   template <int dim>

@@ -93,6 +93,18 @@ namespace demfem::fem
     void set_fixed_velocity(
         const std::function<dealii::Tensor<1, dim>(const dealii::Point<dim> &)> &v);
 
+    /** Boundary load: the consistent nodal forces of the traction sigma.n
+     *  (n the outward normal of the solid) on the faces with boundary id
+     *  `id`, held apart from the coupling forces and applied scaled by
+     *  set_boundary_load_factor() (default 0). A coupled tunnel section
+     *  (3D) carries the in-situ traction of the rock the tunnel replaces
+     *  with it, ramped with the in-situ load and released by excavation. */
+    void   set_boundary_traction_load(dealii::types::boundary_id    id,
+                                      const dealii::Tensor<2, dim> &sigma);
+    void   set_boundary_load_factor(double factor) { boundary_factor = factor; }
+    double boundary_load_factor() const { return boundary_factor; }
+    /** Sum of the boundary load at factor 1 (all ranks) [N]. */
+    dealii::Tensor<1, dim> boundary_load_sum() const { return boundary_sum; }
     /** The nodal forces held at the coupling vertices (same order). */
     std::vector<dealii::Tensor<1, dim>> interface_forces() const;
 
@@ -125,6 +137,9 @@ namespace demfem::fem
 
     dealii::TrilinosWrappers::SparseMatrix       stiffness;
     dealii::TrilinosWrappers::MPI::Vector        mass, u, v, f_ext, work;
+    dealii::TrilinosWrappers::MPI::Vector        f_boundary; // at factor 1
+    double                                       boundary_factor = 0;
+    dealii::Tensor<1, dim>                       boundary_sum;
     std::vector<dealii::types::global_dof_index> fixed_dofs;      // owned only
     std::vector<double>                          fixed_velocity;  // same order
     std::vector<unsigned int>                    fixed_component; // same order

@@ -2,10 +2,12 @@
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/manifold_lib.h>
 #include <deal.II/grid/tria_accessor.h>
 #include <deal.II/grid/tria_iterator.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -106,6 +108,116 @@ namespace demfem::fem
       tria.set_manifold(0, SphericalManifold<2>(Point<2>()));
     else
       tria.set_manifold(0, CylindricalManifold<3>(2));
+  }
+
+  void generate_section_mesh(Triangulation<3> &tria, const SectionMeshSettings &s)
+  {
+    const double a = s.tunnel_radius, r_in = s.hole_radius, t = s.section_length,
+                 h = s.end_overlap, L = s.extension, R = s.outer_radius;
+    AssertThrow(a > 0 && r_in > a && R > r_in && s.cells_around >= 8,
+                ExcMessage("section mesh: need 0 < tunnel radius < hole radius < outer "
+                           "radius and >= 8 cells around"));
+    AssertThrow(h > 0 && t > 2 * h && L > 0 && s.element_size > 0,
+                ExcMessage("section mesh: need 0 < end overlap < section length / 2, "
+                           "extension > 0 and element size > 0"));
+    const unsigned int n_t = s.cells_around;
+
+    // Radii: uniform a .. r_in (the ring around the tunnel that the section
+    // replaces), then geometric r_in .. R with cells about square (as
+    // generate_tunnel_mesh).
+    std::vector<double> radii;
+    const unsigned int  n_a = std::max<unsigned int>(
+        1, static_cast<unsigned int>(std::lround((r_in - a) / s.element_size)));
+    for (unsigned int i = 0; i < n_a; ++i)
+      radii.push_back(a + (r_in - a) * i / n_a);
+    const unsigned int n_r =
+        std::max<unsigned int>(2, static_cast<unsigned int>(std::lround(
+                                      n_t * std::log(R / r_in) / (2 * numbers::PI))));
+    for (unsigned int i = 0; i <= n_r; ++i)
+      radii.push_back(r_in * std::pow(R / r_in, double(i) / n_r));
+    const double growth = std::pow(R / r_in, 1.0 / n_r);
+
+    // Layers: the end overlaps one layer each, the hole uniform, outwards
+    // geometric with the radial growth ratio, scaled to end exactly at L.
+    std::vector<double> z     = {0, h};
+    const unsigned int  n_mid = std::max<unsigned int>(
+        1, static_cast<unsigned int>(std::lround((t - 2 * h) / s.element_size)));
+    for (unsigned int k = 1; k <= n_mid; ++k)
+      z.push_back(h + (t - 2 * h) * k / n_mid);
+    z.push_back(t);
+    std::vector<double> steps;
+    double              sum = 0;
+    for (double dz = std::min(h, L) * growth; sum < L - 1e-12 * L; dz *= growth)
+      {
+        steps.push_back(dz);
+        sum += dz;
+      }
+    std::vector<double> zs;
+    double              acc = 0;
+    for (const double dz : steps)
+      {
+        acc += dz * L / sum;
+        zs.push_back(acc);
+      }
+    zs.back() = L;
+    for (const double dz : zs)
+      {
+        z.insert(z.begin(), -dz);
+        z.push_back(t + dz);
+      }
+
+    const unsigned int n_rad = radii.size(), n_z = z.size();
+    const auto vertex_index = [&](unsigned int i, unsigned int j, unsigned int k) {
+      return (k * n_t + (j % n_t)) * n_rad + i;
+    };
+    std::vector<Point<3>> vertices;
+    for (unsigned int k = 0; k < n_z; ++k)
+      for (unsigned int j = 0; j < n_t; ++j)
+        for (unsigned int i = 0; i < n_rad; ++i)
+          {
+            const double phi = 2 * numbers::PI * j / n_t;
+            vertices.emplace_back(radii[i] * std::cos(phi), radii[i] * std::sin(phi),
+                                  z[k]);
+          }
+    // Right-handed local axes (radial, angular, axial) as generate_tunnel_mesh.
+    std::vector<CellData<3>> cells;
+    const double             tol = 1e-9 * R;
+    for (unsigned int k = 0; k + 1 < n_z; ++k)
+      for (unsigned int j = 0; j < n_t; ++j)
+        for (unsigned int i = 0; i + 1 < n_rad; ++i)
+          {
+            const double zc = 0.5 * (z[k] + z[k + 1]);
+            if (i < n_a && zc > h + tol && zc < t - h - tol)
+              continue; // the hole: the free core of the DEM section
+            CellData<3>  c;
+            unsigned int v = 0;
+            for (unsigned int dk = 0; dk < 2; ++dk)
+              for (unsigned int dj = 0; dj < 2; ++dj)
+                for (unsigned int di = 0; di < 2; ++di)
+                  c.vertices[v++] = vertex_index(i + di, j + dj, k + dk);
+            c.material_id = 0;
+            cells.push_back(c);
+          }
+    SubCellData none;
+    GridTools::delete_unused_vertices(vertices, cells, none);
+    tria.create_triangulation(vertices, cells, none);
+
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary())
+          {
+            const Point<3> c = face->center();
+            if (std::abs(c[2] + L) < tol || std::abs(c[2] - t - L) < tol)
+              face->set_boundary_id(boundary_id::roller_z);
+            else if (axial_distance(c) > 0.5 * (radii[n_rad - 2] + R))
+              face->set_boundary_id(boundary_id::far_field);
+            else if (axial_distance(c) < 0.5 * (a + radii[1]) && (c[2] < 0 || c[2] > t))
+              face->set_boundary_id(boundary_id::tunnel_wall);
+            else
+              face->set_boundary_id(boundary_id::interface);
+          }
+    tria.set_all_manifold_ids(0);
+    tria.set_manifold(0, CylindricalManifold<3>(2));
   }
 
   template <int dim>

@@ -45,6 +45,39 @@ namespace demfem::fem
   void generate_tunnel_mesh(dealii::Triangulation<dim>  &tria,
                             const GeneratedMeshSettings &settings);
 
+  /// A tunnel section embedded in a 3D continuum (issue 5): the DEM
+  /// section occupies r < b, 0 <= z <= t; the continuum is the cylinder
+  /// r <= R, -L <= z <= t + L with the tunnel r < a through its whole length
+  /// and, inside the section, the hole r < r_in, h <= z <= t - h (the part of
+  /// the section the continuum does not overlap: r_in = b - h and the end
+  /// layers 0 <= z <= h, t - h <= z <= t, a < r, overlap the DEM's rim and
+  /// ends).
+  struct SectionMeshSettings
+  {
+    double       tunnel_radius  = 0.4; ///< a
+    double       hole_radius    = 0.8; ///< r_in (> a)
+    double       section_length = 1.0; ///< t
+    double       end_overlap    = 0.2; ///< h (t > 2 h)
+    double       extension      = 2.0; ///< L (> 0)
+    double       outer_radius   = 10;  ///< R (> r_in)
+    unsigned int cells_around   = 32;
+    /// Target element size along z in the section and radially between a
+    /// and r_in [m].
+    double element_size = 0.2;
+  };
+
+  /**
+   * Fill @p tria with the continuum of SectionMeshSettings: hexahedra on
+   * rings (radial a .. r_in uniform, r_in .. R geometric as
+   * generate_tunnel_mesh) and layers (one through each end overlap, uniform
+   * in the section, geometric outwards to the ends). Boundary ids: 1 the
+   * cylinder r = R, 4 the end planes z = -L, t + L (rollers), 3 the tunnel
+   * wall r = a outside the section (z < 0 or z > t), 2 every other inner
+   * face (the faces that bound the DEM section). Cylindrical manifold 0.
+   */
+  void generate_section_mesh(dealii::Triangulation<3>  &tria,
+                             const SectionMeshSettings &settings);
+
   /**
    * Read a Gmsh .msh file (ASCII, format 2 or 4, quadrilaterals/hexahedra).
    * Physical tags of boundary entities become boundary ids. Circular

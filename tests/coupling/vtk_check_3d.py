@@ -3,12 +3,14 @@
 .pvd, load every referenced file with VTK's own reader, and check that it is
 3D (z coordinates spanning the slab), holds the expected arrays, is finite and
 has its connectivity in range. Prints 'ok' or the failures (exit 1).
-usage: vtk_check_3d.py OUTPUT_DIR SLAB_THICKNESS"""
+usage: vtk_check_3d.py OUTPUT_DIR SLAB_THICKNESS [AXIAL_EXTENSION]
+(a tunnel section: the continuum spans -L .. t + L, the grains 0 .. t)"""
 import math, os, sys
 import xml.etree.ElementTree as ET
 import vtk
 
 out, t = sys.argv[1], float(sys.argv[2])
+ext = float(sys.argv[3]) if len(sys.argv) > 3 else 0.0
 expected = {
     "particles": (vtk.vtkXMLPolyDataReader, ["radius", "velocity", "displacement",
                                              "averaged_stress"]),
@@ -37,9 +39,11 @@ for series, (Reader, arrays) in expected.items():
         zs = [g.GetPoint(i)[2] for i in range(n)]
         if series in ("particles", "continuum"):
             # Points are written as float32: 1e-6 relative.
-            if min(zs) < -1e-6 * t or max(zs) > t * (1 + 1e-6) or max(zs) - min(zs) < 0.3 * t:
+            lo, hi = (-ext, t + ext) if series == "continuum" else (0.0, t)
+            tol = 1e-6 * (hi - lo)
+            if min(zs) < lo - tol or max(zs) > hi + tol or max(zs) - min(zs) < 0.3 * (hi - lo):
                 failed.append(f"{path}: z range {min(zs) if zs else None}.."
-                              f"{max(zs) if zs else None}, slab 0..{t}")
+                              f"{max(zs) if zs else None}, expected {lo}..{hi}")
         for a in arrays:
             arr = (g.GetPointData().GetArray(a) or g.GetCellData().GetArray(a))
             if arr is None:
