@@ -276,30 +276,55 @@ TEST_CASE("3D section: patch test through the ends and excavation convergence vs
                                   MPI_COMM_WORLD);
   auto &m = *mp;
   m.build();
+  auto                    &P = m.dem.particles;
+  std::vector<dem::Vec<3>> start(*std::max_element(P.id.begin(), P.id.end()) + 1);
+  for (std::size_t i = 0; i < P.size(); ++i)
+    start[P.id[i]] = P.x[i];
   m.set_insitu(-p * Eigen::Matrix2d::Identity());
   cycle(m, 2000, 6000);
 
-  // Patch test: the free core carries the applied in-plane stress, and the
-  // continuum beyond the ends holds it in plane strain (szz = nu (sxx + syy)).
+  // Patch test: the free core carries the applied in-plane stress.
   const Eigen::Matrix3d s =
       region_stress(m.dem, dem::Vec<3>::Zero(), 0.6, h, rp.slab_thickness - h);
   const double sm  = 0.5 * (s(0, 0) + s(1, 1));
   const double dev = std::hypot(0.5 * (s(0, 0) - s(1, 1)), s(0, 1));
-  const double szz = -2 * nu * p;
+  // The ends: the continuum beyond them is in plane strain, and the end
+  // layers slaved to it hold the free core's length: the core's axial
+  // strain e_zz (least squares u_z = e_zz (z - t/2) over its free grains)
+  // is small against its in-plane strain e_m (u_r = e_m r). szz is the
+  // grains' own response to that (the packing between walls is not
+  // isotropic: the slab test measured -1.31 MPa where nu (sxx + syy) gives
+  // -2.0), so only its sign is a check.
+  const double zc = 0.5 * rp.slab_thickness, r_core = m.continuum_inner_radius();
+  double       zz = 0, z2 = 0, rr = 0, r2 = 0;
+  for (std::size_t i = 0; i < P.size(); ++i)
+    {
+      const dem::Vec<3> X = start[P.id[i]], u = P.x[i] - X;
+      const double      r = X.head<2>().norm();
+      if (P.group[i] == SlavedLayerModel<3>::slaved_tag || r > r_core - rp.d_hi)
+        continue;
+      zz += u[2] * (X[2] - zc);
+      z2 += (X[2] - zc) * (X[2] - zc);
+      rr += u.head<2>().dot(X.head<2>());
+      r2 += r * r;
+    }
+  const double ezz = zz / z2, em = rr / r2;
   INFO("core stress (Pa)\n"
        << s << "\nin-plane mean " << sm << " vs " << -p << ", deviator " << dev
-       << ", szz " << s(2, 2) << " vs " << szz);
+       << "; core strain e_m " << em << ", e_zz " << ezz);
   CHECK(m.dem.unbalanced_ratio() < 1e-3);
   CHECK(std::abs(sm + p) < 0.03 * p); // as the slab (issue 5: 2 % in 2D)
   CHECK(dev < 0.03 * p);
-  CHECK(std::abs(s(2, 2) - szz) < 0.1 * std::abs(szz));
+  CHECK(em < 0);
+  CHECK(std::abs(ezz) < 0.05 * std::abs(em));
+  CHECK(s(2, 2) < 0);
   CHECK(std::abs(s(0, 2)) < 0.03 * p);
   CHECK(std::abs(s(1, 2)) < 0.03 * p);
+  const auto field0 = m.displacement_field(); // in-situ state of the continuum
 
   // Excavation along the whole length: the section's grains inside the
   // tunnel are removed and the continuum's tunnel wall released.
-  auto                    &P = m.dem.particles;
-  std::vector<dem::Vec<3>> ref(*std::max_element(P.id.begin(), P.id.end()) + 1);
+  std::vector<dem::Vec<3>> ref(start.size());
   for (std::size_t i = 0; i < P.size(); ++i)
     ref[P.id[i]] = P.x[i];
   std::vector<char> rm(P.size());
@@ -338,10 +363,12 @@ TEST_CASE("3D section: patch test through the ends and excavation convergence vs
   const double uw_kirsch = -p * a / (2 * G);
 
   // The continuum's own tunnel wall far from the section (|z - t/2| > t/2 +
-  // L/2): its traction released, it converges as Kirsch too.
-  const auto field = m.displacement_field();
-  double     uc    = 0;
-  int        nc    = 0;
+  // L/2): its traction released, it converges as Kirsch too (the
+  // excavation-induced part: minus the in-situ state).
+  auto field = m.displacement_field();
+  field -= field0;
+  double uc = 0;
+  int    nc = 0;
   for (const auto &cell : m.dof_handler().active_cell_iterators())
     for (const unsigned int v : cell->vertex_indices())
       {
@@ -384,7 +411,8 @@ TEST_CASE("3D section: demfem tunnel runs a tunnel section in a 3D continuum",
       "/apps/examples/tunnel_3d_section.prm --set \"Problem/output directory=" + dir +
       "\" --set \"DEM region/radius=0.9\" --set \"Tunnel/radius=0.3\" "
       "--set \"DEM region/breakable=false\" --set \"Continuum/outer radius=8\" "
-      "--set \"Continuum/axial extension=1.2\" --set \"DEM region/slab thickness=5\" "
+      "--set \"Continuum/axial extension=1.2\" --set \"DEM region/slab thickness=6\" "
+      "--set \"DEM region/porosity 3d=0.39\" "
       "--set \"Coupling/ramp steps=500\" --set \"Coupling/step limit=1000\" "
       "--set \"Output/interval=500\" > " +
       log + " 2>&1";
@@ -396,10 +424,10 @@ TEST_CASE("3D section: demfem tunnel runs a tunnel section in a 3D continuum",
   CHECK(summary.find("\"embedding\": \"section\"") != std::string::npos);
   CHECK(summary.find("\"axial_extension\": 1.2") != std::string::npos);
   CHECK(summary.find("\"status\": \"ok\"") != std::string::npos);
-  // VTK read back by VTK's own readers: grains in 0 .. t = 5 x 0.1 m, the
+  // VTK read back by VTK's own readers: grains in 0 .. t = 6 x 0.1 m, the
   // continuum over -L .. t + L.
   const std::string check = "/usr/bin/python3 " + std::string(DEMFEM_SOURCE_DIR) +
-                            "/tests/coupling/vtk_check_3d.py " + dir + " 0.5 1.2 > " +
+                            "/tests/coupling/vtk_check_3d.py " + dir + " 0.6 1.2 > " +
                             log + ".vtk 2>&1";
   const int vs = std::system(check.c_str());
   INFO(read_file(log + ".vtk"));
