@@ -377,16 +377,32 @@ namespace demfem::coupling
       {
         const double                          rate = dl / (kp.subcycles * dt_);
         const Eigen::Matrix<double, dim, dim> e    = rate * eps0;
-        fem_->set_fixed_velocity([e](const dealii::Point<dim> &x) {
-          dealii::Tensor<1, dim> v;
-          for (int i = 0; i < dim; ++i)
-            {
-              v[i] = e(i, 0) * x[0] + e(i, 1) * x[1];
-              if constexpr (dim == 3)
-                v[i] += e(i, 2) * x[2];
-            }
-          return v;
-        });
+        if (section())
+          {
+            // A section's tunnel-wall traction acts next to the grains: the
+            // far-field displacement would reach them only after a wave
+            // crossed R (measured: during a 2000-step ramp the wall pushed
+            // the end layers outwards first, 950 tensile cracks around the
+            // tunnel in the end layers). The whole continuum follows the
+            // homogeneous in-situ strain instead (affine velocity; the
+            // dynamic part stays the response to the grains).
+            dealii::Tensor<2, dim> L;
+            for (int i = 0; i < dim; ++i)
+              for (int j = 0; j < dim; ++j)
+                L[i][j] = e(i, j);
+            fem_->set_affine_velocity(L);
+          }
+        else
+          fem_->set_fixed_velocity([e](const dealii::Point<dim> &x) {
+            dealii::Tensor<1, dim> v;
+            for (int i = 0; i < dim; ++i)
+              {
+                v[i] = e(i, 0) * x[0] + e(i, 1) * x[1];
+                if constexpr (dim == 3)
+                  v[i] += e(i, 2) * x[2];
+              }
+            return v;
+          });
         far_moving     = dl != 0;
         applied_factor = load_factor;
       }

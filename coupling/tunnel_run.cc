@@ -530,7 +530,11 @@ namespace demfem::coupling
               ref[P.id[i]] = P.x[i];
             std::vector<char> rm(P.size(), 0);
             for (std::size_t i = 0; i < P.size(); ++i)
-              rm[i] = P.x[i].template head<2>().norm() < a; // 3D: through the slab
+              // 3D: through the slab. Grains slaved to the continuum (a
+              // section's end layers) stay: the continuum's own tunnel is
+              // excavated by releasing its wall traction.
+              rm[i] = P.x[i].template head<2>().norm() < a &&
+                      !(P.fixity[i] & dem::fix_translation);
             // Forces the removed grains exerted on the remaining ones, by id.
             fex.assign(ref.size(), Vec<dim>::Zero());
             for (int g = 0; g < m.dem.n_groups(); ++g)

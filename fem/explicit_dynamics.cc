@@ -123,6 +123,31 @@ namespace demfem::fem
       }
     fixed_velocity.clear();
 
+    // Support point and component of every owned dof (affine velocity).
+    {
+      std::map<types::global_dof_index, Point<dim>> support;
+      DoFTools::map_dofs_to_support_points(mapping, dof_handler, support);
+      std::vector<IndexSet> by_component(dim);
+      for (unsigned int c = 0; c < dim; ++c)
+        {
+          ComponentMask mask(dim, false);
+          mask.set(c, true);
+          by_component[c] = DoFTools::extract_dofs(dof_handler, mask);
+        }
+      dof_point.clear();
+      dof_component.clear();
+      for (const auto i : owned)
+        {
+          dof_point.push_back(support.at(i));
+          unsigned char c = 0;
+          while (c + 1 < dim && !by_component[c].is_element(i))
+            ++c;
+          dof_component.push_back(c);
+        }
+      has_affine  = false;
+      affine_rate = Tensor<2, dim>();
+    }
+
     // Interface vertices owned by this rank.
     iface_points.clear();
     iface_dofs.clear();
@@ -241,8 +266,33 @@ namespace demfem::fem
     for (std::size_t k = 0; k < fixed_dofs.size(); ++k)
       v(fixed_dofs[k]) = fixed_velocity.empty() ? 0.0 : fixed_velocity[k];
     v.compress(VectorOperation::insert);
-    u.add(dt, v);
+    if (!has_affine)
+      u.add(dt, v);
+    else
+      {
+        std::size_t k = 0;
+        for (const auto i : owned)
+          u(i) += dt * (v(i) + affine_velocity(k++));
+        u.compress(VectorOperation::insert);
+      }
     current_time += dt;
+  }
+
+  template <int dim>
+  void ExplicitDynamics<dim>::set_affine_velocity(const Tensor<2, dim> &L)
+  {
+    affine_rate = L;
+    has_affine  = L.norm() != 0;
+  }
+
+  template <int dim>
+  double ExplicitDynamics<dim>::affine_velocity(const std::size_t k) const
+  {
+    const unsigned int c = dof_component[k];
+    double             a = 0;
+    for (unsigned int j = 0; j < dim; ++j)
+      a += affine_rate[c][j] * dof_point[k][j];
+    return a;
   }
 
   template <int dim>
@@ -320,8 +370,12 @@ namespace demfem::fem
   {
     std::vector<Tensor<1, dim>> r(iface_dofs.size());
     for (std::size_t k = 0; k < r.size(); ++k)
-      for (unsigned int c = 0; c < dim; ++c)
-        r[k][c] = v(iface_dofs[k][c]);
+      {
+        for (unsigned int c = 0; c < dim; ++c)
+          r[k][c] = v(iface_dofs[k][c]);
+        if (has_affine)
+          r[k] += affine_rate * iface_points[k];
+      }
     return r;
   }
 

@@ -105,6 +105,14 @@ namespace demfem::fem
     double boundary_load_factor() const { return boundary_factor; }
     /** Sum of the boundary load at factor 1 (all ranks) [N]. */
     dealii::Tensor<1, dim> boundary_load_sum() const { return boundary_sum; }
+    /** Affine velocity L x added to the motion of every node from now on
+     *  (u += dt (v + L x); v, the dynamic part, is unchanged; fixed dofs
+     *  move with their prescribed velocity plus L x). A homogeneous strain
+     *  rate applied to the whole body at once: an in-situ ramp that needs
+     *  no wave to cross the mesh from the far field (a coupled tunnel
+     *  section, whose tunnel-wall traction acts next to the grains). Zero
+     *  by default. interface_velocities() include it. */
+    void set_affine_velocity(const dealii::Tensor<2, dim> &L);
     /** The nodal forces held at the coupling vertices (same order). */
     std::vector<dealii::Tensor<1, dim>> interface_forces() const;
 
@@ -135,11 +143,16 @@ namespace demfem::fem
     dealii::DoFHandler<dim>                                  dof_handler;
     dealii::IndexSet                                         owned;
 
-    dealii::TrilinosWrappers::SparseMatrix       stiffness;
-    dealii::TrilinosWrappers::MPI::Vector        mass, u, v, f_ext, work;
-    dealii::TrilinosWrappers::MPI::Vector        f_boundary; // at factor 1
-    double                                       boundary_factor = 0;
-    dealii::Tensor<1, dim>                       boundary_sum;
+    dealii::TrilinosWrappers::SparseMatrix stiffness;
+    dealii::TrilinosWrappers::MPI::Vector  mass, u, v, f_ext, work;
+    dealii::TrilinosWrappers::MPI::Vector  f_boundary; // at factor 1
+    double                                 boundary_factor = 0;
+    dealii::Tensor<1, dim>                 boundary_sum;
+    dealii::Tensor<2, dim>                 affine_rate;
+    bool                                   has_affine = false;
+    std::vector<dealii::Point<dim>>        dof_point;             // owned dofs, in order
+    std::vector<unsigned char>             dof_component;         // same order
+    double affine_velocity(std::size_t k) const;                  // of the k-th owned dof
     std::vector<dealii::types::global_dof_index> fixed_dofs;      // owned only
     std::vector<double>                          fixed_velocity;  // same order
     std::vector<unsigned int>                    fixed_component; // same order
