@@ -39,4 +39,42 @@ namespace demfem::test
     c.outer_radius  = 10;
     return c;
   }
+  // Excavation convergence of a 3D coupled region against Kirsch: the
+  // least-squares fit u_r = C / r (Kirsch: C = -p a^2 / (2 G)) over the
+  // grains between two mean diameters d from the wall r = a and two from the
+  // continuum's inner radius b_free whose reference z lies in (z0, z1), and
+  // the mean u_r r / a (Kirsch: -p a / (2 G)) of the grains within one
+  // diameter of the wall. `ref`: grain positions by id before excavation.
+  struct KirschFit
+  {
+    double C = 0, wall = 0;
+    int    n_wall = 0;
+  };
+  inline KirschFit kirsch_fit(const dem::Particles<3>        &P,
+                              const std::vector<dem::Vec<3>> &ref, double a, double d,
+                              double b_free, double z0 = -HUGE_VAL, double z1 = HUGE_VAL)
+  {
+    KirschFit f;
+    double    sxy = 0, sxx = 0;
+    for (std::size_t i = 0; i < P.size(); ++i)
+      {
+        const dem::Vec<2> X  = ref[P.id[i]].head<2>();
+        const double      r  = X.norm();
+        const double      ur = (P.x[i].head<2>() - X).dot(X / r);
+        const double      z  = ref[P.id[i]][2];
+        if (r < a + d)
+          {
+            f.wall += ur * r / a;
+            ++f.n_wall;
+          }
+        if (r > a + 2 * d && r < b_free - 2 * d && z > z0 && z < z1)
+          {
+            sxy += ur / r;
+            sxx += 1 / (r * r);
+          }
+      }
+    f.wall /= f.n_wall;
+    f.C = sxy / sxx;
+    return f;
+  }
 } // namespace demfem::test

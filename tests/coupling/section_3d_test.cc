@@ -336,30 +336,14 @@ TEST_CASE("3D section: patch test through the ends and excavation convergence vs
   cycle(m, 1, 10000);
 
   // Kirsch (hydrostatic): u_r = -p a^2 / (2 G r). Fit C over the free core
-  // grains between two diameters from the wall and two from the rim, and
-  // the wall grains' u_r r / a over the whole section (end layers too).
-  const double d = rp.mean_diameter(), b_free = m.continuum_inner_radius();
-  double       sxy = 0, sxx = 0, uw = 0;
-  int          n = 0;
-  for (std::size_t i = 0; i < P.size(); ++i)
-    {
-      const dem::Vec<2> X  = ref[P.id[i]].head<2>();
-      const double      r  = X.norm();
-      const double      ur = (P.x[i].head<2>() - X).dot(X / r);
-      if (r < a + d)
-        {
-          uw += ur * r / a;
-          ++n;
-        }
-      const double z = ref[P.id[i]][2];
-      if (r > a + 2 * d && r < b_free - 2 * d && z > h && z < rp.slab_thickness - h)
-        {
-          sxy += ur / r;
-          sxx += 1 / (r * r);
-        }
-    }
-  uw /= n;
-  const double C = sxy / sxx, C_kirsch = -p * a * a / (2 * G);
+  // grains (h < z < t - h) between two diameters from the wall and two from
+  // the rim, and the wall grains' u_r r / a over the whole section (end
+  // layers too).
+  const auto   fit = test::kirsch_fit(P, ref, a, rp.mean_diameter(),
+                                      m.continuum_inner_radius(), h, rp.slab_thickness - h);
+  const double uw  = fit.wall;
+  const int    n   = fit.n_wall;
+  const double C = fit.C, C_kirsch = -p * a * a / (2 * G);
   const double uw_kirsch = -p * a / (2 * G);
 
   // The continuum's own tunnel wall far from the section (|z - t/2| > t/2 +

@@ -180,30 +180,11 @@ TEST_CASE("3D slab: patch test and excavation convergence vs plane-strain Kirsch
   m.dem.reset_energy_baseline();
   load(m, 1, 10000);
 
-  // Least-squares fit u_r = C / r over the grains between two diameters from
-  // the wall and two from the interface (Kirsch: C = -p a^2 / (2 G)), and the
-  // wall grains' u_r r / a (Kirsch: -p a / (2 G)).
-  const double d = rp.mean_diameter(), b_free = m.continuum_inner_radius();
-  double       sxy = 0, sxx = 0, uw = 0;
-  int          n = 0;
-  for (std::size_t i = 0; i < P.size(); ++i)
-    {
-      const dem::Vec<2> X  = ref[P.id[i]].head<2>();
-      const double      r  = X.norm();
-      const double      ur = (P.x[i].head<2>() - X).dot(X / r);
-      if (r < a + d)
-        {
-          uw += ur * r / a;
-          ++n;
-        }
-      if (r > a + 2 * d && r < b_free - 2 * d)
-        {
-          sxy += ur / r;
-          sxx += 1 / (r * r);
-        }
-    }
-  uw /= n;
-  const double C = sxy / sxx, C_kirsch = -p * a * a / (2 * G);
+  const auto fit =
+      test::kirsch_fit(P, ref, a, rp.mean_diameter(), m.continuum_inner_radius());
+  const double uw = fit.wall;
+  const int    n  = fit.n_wall;
+  const double C = fit.C, C_kirsch = -p * a * a / (2 * G);
   const double uw_kirsch = -p * a / (2 * G);
   INFO("fit C " << C << " vs Kirsch " << C_kirsch << " (" << C / C_kirsch - 1
                 << "); wall grains (" << n << ") u_r r / a " << uw << " vs Kirsch "
