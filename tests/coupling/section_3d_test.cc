@@ -14,6 +14,7 @@
 
 #include "coupling/coupled_model.h"
 #include "coupling/slaved_layer_model.h"
+#include "coupling/tunnel_run.h"
 #include "fem/mesh.h"
 #include "helpers.h"
 
@@ -417,6 +418,69 @@ TEST_CASE("3D section: demfem tunnel runs a tunnel section in a 3D continuum",
   INFO(read_file(log + ".vtk"));
   CHECK(WIFEXITED(vs));
   CHECK(WEXITSTATUS(vs) == 0);
+}
+
+TEST_CASE("3D section: a stopped and restarted run equals the uninterrupted one",
+          "[coupling][section3d][restart]")
+{
+  // The section's own state (the release of the continuum's tunnel wall)
+  // is in the checkpoint: stopped inside the first of two excavation stages
+  // and continued, the run ends bit for bit as the uninterrupted one. Small
+  // breakable section (the app test's: b 0.9 m, t 0.6 m, L 1.2 m).
+  test::ensure_mpi_coupling();
+  auto small = [](const std::string &dir) {
+    coupling::TunnelParams p;
+    p.output_directory = dir;
+    p.dimension        = 3;
+    p.tunnel_radius    = 0.3;
+    p.sigma0 << -10e6, 0, 0, -20e6;
+    p.region                    = section_region(0.9, 0.08, 0.12, 0.6);
+    p.region.breakable          = true;
+    p.region.fj_ten             = 4e6;
+    p.region.fj_coh             = 20e6;
+    p.continuum.young_modulus   = 14.2e9;
+    p.continuum.poisson_ratio   = 0.12;
+    p.continuum.outer_radius    = 8;
+    p.continuum.axial_extension = 1.2;
+    p.stages                    = 2;
+    p.ramp_steps                = 500;
+    p.phase_step_limit          = 600;
+    p.write_vtk                 = false;
+    p.vtk_interval              = 0;
+    p.history_interval          = 50;
+    p.checkpoint_interval       = 250;
+    p.prm_text = "set axial extension = 1.2\nset output directory = " + dir + "\n";
+    return p;
+  };
+  const auto        tmp = std::filesystem::temp_directory_path();
+  const std::string da  = tmp / "demfem_section_restart_a",
+                    db  = tmp / "demfem_section_restart_b";
+  std::filesystem::remove_all(da);
+  std::filesystem::remove_all(db);
+  std::ostringstream log;
+  const auto         ra = coupling::run_tunnel(small(da), log);
+  INFO(ra.diagnosis);
+  REQUIRE_FALSE(ra.diverged);
+  auto pb         = small(db);
+  pb.stop_at_step = 1300; // ramp 500 + in-situ equilibrium <= 600: in stage 1
+  const auto rb   = coupling::run_tunnel(pb, log);
+  REQUIRE(rb.interrupted);
+  auto pc         = small(db);
+  pc.restart_file = db + "/checkpoint.h5";
+  const auto rc   = coupling::run_tunnel(pc, log);
+  REQUIRE_FALSE(rc.interrupted);
+  REQUIRE_FALSE(rc.diverged);
+  INFO("cracks " << ra.cracks_total << ", convergence " << ra.wall_convergence_mean);
+  CHECK(rc.steps == ra.steps);
+  CHECK(rc.cracks_total == ra.cracks_total);
+  CHECK(rc.wall_convergence_mean == ra.wall_convergence_mean);
+  CHECK(rc.interface_force_imbalance_max == ra.interface_force_imbalance_max);
+  REQUIRE(rc.positions_3d.size() == ra.positions_3d.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < ra.positions_3d.size(); ++i)
+    differ += !(rc.positions_3d[i] == ra.positions_3d[i]);
+  CHECK(differ == 0);
+  CHECK(read_file(db + "/history.csv") == read_file(da + "/history.csv"));
 }
 
 TEST_CASE("3D section: bad input names the key", "[coupling][section3d][input]")
