@@ -3,6 +3,12 @@
 
 #include "coupling/coupled_model.h"
 
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
 namespace demfem::test
 {
   // MPI for the deal.II distributed objects of the coupled model; finalized
@@ -77,4 +83,53 @@ namespace demfem::test
     f.C = sxy / sxx;
     return f;
   }
+  // A 3D slab or section of spheres (unbreakable, E* = 20 GPa): radius b,
+  // grains d_lo .. d_hi, thickness t (0 < z < t).
+  inline coupling::RegionParams slab_region(double b, double d_lo, double d_hi, double t)
+  {
+    coupling::RegionParams r;
+    r.radius         = b;
+    r.d_lo           = d_lo;
+    r.d_hi           = d_hi;
+    r.emod           = 20e9;
+    r.lnm_emod       = 20e9;
+    r.breakable      = false;
+    r.slab_thickness = t;
+    return r;
+  }
+
+  inline std::string read_file(const std::string &f)
+  {
+    std::ifstream     in(f);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+
+#if defined(DEMFEM_EXE) && defined(DEMFEM_SOURCE_DIR)
+  // Runs `demfem tunnel apps/examples/PRM` into a fresh `dir` (a temporary
+  // directory's entry) with the given --set options; output to dir + ".log".
+  // Returns the status of std::system.
+  inline int run_tunnel_example(const std::string &prm, const std::string &dir,
+                                const std::string &sets)
+  {
+    std::filesystem::remove_all(dir);
+    const std::string cmd = std::string(DEMFEM_EXE) + " tunnel " + DEMFEM_SOURCE_DIR +
+                            "/apps/examples/" + prm +
+                            " --set \"Problem/output directory=" + dir + "\" " + sets +
+                            " > " + dir + ".log 2>&1";
+    return std::system(cmd.c_str());
+  }
+
+  // tests/coupling/vtk_check_3d.py on a 3D run's output (slab thickness t,
+  // axial extension L); output to dir + ".log.vtk". Returns the status.
+  inline int check_vtk_3d(const std::string &dir, const std::string &t,
+                          const std::string &L = "0")
+  {
+    const std::string cmd = "/usr/bin/python3 " + std::string(DEMFEM_SOURCE_DIR) +
+                            "/tests/coupling/vtk_check_3d.py " + dir + " " + t + " " + L +
+                            " > " + dir + ".log.vtk 2>&1";
+    return std::system(cmd.c_str());
+  }
+#endif
 } // namespace demfem::test

@@ -29,19 +29,13 @@
 
 using namespace demfem;
 using namespace demfem::coupling;
+using demfem::test::read_file;
 
 namespace
 {
   RegionParams section_region(double b, double d_lo, double d_hi, double t)
   {
-    RegionParams r;
-    r.radius         = b;
-    r.d_lo           = d_lo;
-    r.d_hi           = d_hi;
-    r.emod           = 20e9;
-    r.lnm_emod       = 20e9;
-    r.breakable      = false;
-    r.slab_thickness = t;
+    RegionParams r = test::slab_region(b, d_lo, d_hi, t);
     // A section 6 grains long has less of its volume in the loose layers
     // along the walls z = 0, t than the thin slabs (porosity_3d 0.42 at 3-4
     // grains): 0.42 left it unjammed (packing ratio 0.27 after 200000 steps).
@@ -76,13 +70,6 @@ namespace
     return 0.5 * n * r * r * std::sin(2 * M_PI / n);
   }
 
-  std::string read_file(const std::string &f)
-  {
-    std::ifstream     in(f);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  }
 } // namespace
 
 TEST_CASE(
@@ -388,21 +375,16 @@ TEST_CASE("3D section: demfem tunnel runs a tunnel section in a 3D continuum",
 {
   // apps/examples/tunnel_3d_section.prm, small: region 0.9 m, tunnel 0.3 m,
   // unbreakable, short phases.
-  const std::string dir = std::filesystem::temp_directory_path() / "demfem_section_3d";
-  std::filesystem::remove_all(dir);
-  const std::string log = dir + ".log";
-  const std::string cmd =
-      std::string(DEMFEM_EXE) + " tunnel " + DEMFEM_SOURCE_DIR +
-      "/apps/examples/tunnel_3d_section.prm --set \"Problem/output directory=" + dir +
-      "\" --set \"DEM region/radius=0.9\" --set \"Tunnel/radius=0.3\" "
-      "--set \"DEM region/breakable=false\" --set \"Continuum/outer radius=8\" "
-      "--set \"Continuum/axial extension=1.2\" --set \"DEM region/slab thickness=6\" "
-      "--set \"DEM region/porosity 3d=0.39\" "
-      "--set \"Coupling/ramp steps=500\" --set \"Coupling/step limit=1000\" "
-      "--set \"Output/interval=500\" > " +
-      log + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  INFO(read_file(log));
+  const std::string dir    = std::filesystem::temp_directory_path() / "demfem_section_3d";
+  const int         status = test::run_tunnel_example(
+              "tunnel_3d_section.prm", dir,
+              "--set \"DEM region/radius=0.9\" --set \"Tunnel/radius=0.3\" "
+                      "--set \"DEM region/breakable=false\" --set \"Continuum/outer radius=8\" "
+                      "--set \"Continuum/axial extension=1.2\" --set \"DEM region/slab thickness=6\" "
+                      "--set \"DEM region/porosity 3d=0.39\" "
+                      "--set \"Coupling/ramp steps=500\" --set \"Coupling/step limit=1000\" "
+                      "--set \"Output/interval=500\"");
+  INFO(read_file(dir + ".log"));
   REQUIRE(WIFEXITED(status));
   REQUIRE(WEXITSTATUS(status) == 0);
   const std::string summary = read_file(dir + "/summary.json");
@@ -411,11 +393,8 @@ TEST_CASE("3D section: demfem tunnel runs a tunnel section in a 3D continuum",
   CHECK(summary.find("\"status\": \"ok\"") != std::string::npos);
   // VTK read back by VTK's own readers: grains in 0 .. t = 6 x 0.1 m, the
   // continuum over -L .. t + L.
-  const std::string check = "/usr/bin/python3 " + std::string(DEMFEM_SOURCE_DIR) +
-                            "/tests/coupling/vtk_check_3d.py " + dir + " 0.6 1.2 > " +
-                            log + ".vtk 2>&1";
-  const int vs = std::system(check.c_str());
-  INFO(read_file(log + ".vtk"));
+  const int vs = test::check_vtk_3d(dir, "0.6", "1.2");
+  INFO(read_file(dir + ".log.vtk"));
   CHECK(WIFEXITED(vs));
   CHECK(WEXITSTATUS(vs) == 0);
 }

@@ -25,15 +25,7 @@ namespace
 {
   RegionParams slab(double b, double d_lo, double d_hi, double t)
   {
-    RegionParams r;
-    r.radius         = b;
-    r.d_lo           = d_lo;
-    r.d_hi           = d_hi;
-    r.emod           = 20e9;
-    r.lnm_emod       = 20e9;
-    r.breakable      = false;
-    r.slab_thickness = t;
-    return r;
+    return test::slab_region(b, d_lo, d_hi, t);
   }
 
   ContinuumParams continuum(double E, double nu, double R)
@@ -202,25 +194,15 @@ TEST_CASE("3D slab: demfem tunnel runs the slab and writes readable 3D output",
 {
   // A small version of apps/examples/tunnel_3d.prm: region 0.9 m, tunnel
   // 0.3 m, unbreakable, short phases.
-  const std::string dir = std::filesystem::temp_directory_path() / "demfem_tunnel_3d";
-  std::filesystem::remove_all(dir);
-  const std::string log = dir + ".log";
-  const std::string cmd =
-      std::string(DEMFEM_EXE) + " tunnel " + DEMFEM_SOURCE_DIR +
-      "/apps/examples/tunnel_3d.prm --set \"Problem/output directory=" + dir +
-      "\" --set \"DEM region/radius=0.9\" --set \"Tunnel/radius=0.3\" "
-      "--set \"DEM region/breakable=false\" --set \"Continuum/outer radius=8\" "
-      "--set \"Coupling/ramp steps=500\" --set \"Coupling/step limit=1000\" "
-      "--set \"Output/interval=500\" > " +
-      log + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  auto      read   = [](const std::string &f) {
-    std::ifstream     in(f);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
-  INFO(read(log));
+  const std::string dir    = std::filesystem::temp_directory_path() / "demfem_tunnel_3d";
+  const int         status = test::run_tunnel_example(
+              "tunnel_3d.prm", dir,
+              "--set \"DEM region/radius=0.9\" --set \"Tunnel/radius=0.3\" "
+                      "--set \"DEM region/breakable=false\" --set \"Continuum/outer "
+                      "radius=8\" --set \"Coupling/ramp steps=500\" --set "
+                      "\"Coupling/step limit=1000\" --set \"Output/interval=500\"");
+  const auto read = test::read_file;
+  INFO(read(dir + ".log"));
   REQUIRE(WIFEXITED(status));
   REQUIRE(WEXITSTATUS(status) == 0);
   const std::string summary = read(dir + "/summary.json");
@@ -255,11 +237,8 @@ TEST_CASE("3D slab: demfem tunnel runs the slab and writes readable 3D output",
   CHECK(rows > 20);
   CHECK(zmax > 0.15);
   // VTK read back by VTK's own readers (python3-vtk9).
-  const std::string check = "/usr/bin/python3 " + std::string(DEMFEM_SOURCE_DIR) +
-                            "/tests/coupling/vtk_check_3d.py " + dir + " 0.3 > " + log +
-                            ".vtk 2>&1";
-  const int vs = std::system(check.c_str());
-  INFO(read(log + ".vtk"));
+  const int vs = test::check_vtk_3d(dir, "0.3");
+  INFO(read(dir + ".log.vtk"));
   CHECK(WIFEXITED(vs));
   CHECK(WEXITSTATUS(vs) == 0);
 }
