@@ -162,7 +162,7 @@ namespace demfem::apps
     {
       const auto *c = dynamic_cast<const dem::ContactGroup<dim, Law> *>(&g);
       if (c)
-        m.template add_law<Law>(c->params);
+        m.template add_law<Law>(c->params, "copy of the specimen", c->rule);
       return c != nullptr;
     }
 
@@ -180,7 +180,6 @@ namespace demfem::apps
       c->linear_group            = s.linear_group;
       c->wall_group              = s.wall_group;
       c->bond_group              = s.bond_group;
-      c->bond_groups             = s.bond_groups;
       c->packing_pressure        = s.packing_pressure;
       c->packing_region_pressure = s.packing_region_pressure;
       c->packing_max_force       = s.packing_max_force;

@@ -1,5 +1,7 @@
 #include "coupling/dem_region.h"
 
+#include "dem/property_rules.h"
+
 #include "dem/flat_joint_law.h"
 #include "dem/linear_law.h"
 
@@ -125,33 +127,6 @@ namespace demfem::coupling
             " .. " + std::to_string(zhi) + " m, not the slab 0 .. " + std::to_string(t) +
             " m (DEM region/slab thickness)");
       return inner;
-    }
-
-    // Linear-law stiffnesses of the region's groups. 2D keeps the literal
-    // values (kn = E* for equal grains, 2 E* grain-wall: L = R, memo Eq.
-    // 40, unit thickness); 3D uses the deformability method with the mean
-    // radius (kn = pi r^2 E* / L), as the genesis does.
-    template <int dim>
-    typename dem::LinearLaw<dim>::Params linear_params(double emod, double krat,
-                                                       double fric, double rmean,
-                                                       bool wall)
-    {
-      typename dem::LinearLaw<dim>::Params q;
-      if constexpr (dim == 2)
-        {
-          q.kn = (wall ? 2 : 1) * emod;
-          q.ks = krat > 0 ? q.kn / krat : 0;
-        }
-      else
-        {
-          dem::ContactGeometry<dim> g;
-          g.R1        = rmean;
-          g.R2        = wall ? 0 : rmean;
-          g.ball_wall = wall;
-          q           = dem::LinearLaw<dim>::deformability(emod, krat, fric, g);
-        }
-      q.friction = fric;
-      return q;
     }
 
     template <int dim>
@@ -285,10 +260,12 @@ namespace demfem::coupling
       }
 
     const double rmean = 0.25 * (p.d_lo + p.d_hi);
-    G.pack = m.template add_law<LN>(linear_params<dim>(p.lnm_emod, 0, 0, rmean, false),
-                                    "DEM region (packing)");
-    G.pack_wall = m.template add_law<LN>(
-        linear_params<dim>(p.lnm_emod, 0, 0, rmean, true), "DEM region (packing, ring)");
+    // Every group sets its contacts' stiffnesses by the deformability method
+    // (memo Eq. 40, dem/property_rules.h), as genesis does.
+    G.pack      = m.template add_law<LN>({}, "DEM region (packing)",
+                                    dem::linear_rule<dim>({p.lnm_emod, 0}, 0));
+    G.pack_wall = m.template add_law<LN>({}, "DEM region (packing, ring)",
+                                         dem::linear_rule<dim>({p.lnm_emod, 0}, 0));
     m.set_default_law(G.pack, G.pack_wall);
     m.local_damping = 0.7;
     m.set_timestep(0);
@@ -390,17 +367,15 @@ namespace demfem::coupling
 
     // Laws of the finished material.
     G.linear = m.template add_law<LN>(
-        linear_params<dim>(p.lnm_emod, p.lnm_krat, p.lnm_fric, rmean, false),
-        "DEM region (linear)");
-    G.wall = m.template add_law<LN>(
-        linear_params<dim>(p.emod, p.krat, p.wall_fric, rmean, true),
-        "DEM region (ring)");
+        {}, "DEM region (linear)",
+        dem::linear_rule<dim>({p.lnm_emod, p.lnm_krat}, p.lnm_fric));
+    G.wall = m.template add_law<LN>({}, "DEM region (ring)",
+                                    dem::linear_rule<dim>({p.emod, p.krat}, p.wall_fric));
     if constexpr (dim == 3) // plane strain: frictionless, as a symmetry plane
-      G.slab_wall = m.template add_law<LN>(linear_params<dim>(p.emod, 0, 0, rmean, true),
-                                           "DEM region (slab walls)");
+      G.slab_wall = m.template add_law<LN>({}, "DEM region (slab walls)",
+                                           dem::linear_rule<dim>({p.emod, 0}, 0));
 
-    // Bonding: flat joints binned by L = R1 + R2 within 1 % (as genesis).
-    std::map<long long, int>                             bins;
+    // Bonding: one flat-joint group, each joint's block by the rule.
     std::vector<std::pair<std::uint32_t, std::uint32_t>> walls_touching;
     for (int g : {G.pack, G.pack_wall})
       {
@@ -411,32 +386,22 @@ namespace demfem::coupling
           else if (grp.is_wall[k] && gap(grp, k) <= p.igap)
             walls_touching.emplace_back(grp.end1[k], grp.end2[k]);
       }
-    const double huge = 1e30; // unbreakable bonds (verification)
+    {
+      const double        huge = 1e30; // unbreakable bonds (verification)
+      typename FJ::Params q;
+      q.Nr     = p.fj_Nr;
+      q.Nal    = p.fj_Nal; // 3D only
+      q.fric   = p.fric;
+      q.fa     = p.fj_fa;
+      q.bonded = true;
+      const dem::Distribution ten{p.breakable ? p.fj_ten : huge, 0};
+      const dem::Distribution coh{p.breakable ? p.fj_coh : huge, 0};
+      G.bond = m.template add_law<FJ>(
+          q, "DEM region (flat joints)",
+          dem::flat_joint_rule<dim>({p.emod, p.krat}, ten, coh, dem::StrengthDraws(p.seed)));
+    }
     for (const auto &pr : pairs)
-      {
-        const double    L  = P.radius[pr.i] + P.radius[pr.j];
-        const long long b  = std::llround(std::log(L) / std::log(1.01));
-        auto            it = bins.find(b);
-        if (it == bins.end())
-          {
-            typename FJ::Params q;
-            q.Nr     = p.fj_Nr;
-            q.Nal    = p.fj_Nal; // 3D only
-            q.rmul   = 1;
-            q.gap0   = 0;
-            q.kn     = p.emod / std::exp(b * std::log(1.01)); // memo Eq. 40
-            q.ks     = q.kn / p.krat;
-            q.fric   = p.fric;
-            q.ten    = p.breakable ? p.fj_ten : huge;
-            q.coh    = p.breakable ? p.fj_coh : huge;
-            q.fa     = p.fj_fa;
-            q.bonded = true;
-            it = bins.emplace(b, m.template add_law<FJ>(q, "DEM region (flat joints)"))
-                     .first;
-            G.bonds.push_back(it->second);
-          }
-        m.install(pr.i, pr.j, it->second);
-      }
+      m.install(pr.i, pr.j, G.bond);
     G.n_bonds = pairs.size();
     for (const auto &[i, f] : walls_touching)
       m.install_wall(i, f, is_slab_facet(f) ? G.slab_wall : G.wall);
@@ -492,8 +457,8 @@ namespace demfem::coupling
     G.porosity = porosity(P, volume);
     if (progress)
       {
-        *progress << "DEM region: " << G.n_bonds << " flat joints in " << G.bonds.size()
-                  << " groups, " << walls_touching.size() << " grains on the ring, "
+        *progress << "DEM region: " << G.n_bonds << " flat joints, "
+                  << walls_touching.size() << " grains on the ring, "
                   << G.n_rattlers << " rattlers removed\n";
         if constexpr (dim == 3)
           *progress << "DEM region: slab 0 < z < " << t << " m, porosity "

@@ -76,7 +76,7 @@ namespace demfem::coupling
   {
     int              pack = -1, pack_wall = -1; ///< packing (frictionless linear)
     int              linear = -1, wall = -1;    ///< new grain-grain / grain-ring contacts
-    std::vector<int> bonds;                     ///< flat-joint groups (binned by L)
+    int              bond = -1;                 ///< the flat-joint group
     std::size_t      n_bonds    = 0;
     std::size_t      n_rattlers = 0; ///< unbonded grains removed
     /// 3D: frictionless law of the slab walls and their wall ids (z = 0, t).

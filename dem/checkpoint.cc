@@ -20,7 +20,9 @@ namespace demfem::dem
   {
     constexpr const char *format_name    = "demfem DEM checkpoint";
     // 2: flat-joint element codes stored as bytes (FlatJointLaw state layout).
-    constexpr int         format_version = 2;
+    // 3: per-contact property blocks ("props" per group, "props_names") and
+    //    the crack type.
+    constexpr int         format_version = 3;
 
     // ----------------------------------------------------------------------
     // Law parameters. Params are stored as an opaque blob (with its size) and
@@ -34,7 +36,8 @@ namespace demfem::dem
     template <int dim>
     struct ParamFields<LinearLaw<dim>>
     {
-      using P = typename LinearLaw<dim>::Params;
+      // The linear block, also inside the contact and parallel bonds.
+      using P = typename LinearLaw<dim>::Props;
       static std::vector<std::pair<std::string, double>> get(const P &p)
       {
         return {
@@ -262,6 +265,12 @@ namespace demfem::dem
             write_rows<double>(c, g, "facet_weights", G.facet_weights);
             write_data<double>(c, g, "state", G.state_data().data(), G.size(),
                                static_cast<std::size_t>(G.stride()));
+            // The property blocks as doubles (their named fields listed for
+            // readers; derived fields follow the named ones).
+            const std::vector<double> props = G.props_data();
+            write_data<double>(c, g, "props", props.data(), G.size(),
+                               static_cast<std::size_t>(G.props_stride()));
+            write_strings(c, g, "props_names", G.property_names());
           }
       }
       // --- cracks
@@ -282,6 +291,7 @@ namespace demfem::dem
         column("id2", [](const Cr &r) { return r.id2; });
         column("element", [](const Cr &r) { return r.element; });
         column("mode", [](const Cr &r) { return r.mode; });
+        column("type", [](const Cr &r) { return static_cast<int>(r.type); });
         column("position", [](const Cr &r) { return r.position; });
         column("normal", [](const Cr &r) { return r.normal; });
         column("size", [](const Cr &r) { return r.size; });
@@ -301,7 +311,7 @@ namespace demfem::dem
       std::vector<std::uint32_t>           end1, end2;
       std::vector<char>                    is_wall;
       std::vector<Vec<dim>>                s_axis, n_prev, xc, force;
-      std::vector<double>                  gap, state;
+      std::vector<double>                  gap, state, props;
       std::vector<ContactForce>            local_force;
       std::vector<RotVec<dim>>             moment;
       std::vector<std::array<double, dim>> facet_weights;
@@ -416,6 +426,11 @@ namespace demfem::dem
           if (D.state.size() != nc * stride)
             c.fail("law state of contact group " + std::to_string(gi) +
                    " has the wrong size");
+          const std::size_t pstride = m.group(gi).props_stride();
+          read_data<double>(c, g, "props", D.props, pstride);
+          if (D.props.size() != nc * pstride)
+            c.fail("property blocks of contact group " + std::to_string(gi) +
+                   " have the wrong size");
           for (std::size_t k = 0; k < nc; ++k)
             if (D.end1[k] >= P.size() ||
                 D.end2[k] >= (D.is_wall[k] ? W.facet.size() : P.size()))
@@ -439,7 +454,7 @@ namespace demfem::dem
       {
         Handle                    g = open_group(c, file, "cracks");
         std::vector<std::int64_t> id1, id2, step;
-        std::vector<int>          element, mode;
+        std::vector<int>          element, mode, type;
         std::vector<Vec<dim>>     position, normal;
         std::vector<double>       size, gap, strength, time, gap_break, contact_gap_break;
         std::vector<Vec<dim>>     offset;
@@ -448,6 +463,7 @@ namespace demfem::dem
         read_rows<std::int64_t>(c, g, "id2", id2, n);
         read_rows<int>(c, g, "element", element, n);
         read_rows<int>(c, g, "mode", mode, n);
+        read_rows<int>(c, g, "type", type, n);
         read_rows<double>(c, g, "position", position, n);
         read_rows<double>(c, g, "normal", normal, n);
         read_rows<double>(c, g, "size", size, n);
@@ -463,6 +479,9 @@ namespace demfem::dem
           {
             Cr &r = cracks[k];
             r.id1 = id1[k], r.id2 = id2[k], r.element = element[k], r.mode = mode[k];
+            if (type[k] < -1 || type[k] >= n_bond_types)
+              c.fail("crack " + std::to_string(k) + " has an unknown type");
+            r.type = static_cast<BondType>(type[k]);
             r.position = position[k], r.normal = normal[k];
             r.size = size[k], r.gap = gap[k], r.strength = strength[k];
             r.step = step[k], r.time = time[k];
@@ -520,6 +539,7 @@ namespace demfem::dem
           G.force = std::move(D.force), G.moment = std::move(D.moment);
           G.facet_weights = std::move(D.facet_weights);
           G.state_data()  = std::move(D.state);
+          G.set_props_data(D.props);
         }
       m.index_         = std::move(index);
       m.cracks         = std::move(cracks);

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace demfem::dem
 {
@@ -21,21 +22,56 @@ namespace demfem::dem
     static constexpr const char *name = "contactbond";
     using Linear                      = LinearLaw<dim>;
 
-    struct Params
+    static constexpr BondType bond_type = BondType::contact_bond;
+
+    /// Per-contact properties: the linear block and the bond strengths.
+    struct Props
     {
-      typename Linear::Params linear;            ///< kn, ks, friction, reference_gap
-      double                  cb_tenf   = 0;     ///< tensile strength [force]
-      double                  cb_shearf = 0;     ///< shear strength [force]
-      bool                    bonded    = false; ///< bond the contact when installed
+      typename Linear::Props linear;        ///< kn, ks, friction, reference_gap
+      double                 cb_tenf   = 0; ///< tensile strength [force]
+      double                 cb_shearf = 0; ///< shear strength [force]
+    };
+
+    struct Params : Props
+    {
+      /// A copy with the group constants derived (what Model::add_law
+      /// stores), for calling the law directly (tests, probes).
+      Params prepared() const
+      {
+        Params c = *this;
+        prepare(c);
+        return c;
+      }
+      bool bonded = false; ///< bond the contact when installed
 
       void validate(const std::string &where) const
       {
         const double inf = HUGE_VAL;
-        linear.validate(where);
-        check_range(where, "cb_tenf", cb_tenf, 0, inf);
-        check_range(where, "cb_shearf", cb_shearf, 0, inf);
+        typename Linear::Params lin;
+        static_cast<typename Linear::Props &>(lin) = this->linear;
+        lin.validate(where);
+        check_range(where, "cb_tenf", this->cb_tenf, 0, inf);
+        check_range(where, "cb_shearf", this->cb_shearf, 0, inf);
       }
     };
+
+    static void prepare(Params &) {}
+    static void derive(const Params &, Props &) {}
+
+    static const std::vector<PropertyField<Props>> &properties()
+    {
+      using P                                          = Props;
+      const double                                 inf = HUGE_VAL;
+      static const std::vector<PropertyField<Props>> f = [inf] {
+        std::vector<PropertyField<Props>> out = lifted_linear_properties<Props>();
+        out.push_back({"cb_tenf", [](const P &q) { return q.cb_tenf; },
+                       [](P &q, double v) { q.cb_tenf = v; }, true, 0, inf});
+        out.push_back({"cb_shearf", [](const P &q) { return q.cb_shearf; },
+                       [](P &q, double v) { q.cb_shearf = v; }, true, 0, inf});
+        return out;
+      }();
+      return f;
+    }
 
     // state: [0, Linear::n_state) the linear block (Fn, Fss, Fst, slip flag,
     // slip energy), then the bond flag (1 bonded, 0 never bonded, -1 broken in
@@ -49,26 +85,34 @@ namespace demfem::dem
 
     static int state_size(const Params &) { return n_state; }
 
-    static void install(const Params &p, const ContactGeometry<dim> &g, double *st)
+    static void install(const Params &p, const Props &q, const ContactGeometry<dim> &g,
+                        double *st)
     {
-      Linear::install(p.linear, g, st + s_lin);
+      Linear::install(linear_group(), q.linear, g, st + s_lin);
       st[s_bond] = p.bonded ? 1 : 0;
     }
 
     static bool bonded(const double *st) { return st[s_bond] > 0; }
 
-    static bool active(const Params &p, const double *st, double gap)
+    /// The linear law has no group-wide parameter (its Params is empty).
+    static const typename Linear::Params &linear_group()
     {
-      return bonded(st) || Linear::active(p.linear, st + s_lin, gap);
+      static const typename Linear::Params none{};
+      return none;
     }
 
-    static bool deletable(const Params &p, const double *st, double gap)
+    static bool active(const Params &, const Props &q, const double *st, double gap)
     {
-      return !bonded(st) && Linear::deletable(p.linear, st + s_lin, gap);
+      return bonded(st) || Linear::active(linear_group(), q.linear, st + s_lin, gap);
     }
 
-    static void update(const Params &p, const ContactStep<dim> &k, double *st,
-                       ContactForce &f, EventSink &events)
+    static bool deletable(const Params &, const Props &q, const double *st, double gap)
+    {
+      return !bonded(st) && Linear::deletable(linear_group(), q.linear, st + s_lin, gap);
+    }
+
+    static void update(const Params &, const Props &p, const ContactStep<dim> &k,
+                       double *st, ContactForce &f, EventSink &events)
     {
       double *lin = st + s_lin;
       if (bonded(st))
@@ -105,23 +149,23 @@ namespace demfem::dem
           // The bond is gone for this whole step: the linear law redoes the
           // step from the shear force at its beginning (no tension, Coulomb).
         }
-      Linear::update(p.linear, k, lin, f, events);
+      Linear::update(linear_group(), p.linear, k, lin, f, events);
     }
 
-    static ContactStiffness stiffness(const Params &p, const ContactGeometry<dim> &g,
-                                      const double *st)
+    static ContactStiffness stiffness(const Params &, const Props &q,
+                                      const ContactGeometry<dim> &g, const double *st)
     {
-      return Linear::stiffness(p.linear, g, st + s_lin);
+      return Linear::stiffness(linear_group(), q.linear, g, st + s_lin);
     }
 
-    static double strain_energy(const Params &p, const double *st)
+    static double strain_energy(const Params &, const Props &q, const double *st)
     {
-      return Linear::strain_energy(p.linear, st + s_lin);
+      return Linear::strain_energy(linear_group(), q.linear, st + s_lin);
     }
 
-    static double slip_energy(const Params &p, const double *st)
+    static double slip_energy(const Params &, const Props &q, const double *st)
     {
-      return Linear::slip_energy(p.linear, st + s_lin);
+      return Linear::slip_energy(linear_group(), q.linear, st + s_lin);
     }
   };
 } // namespace demfem::dem

@@ -2,6 +2,23 @@
 
 namespace demfem::dem
 {
+  const char *bond_type_name(BondType t)
+  {
+    switch (t)
+      {
+        case BondType::contact_bond:
+          return "contact_bond";
+        case BondType::parallel_bond:
+          return "parallel_bond";
+        case BondType::flat_joint:
+          return "flat_joint";
+        case BondType::smooth_joint:
+          return "smooth_joint";
+        default:
+          return "none";
+      }
+  }
+
   template <>
   Vec<2> initial_s_axis<2>(const Vec<2> &)
   {

@@ -1,7 +1,9 @@
 #pragma once
-// Contacts grouped by law instance. Per-contact data common to every law is
-// kept in structure-of-arrays form in ContactGroupBase; the law state lives
-// in ContactGroup<dim, Law> as one block of doubles with a fixed stride. The
+// Contacts grouped by law: one group per law per material (plus the walls),
+// whatever the property distributions. Per-contact data common to every law
+// is kept in structure-of-arrays form in ContactGroupBase; the law's
+// per-contact property block and its state live in ContactGroup<dim, Law>,
+// each at a fixed stride (docs/architecture.md, "The law contract"). The
 // only virtual call is one `compute` per group per step: the contact loop
 // inside is compiled for the concrete law.
 #include "dem/contact_law.h"
@@ -12,7 +14,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,8 +34,27 @@ namespace demfem::dem
   public:
     virtual ~ContactGroupBase() = default;
 
-    virtual const char *law_name() const = 0;
-    virtual int         stride() const   = 0;
+    virtual const char *law_name() const  = 0;
+    virtual int         stride() const    = 0;
+    virtual BondType    bond_type() const = 0;
+
+    // ---- per-contact properties (memo §1.9) --------------------------------
+    /// The law's property keywords (PFC names, e.g. "fj_kn").
+    virtual std::vector<std::string> property_names() const = 0;
+    /// Whether the keyword may be changed while cycling (memo Table 5).
+    virtual bool property_modifiable(const std::string &name) const = 0;
+    /// Property `name` of contact k; InputError for an unknown name.
+    virtual double property(std::size_t k, const std::string &name) const = 0;
+    /// Sets a modifiable property of contact k (derived constants follow);
+    /// InputError naming the keyword for an unknown or non-modifiable name
+    /// or a value outside its range.
+    virtual void set_property(std::size_t k, const std::string &name, double value) = 0;
+    /// Doubles per contact of the property block.
+    virtual int props_stride() const = 0;
+    /// All property blocks (size() * props_stride() doubles), for
+    /// checkpoints, and their restoration.
+    virtual std::vector<double> props_data() const                    = 0;
+    virtual void                set_props_data(const std::vector<double> &d) = 0;
 
     /// Adds a contact between particle i and particle j (or facet j when
     /// `wall`), resolves its plane from the current positions and installs
@@ -112,25 +135,88 @@ namespace demfem::dem
   {
   public:
     using Params = typename Law::Params;
-    explicit ContactGroup(const Params &p)
+    using Props  = typename Law::Props;
+    /// Property rule: completes a new contact's block (which starts as the
+    /// group's defaults, the Props part of Params) from its geometry, e.g.
+    /// the deformability method and strength draws (dem/property_rules.h).
+    /// Called once per installed contact, never per step.
+    using Rule = std::function<void(const ContactGeometry<dim> &, Props &)>;
+
+    /// `p` must have been prepared (Law::prepare; Model::add_law does it).
+    explicit ContactGroup(const Params &p, Rule r = {})
         : params(p)
+        , rule(std::move(r))
         , stride_(Law::state_size(p))
     {
     }
 
     const char *law_name() const override { return Law::name; }
     int         stride() const override { return stride_; }
+    BondType    bond_type() const override { return Law::bond_type; }
+
+    Props       &properties(std::size_t k) { return props_[k]; }
+    const Props &properties(std::size_t k) const { return props_[k]; }
+    /// Installs contact k again from its current property block: for the
+    /// properties fixed before cycling (memo Table 5 note 1: radius
+    /// multiplier, initial gap), which genesis sets after installation.
+    void reinstall(std::size_t k, const Particles<dim> &p, const Walls<dim> &w)
+    {
+      Law::derive(params, props_[k]);
+      Law::install(params, props_[k], this->geometry(k, p, w), this->state(k));
+    }
+
+    std::vector<std::string> property_names() const override
+    {
+      std::vector<std::string> n;
+      for (const auto &f : Law::properties())
+        n.push_back(f.name);
+      return n;
+    }
+    bool property_modifiable(const std::string &name) const override
+    {
+      return field(name).modifiable;
+    }
+    double property(std::size_t k, const std::string &name) const override
+    {
+      return field(name).get(props_.at(k));
+    }
+    void set_property(std::size_t k, const std::string &name, double value) override
+    {
+      const auto &f = field(name);
+      if (!f.modifiable)
+        throw InputError(std::string(Law::name) + " property '" + name +
+                         "' is fixed once the contact is installed (memo Table 5)");
+      check_range(std::string(Law::name) + " contact property", name, value, f.lo, f.hi);
+      f.set(props_.at(k), value);
+      Law::derive(params, props_[k]);
+      this->energy_fresh_ = false;
+    }
+    int props_stride() const override { return props_doubles<Props>(); }
+    std::vector<double> props_data() const override
+    {
+      std::vector<double> d(props_.size() * props_doubles<Props>());
+      if (!d.empty())
+        std::memcpy(d.data(), props_.data(), sizeof(double) * d.size());
+      return d;
+    }
+    void set_props_data(const std::vector<double> &d) override
+    {
+      props_.resize(d.size() / props_doubles<Props>());
+      if (!d.empty())
+        std::memcpy(static_cast<void *>(props_.data()), d.data(), sizeof(double) * d.size());
+      this->energy_fresh_ = false;
+    }
 
     void compute(const Particles<dim> &p, const Walls<dim> &w, double dt,
                  std::vector<EventSink> &sinks) override;
 
     bool active(std::size_t k) const override
     {
-      return Law::active(params, this->state(k), this->gap[k]);
+      return Law::active(params, props_[k], this->state(k), this->gap[k]);
     }
     bool deletable(std::size_t k) const override
     {
-      return Law::deletable(params, this->state(k), this->gap[k]);
+      return Law::deletable(params, props_[k], this->state(k), this->gap[k]);
     }
     ContactStiffness stiffness(std::size_t k, const Particles<dim> &p) const override
     {
@@ -138,11 +224,11 @@ namespace demfem::dem
       g.R1        = p.radius[this->end1[k]];
       g.R2        = this->is_wall[k] ? 0.0 : p.radius[this->end2[k]];
       g.ball_wall = this->is_wall[k];
-      return Law::stiffness(params, g, this->state(k));
+      return Law::stiffness(params, props_[k], g, this->state(k));
     }
     double strain_energy(std::size_t k) const override
     {
-      return Law::strain_energy(params, this->state(k));
+      return Law::strain_energy(params, props_[k], this->state(k));
     }
     void accumulate_stiffness(const Particles<dim> &p, std::vector<double> &kt,
                               std::vector<double> &kr) const override
@@ -170,28 +256,57 @@ namespace demfem::dem
       const bool fresh = this->energy_fresh_ && this->energy_.size() == this->size();
       double     e     = 0; // summed in contact order: independent of the threads
       for (std::size_t k = 0; k < this->size(); ++k)
-        e += fresh ? this->energy_[k] : Law::strain_energy(params, this->state(k));
+        e += fresh ? this->energy_[k]
+                   : Law::strain_energy(params, props_[k], this->state(k));
       return e;
     }
     double slip_energy(std::size_t k) const override
     {
-      return Law::slip_energy(params, this->state(k));
+      return Law::slip_energy(params, props_[k], this->state(k));
+    }
+    void remove(std::size_t k) override
+    {
+      if (k + 1 != props_.size())
+        props_[k] = props_.back();
+      props_.pop_back();
+      ContactGroupBase<dim>::remove(k);
     }
 
     const Params params;
+    const Rule   rule;
 
   protected:
+    /// The new contact's block: the group's defaults, then the rule, then
+    /// the derived constants (memo §1.10); then the law's installation.
     void install(std::size_t k, const ContactGeometry<dim> &g) override
     {
-      Law::install(params, g, this->state(k));
+      if (props_.size() <= k)
+        props_.resize(k + 1);
+      props_[k] = static_cast<const Props &>(params);
+      if (rule)
+        rule(g, props_[k]);
+      Law::derive(params, props_[k]);
+      Law::install(params, props_[k], g, this->state(k));
     }
 
   private:
     /// Contact plane and relative increments of contact k for this step
     /// (memo §1.3, Eq. 2-11); updates the tracked s axis and n_prev.
-    void      kinematics(std::size_t k, const Particles<dim> &p, const Walls<dim> &w,
-                         double dt, ContactStep<dim> &st);
-    const int stride_;
+    void kinematics(std::size_t k, const Particles<dim> &p, const Walls<dim> &w, double dt,
+                    ContactStep<dim> &st);
+    const PropertyField<Props> &field(const std::string &name) const
+    {
+      for (const auto &f : Law::properties())
+        if (name == f.name)
+          return f;
+      std::string allowed;
+      for (const auto &f : Law::properties())
+        allowed += std::string(" ") + f.name;
+      throw InputError(std::string(Law::name) + ": unknown contact property '" + name +
+                       "'; allowed:" + allowed);
+    }
+    std::vector<Props> props_; ///< per-contact property blocks
+    const int          stride_;
   };
 
   //------------------------------------------------------------------------
@@ -326,7 +441,8 @@ namespace demfem::dem
     this->energy_fresh_           = false;
     if (want_energy)
       this->energy_.resize(nc);
-    double *const state_block = this->state_.data();
+    double *const      state_block = this->state_.data();
+    const Props *const props_block = props_.data();
     const int     n_state     = stride_;
     // Contacts go in blocks: first the kinematics of the whole block, whose
     // iterations are independent so the out-of-order core overlaps their
@@ -348,9 +464,10 @@ namespace demfem::dem
             double *const           state = state_block + k * n_state;
             sink.contact                  = k;
             ContactForce &f               = this->local_force[k];
-            Law::update(params, st, state, f, sink);
+            const Props &q = props_block[k];
+            Law::update(params, q, st, state, f, sink);
             if (want_energy)
-              this->energy_[k] = Law::strain_energy(params, state);
+              this->energy_[k] = Law::strain_energy(params, q, state);
             // Global force and moment on piece 2 (memo Eq. 58).
             this->force[k] = -f.Fn * st.n + f.Fst * st.t;
             if constexpr (dim == 3)

@@ -45,20 +45,42 @@ namespace demfem::dem
   {
     static constexpr const char *name = "flatjoint";
 
-    /// Memo Table 5 (names of the memo keywords without the "fj_" prefix).
-    struct Params
+    static constexpr BondType bond_type = BondType::flat_joint;
+
+    /// Per-contact properties (memo Table 5; names of the memo keywords
+    /// without the "fj_" prefix).
+    struct Props
     {
+      double rmul   = 1.0; ///< radius multiplier lambda (memo Eq. 30)
+      double gap0   = 0.0; ///< initial surface gap g_o
+      double kn     = 0.0; ///< normal stiffness [stress/disp]
+      double ks     = 0.0; ///< shear stiffness [stress/disp]
+      double fric   = 0.0; ///< friction coefficient mu
+      double ten    = 0.0; ///< tensile strength sigma_c [stress]
+      double coh    = 0.0; ///< cohesion c [stress]
+      double fa     = 0.0; ///< friction angle phi [degrees]
+      double tan_fa = 0.0; ///< tan(phi), derived
+      /// Initial microstructural type T (memo Table 4): 1 bonded, 2 gapped,
+      /// 3 slit, 4 other; 0 until the contact is installed.
+      double mtype = 0;
+    };
+
+    /// Group-wide: the element grid and the install flag.
+    struct Params : Props
+    {
+      /// A copy with the group constants derived (what Model::add_law
+      /// stores), for calling the law directly (tests, probes).
+      Params prepared() const
+      {
+        Params c = *this;
+        prepare(c);
+        return c;
+      }
       int    Nr     = 2;     ///< elements in radial direction (2D: elements)
       int    Nal    = 4;     ///< elements in circumferential direction (3D only)
-      double rmul   = 1.0;   ///< radius multiplier lambda (memo Eq. 30)
-      double gap0   = 0.0;   ///< initial surface gap g_o
-      double kn     = 0.0;   ///< normal stiffness [stress/disp]
-      double ks     = 0.0;   ///< shear stiffness [stress/disp]
-      double fric   = 0.0;   ///< friction coefficient mu
-      double ten    = 0.0;   ///< tensile strength sigma_c [stress]
-      double coh    = 0.0;   ///< cohesion c [stress]
-      double fa     = 0.0;   ///< friction angle phi [degrees]
       bool   bonded = false; ///< install with all elements bonded (if gap0 = 0)
+      /// 3D unit-radius element geometry of (Nr, Nal), set by prepare().
+      const double *unit_table = nullptr;
 
       void validate(const std::string &where) const
       {
@@ -66,16 +88,59 @@ namespace demfem::dem
         check_range(where, "Nr", Nr, 1, inf);
         if (dim == 3)
           check_range(where, "Nal", Nal, 3, inf);
-        check_range(where, "rmul", rmul, 0, inf, true, false);
-        check_range(where, "gap0", gap0, 0, inf);
-        check_range(where, "kn", kn, 0, inf);
-        check_range(where, "ks", ks, 0, inf);
-        check_range(where, "fric", fric, 0, inf);
-        check_range(where, "ten", ten, 0, inf);
-        check_range(where, "coh", coh, 0, inf);
-        check_range(where, "fa", fa, 0, 90, false, true);
+        check_range(where, "rmul", this->rmul, 0, inf, true, false);
+        check_range(where, "gap0", this->gap0, 0, inf);
+        check_range(where, "kn", this->kn, 0, inf);
+        check_range(where, "ks", this->ks, 0, inf);
+        check_range(where, "fric", this->fric, 0, inf);
+        check_range(where, "ten", this->ten, 0, inf);
+        check_range(where, "coh", this->coh, 0, inf);
+        check_range(where, "fa", this->fa, 0, 90, false, true);
       }
     };
+
+    /// The group's constants: the 3D element table of (Nr, Nal).
+    static void prepare(Params &p)
+    {
+      p.unit_table = dim == 3 ? build_unit_geometry(p.Nr, p.Nal) : nullptr;
+      derive(p, p);
+    }
+    /// tan(phi), and the initial microstructural type from the install flag
+    /// and g_o (memo Table 4) unless genesis designated it.
+    static void derive(const Params &p, Props &q)
+    {
+      q.tan_fa = std::tan(q.fa * M_PI / 180.0);
+      if (q.mtype == 0)
+        q.mtype = (p.bonded && q.gap0 == 0) ? 1 : q.gap0 > 0 ? 2 : 3;
+    }
+
+    /// Memo Table 5: kn, ks, fric, ten, coh, fa modifiable; rmul, gap0 set
+    /// before cycling; mtype read only.
+    static const std::vector<PropertyField<Props>> &properties()
+    {
+      using P                                        = Props;
+      const double                                   inf = HUGE_VAL;
+      static const std::vector<PropertyField<Props>> f   = {
+          {"fj_kn", [](const P &q) { return q.kn; }, [](P &q, double v) { q.kn = v; }, true,
+           0, inf},
+          {"fj_ks", [](const P &q) { return q.ks; }, [](P &q, double v) { q.ks = v; }, true,
+           0, inf},
+          {"fj_fric", [](const P &q) { return q.fric; }, [](P &q, double v) { q.fric = v; },
+           true, 0, inf},
+          {"fj_ten", [](const P &q) { return q.ten; }, [](P &q, double v) { q.ten = v; },
+           true, 0, inf},
+          {"fj_coh", [](const P &q) { return q.coh; }, [](P &q, double v) { q.coh = v; },
+           true, 0, inf},
+          {"fj_fa", [](const P &q) { return q.fa; }, [](P &q, double v) { q.fa = v; }, true,
+           0, 89.999999},
+          {"fj_rmul", [](const P &q) { return q.rmul; }, [](P &q, double v) { q.rmul = v; },
+           false, 0, inf},
+          {"fj_gap0", [](const P &q) { return q.gap0; }, [](P &q, double v) { q.gap0 = v; },
+           false, 0, inf},
+          {"fj_mtype", [](const P &q) { return q.mtype; },
+           [](P &q, double v) { q.mtype = v; }, false, 0, 4}};
+      return f;
+    }
 
     /// Result of the deformability method.
     struct Deformability
@@ -170,21 +235,12 @@ namespace demfem::dem
     /// 3D unit-radius element geometry per (Nr, Nal) (memo Eq. 16-17 with
     /// R = 1): four arrays over the elements, A^, r^_s, r^_t and 1/A^ (so that
     /// the element loops vectorise and the strain energy needs no division).
-    /// The table is shared by
-    /// all threads (guarded by a mutex, never freed, entries never move); a
-    /// thread-local copy of the last lookup keeps the hot path free of locks
-    /// and allocation.
-    static const double *unit_geometry(int Nr, int Nal)
+    /// A group looks its table up once (prepare); Params made by hand look it
+    /// up here. The table is shared by all groups (guarded by a mutex, never
+    /// freed, entries never move).
+    static const double *unit_geometry(const Params &p)
     {
-      struct Last
-      {
-        int           Nr = -1, Nal = -1;
-        const double *g = nullptr;
-      };
-      thread_local Last last;
-      if (last.Nr != Nr || last.Nal != Nal)
-        last = {Nr, Nal, build_unit_geometry(Nr, Nal)};
-      return last.g;
+      return p.unit_table ? p.unit_table : build_unit_geometry(p.Nr, p.Nal);
     }
     static const double *build_unit_geometry(int Nr, int Nal)
     {
@@ -235,11 +291,11 @@ namespace demfem::dem
     }
 
     /// 3D element normal force (memo Eq. 32, 50) for bond state B.
-    static double normal_force_3d(const Params &p, const double *st, double A, double rs,
+    static double normal_force_3d(const Props &q, const double *st, double A, double rs,
                                   double rt, int B)
     {
       const double g = interface_gap(st, rs, rt);
-      return (B != 3 && g >= 0) ? 0.0 : p.kn * g * A;
+      return (B != 3 && g >= 0) ? 0.0 : q.kn * g * A;
     }
 
     /// Element area and centroid (r_s, r_t) for radius R: memo Eq. 13 (2D),
@@ -247,7 +303,7 @@ namespace demfem::dem
     static void element_geometry(const Params &p, double R, int e, double &A, double &rs,
                                  double &rt)
     {
-      scaled_geometry(p, R, dim == 3 ? unit_geometry(p.Nr, p.Nal) : nullptr, e, A, rs,
+      scaled_geometry(p, R, dim == 3 ? unit_geometry(p) : nullptr, e, A, rs,
                       rt);
     }
 
@@ -306,8 +362,9 @@ namespace demfem::dem
 
     /// Element normal force and bending moment for an element centred at rho
     /// (2D, exact, Eq. 44-49) or at (rs, rt) with area A (3D, Eq. 50: Mb = 0).
-    static void normal_and_bending(const Params &p, const double *st, double A, double rs,
-                                   double rt, bool bonded, double &Fn, double &Mb)
+    static void normal_and_bending(const Params &p, const Props &q, const double *st,
+                                   double A, double rs, double rt, bool bonded, double &Fn,
+                                   double &Mb)
     {
       if (dim == 2)
         {
@@ -315,12 +372,12 @@ namespace demfem::dem
           // end a = larger rho (see the header comment)
           const double ga = interface_gap(st, 0, rt + rbar);
           const double gb = interface_gap(st, 0, rt - rbar);
-          integrate_2d(p.kn, rbar, ga, gb, bonded, Fn, Mb);
+          integrate_2d(q.kn, rbar, ga, gb, bonded, Fn, Mb);
         }
       else
         {
           const double g = interface_gap(st, rs, rt);
-          Fn             = (!bonded && g >= 0) ? 0.0 : p.kn * g * A;
+          Fn             = (!bonded && g >= 0) ? 0.0 : q.kn * g * A;
           Mb             = 0.0;
         }
     }
@@ -333,19 +390,20 @@ namespace demfem::dem
     }
 
     // ---- contract -----------------------------------------------------------
-    static void install(const Params &p, const ContactGeometry<dim> &g, double *st)
+    static void install(const Params &p, const Props &q, const ContactGeometry<dim> &g,
+                        double *st)
     {
       for (int i = 0, n = state_size(p); i < n; ++i)
         st[i] = 0;                                   // memo Eq. 29, 31
-      st[h_R]             = p.rmul * g.min_radius(); // memo Eq. 30
-      st[h_gs]            = p.gap0;                  // memo Eq. 31
-      const bool bond_all = p.bonded && p.gap0 == 0; // Table 5: g_o > 0 => B = 0
+      st[h_R]             = q.rmul * g.min_radius(); // memo Eq. 30
+      st[h_gs]            = q.gap0;                  // memo Eq. 31
+      const bool bond_all = p.bonded && q.gap0 == 0; // Table 5: g_o > 0 => B = 0
       for (int e = 0; e < element_count(p); ++e)
         code_array(st)[e] = make_code(bond_all ? 3 : 0, false);
     }
 
-    static void update(const Params &p, const ContactStep<dim> &k, double *st,
-                       ContactForce &f, EventSink &events)
+    static void update(const Params &p, const Props &q, const ContactStep<dim> &k,
+                       double *st, ContactForce &f, EventSink &events)
     {
       // Gap field at the end of the previous step (g_0 of memo Eq. 33).
       const double gs0 = st[h_gs], tbs0 = st[h_tbs], tbt0 = dim == 3 ? st[h_tbt] : 0.0;
@@ -372,14 +430,14 @@ namespace demfem::dem
       }
 
       if constexpr (dim == 3)
-        if (update_bonded_3d(p, k, st, f))
+        if (update_bonded_3d(p, q, k, st, f))
           return;
 
       // Per-contact invariants hoisted out of the element loop.
       const double   R   = st[h_R];
       const double   gs1 = st[h_gs], tbs1 = st[h_tbs], tbt1 = dim == 3 ? st[h_tbt] : 0.0;
-      const double  *ug      = dim == 3 ? unit_geometry(p.Nr, p.Nal) : nullptr;
-      const double   tan_phi = tan_deg(p.fa);
+      const double  *ug      = dim == 3 ? unit_geometry(p) : nullptr;
+      const double   tan_phi = q.tan_fa;
       const int      ne      = element_count(p);
       unsigned char *codes   = code_array(st);
       double        *fss_a   = field(p, st, f_fss);
@@ -420,19 +478,19 @@ namespace demfem::dem
           // compared as forces, A > 0).
           double Fn, Mb = 0;
           if (dim == 3)
-            Fn = (!bonded && g1 >= 0) ? 0.0 : p.kn * g1 * A; // normal_force_3d
+            Fn = (!bonded && g1 >= 0) ? 0.0 : q.kn * g1 * A; // normal_force_3d
           else
-            normal_and_bending(p, st, A, rs, rt, bonded, Fn, Mb);
+            normal_and_bending(p, q, st, A, rs, rt, bonded, Fn, Mb);
           double Fss = fss_a[e], Fst = fst_a[e];
           bool   do_shear = true, tension_break = false;
-          if (bonded && Fn > p.ten * A)
+          if (bonded && Fn > q.ten * A)
             {
               B      = 1;
               bonded = false;
               Fn = Fss = Fst = 0;
               do_shear       = false;
               tension_break  = true;
-              break_event(0, p.ten);
+              break_event(0, q.ten);
             }
           else if (!bonded && Fn >= 0)
             {
@@ -449,13 +507,13 @@ namespace demfem::dem
               const double alpha = (!bonded && g0 > 0 && g1 < 0) ? g1 / (g1 - g0) : 1.0;
               const double ds    = alpha * (d_ss - d_tw * rt);
               const double dtt   = alpha * (k.d_st + d_tw * rs);
-              const double ksA   = p.ks * A;
+              const double ksA   = q.ks * A;
               Fss -= ksA * ds;
               Fst -= ksA * dtt;
               const double F2 = Fss * Fss + Fst * Fst;
               if (!bonded)
                 {
-                  const double Tc = -p.fric * Fn; // >= 0: Fn < 0 here
+                  const double Tc = -q.fric * Fn; // >= 0: Fn < 0 here
                   if (F2 > Tc * Tc)
                     {
                       const double scale = Tc / std::sqrt(F2);
@@ -468,7 +526,7 @@ namespace demfem::dem
                 }
               else
                 {
-                  const double Tc = p.coh * A - Fn * tan_phi; // tau_c A
+                  const double Tc = q.coh * A - Fn * tan_phi; // tau_c A
                   if (Tc < 0 || F2 > Tc * Tc)
                     {
                       B      = 2;
@@ -476,9 +534,9 @@ namespace demfem::dem
                       Fss = Fst = 0;
                       // re-evaluate Fn as in step 1, now unbonded
                       if (dim == 3)
-                        Fn = g1 >= 0 ? 0.0 : p.kn * g1 * A;
+                        Fn = g1 >= 0 ? 0.0 : q.kn * g1 * A;
                       else
-                        normal_and_bending(p, st, A, rs, rt, false, Fn, Mb);
+                        normal_and_bending(p, q, st, A, rs, rt, false, Fn, Mb);
                       break_event(1, Tc / A);
                     }
                 }
@@ -503,7 +561,7 @@ namespace demfem::dem
           if (dim == 2 && tension_break)
             {
               double fn_dummy;
-              normal_and_bending(p, st, A, rs, rt, false, fn_dummy, Mb);
+              normal_and_bending(p, q, st, A, rs, rt, false, fn_dummy, Mb);
             }
 
           const unsigned char new_code = make_code(B, slip);
@@ -552,8 +610,8 @@ namespace demfem::dem
     /// Returns false, having written nothing, if an element is not bonded or
     /// would break this step (the general loop then does the contact, with
     /// its events).
-    static bool update_bonded_3d(const Params &p, const ContactStep<dim> &k, double *st,
-                                 ContactForce &f)
+    static bool update_bonded_3d(const Params &p, const Props &q, const ContactStep<dim> &k,
+                                 double *st, ContactForce &f)
     {
       // Two elements per instruction (SSE2, part of x86-64; the GCC/Clang
       // vector extension lowers to scalar code elsewhere). Element-wise IEEE
@@ -585,15 +643,15 @@ namespace demfem::dem
             return false;
         }
 
-      const double *ug = unit_geometry(p.Nr, p.Nal);
+      const double *ug = unit_geometry(p);
       const double *uA = ug, *urs = ug + ne, *urt = ug + 2 * ne;
       double       *fss_a = field(p, st, f_fss), *fst_a = field(p, st, f_fst);
       const v2d     R = splat(st[h_R]), RR = splat(st[h_R] * st[h_R]);
       const v2d gs1 = splat(st[h_gs]), tbs1 = splat(st[h_tbs]), tbt1 = splat(st[h_tbt]);
       const v2d d_ss = splat(k.d_ss), d_st = splat(k.d_st), d_tw = splat(k.d_twist);
-      const v2d kn = splat(p.kn), ks = splat(p.ks), ten = splat(p.ten),
-                coh     = splat(p.coh);
-      const v2d tan_phi = splat(tan_deg(p.fa)), zero = splat(0.0);
+      const v2d kn = splat(q.kn), ks = splat(q.ks), ten = splat(q.ten),
+                coh     = splat(q.coh);
+      const v2d tan_phi = splat(q.tan_fa), zero = splat(0.0);
       double    Fss[max_elements], Fst[max_elements];
       v2l       broken = {0, 0};
       // Resultant (Eq. 23-24): lane 0 sums the even elements, lane 1 the odd
@@ -628,22 +686,9 @@ namespace demfem::dem
       return true;
     }
 
-    /// tan(phi) for phi in degrees; the last value is cached per thread so
-    /// the per-contact update does not call std::tan.
-    static double tan_deg(double fa)
-    {
-      thread_local double last_fa = 0, last_tan = 0; // tan(0) = 0
-      if (fa != last_fa)
-        {
-          last_tan = std::tan(fa * M_PI / 180.0);
-          last_fa  = fa;
-        }
-      return last_tan;
-    }
-
     /// Memo §1.6: active if any element is bonded or has a negative gap
     /// (2D: anywhere over the element, as the stress field of Eq. 28).
-    static bool active(const Params &p, const double *st, double /*gap*/)
+    static bool active(const Params &p, const Props &, const double *st, double /*gap*/)
     {
       for (int e = 0; e < element_count(p); ++e)
         {
@@ -666,7 +711,7 @@ namespace demfem::dem
 
     /// Memo §1.6: no bond left and the notional-surface centres further apart
     /// than the flat-joint diameter.
-    static bool deletable(const Params &p, const double *st, double /*gap*/)
+    static bool deletable(const Params &p, const Props &, const double *st, double /*gap*/)
     {
       if (bonded_count(p, st) > 0)
         return false;
@@ -676,23 +721,23 @@ namespace demfem::dem
     }
 
     /// Memo Eq. 41-42 for the whole cross section.
-    static ContactStiffness stiffness(const Params &p, const ContactGeometry<dim> &g,
-                                      const double *st)
+    static ContactStiffness stiffness(const Params &, const Props &q,
+                                      const ContactGeometry<dim> &g, const double *st)
     {
-      const double R = st ? st[h_R] : p.rmul * g.min_radius();
+      const double R = st ? st[h_R] : q.rmul * g.min_radius();
       const double A = dim == 2 ? 2 * R : M_PI * R * R;
       const double I = dim == 2 ? 2.0 / 3.0 * R * R * R : 0.25 * M_PI * R * R * R * R;
       const double J = dim == 2 ? 0.0 : 0.5 * M_PI * R * R * R * R;
-      return {p.kn * A, p.ks * A, p.kn * I, p.ks * J};
+      return {q.kn * A, q.ks * A, q.kn * I, q.ks * J};
     }
 
     /// Memo Eq. 36-37 (element twisting moment is zero, memo footnote 5;
     /// 3D bending moment zero, Eq. 50).
-    static double strain_energy(const Params &p, const double *st)
+    static double strain_energy(const Params &p, const Props &q, const double *st)
     {
       if constexpr (dim == 3)
-        return strain_energy_3d(p, st);
-      const double        *ug   = dim == 3 ? unit_geometry(p.Nr, p.Nal) : nullptr;
+        return strain_energy_3d(p, q, st);
+      const double        *ug   = dim == 3 ? unit_geometry(p) : nullptr;
       const double         R    = st[h_R];
       const double         rbar = R / p.Nr;
       const double         I2d  = 2.0 / 3.0 * rbar * rbar * rbar;
@@ -703,20 +748,20 @@ namespace demfem::dem
         {
           double A, rs, rt;
           scaled_geometry(p, R, ug, e, A, rs, rt);
-          if (p.kn > 0)
+          if (q.kn > 0)
             {
               const double Fn =
                   dim == 2 ? field(p, st, f_fn)[e]
-                           : normal_force_3d(p, st, A, rs, rt, code_bond(code[e]));
-              E += 0.5 * Fn * Fn / (p.kn * A);
+                           : normal_force_3d(q, st, A, rs, rt, code_bond(code[e]));
+              E += 0.5 * Fn * Fn / (q.kn * A);
               if (dim == 2)
                 {
                   const double Mb = field(p, st, f_mb)[e];
-                  E += 0.5 * Mb * Mb / (p.kn * I2d);
+                  E += 0.5 * Mb * Mb / (q.kn * I2d);
                 }
             }
-          if (p.ks > 0)
-            E += 0.5 * (fss[e] * fss[e] + fst[e] * fst[e]) / (p.ks * A);
+          if (q.ks > 0)
+            E += 0.5 * (fss[e] * fss[e] + fst[e] * fst[e]) / (q.ks * A);
         }
       return E;
     }
@@ -726,16 +771,16 @@ namespace demfem::dem
     /// (Eq. 32, 50) and 0 where it does not; the shear part uses the unit
     /// table's 1/A^ (evaluated on the energy-check steps inside the force
     /// pass, so its cost counts).
-    static double strain_energy_3d(const Params &p, const double *st)
+    static double strain_energy_3d(const Params &p, const Props &q, const double *st)
     {
       const int     ne = element_count(p);
-      const double *ug = unit_geometry(p.Nr, p.Nal);
+      const double *ug = unit_geometry(p);
       const double *uA = ug, *urs = ug + ne, *urt = ug + 2 * ne, *uinvA = ug + 3 * ne;
       const double  R = st[h_R], gs = st[h_gs], tbs = st[h_tbs], tbt = st[h_tbt];
       const unsigned char *code = code_array(st);
       const double        *fss = field(p, st, f_fss), *fst = field(p, st, f_fst);
-      const double         half_kn_R2 = 0.5 * p.kn * R * R;
-      const double         half_R2_ks = p.ks > 0 ? 0.5 / (p.ks * R * R) : 0.0;
+      const double         half_kn_R2 = 0.5 * q.kn * R * R;
+      const double         half_R2_ks = q.ks > 0 ? 0.5 / (q.ks * R * R) : 0.0;
       double               E          = 0;
       for (int e = 0; e < ne; ++e)
         {
@@ -748,7 +793,7 @@ namespace demfem::dem
     }
 
     /// Memo Eq. 38.
-    static double slip_energy(const Params &p, const double *st)
+    static double slip_energy(const Params &p, const Props &, const double *st)
     {
       double E = 0;
       for (int e = 0; e < element_count(p); ++e)
@@ -842,14 +887,15 @@ namespace demfem::dem
     /// Element force {Fn, Fss, Fst} and bending moment (2D: about +z; 3D: 0,
     /// memo Eq. 50) of the last update. 3D Fn is evaluated from the gap and
     /// bond state exactly as the update does (see the state layout).
-    static std::array<double, 4> element_force(const Params &p, const double *st, int e)
+    static std::array<double, 4> element_force(const Params &p, const Props &q,
+                                               const double *st, int e)
     {
       const double Fss = field(p, st, f_fss)[e], Fst = field(p, st, f_fst)[e];
       if (dim == 2)
         return {field(p, st, f_fn)[e], Fss, Fst, field(p, st, f_mb)[e]};
       double A, rs, rt;
       element_geometry(p, st[h_R], e, A, rs, rt);
-      return {normal_force_3d(p, st, A, rs, rt, bond_state(p, st, e)), Fss, Fst, 0.0};
+      return {normal_force_3d(q, st, A, rs, rt, bond_state(p, st, e)), Fss, Fst, 0.0};
     }
     static double element_slip_energy(const Params &p, const double *st, int e)
     {

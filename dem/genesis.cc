@@ -1,6 +1,7 @@
 // Material genesis (fistPkg §4.2): packing phase (§4.2.1, Table 7) and
 // finalization phase (§4.2.2) with the flat-jointed microstructure of §2.6.2.
 #include "dem/genesis.h"
+#include "dem/property_rules.h"
 
 #include "dem/contact_bond_law.h"
 #include "dem/flat_joint_law.h"
@@ -341,22 +342,14 @@ namespace demfem::dem
         P.add(x, r, rho);
       }
 
-    // Laws: packing group (linear, zero friction), grain-wall group.
-    double rbar = 0;
-    for (double r : radii)
-      rbar += r;
-    rbar /= radii.size();
-    ContactGeometry<dim> gbb, gbw;
-    gbb.R1 = gbb.R2 = rbar;
-    gbw.R1          = rbar;
-    gbw.ball_wall   = true;
-    auto      lin   = LinearLaw<dim>::deformability(p.lnm_emod, p.lnm_krat, 0.0, gbb);
-    const int pack =
-        m.template add_law<LinearLaw<dim>>(lin, where + " (packing linear group)");
-    auto wall = LinearLaw<dim>::deformability(vp.emod, 0.0, 0.0, gbw);
-    wall.ks   = 0; // frictionless walls (§4.1)
-    s.wall_group =
-        m.template add_law<LinearLaw<dim>>(wall, where + " (grain-wall group)");
+    // Laws: packing group (linear, zero friction), grain-wall group, both
+    // with the deformability method per contact (dem/property_rules.h).
+    const int pack = m.template add_law<LinearLaw<dim>>(
+        {}, where + " (packing linear group)",
+        linear_rule<dim>({p.lnm_emod, p.lnm_krat}, 0.0));
+    // Frictionless walls without shear stiffness (§4.1): kappa* = 0.
+    s.wall_group = m.template add_law<LinearLaw<dim>>(
+        {}, where + " (grain-wall group)", linear_rule<dim>({vp.emod, 0.0}, 0.0));
     m.set_default_law(pack, s.wall_group);
     m.local_damping = p.local_damping;
     m.set_timestep(0);
@@ -415,8 +408,8 @@ namespace demfem::dem
     else
       {
         const int conf = m.template add_law<LinearLaw<dim>>(
-            LinearLaw<dim>::deformability(p.lnm_emod, p.lnm_krat, p.fric_CA, gbb),
-            where + " (confinement linear group)");
+            {}, where + " (confinement linear group)",
+            linear_rule<dim>({p.lnm_emod, p.lnm_krat}, p.fric_CA));
         move_contacts(m, pack, conf, false);
         m.set_default_law(conf, s.wall_group);
         // Walls first brought to the relaxed cloud (no travel through empty
@@ -449,11 +442,20 @@ namespace demfem::dem
         sp.isotropic = true;
         // Automatic velocity limit: a wall hitting a grain at v loads it with
         // v sqrt(k m); keep that below 10 x the grain's share of Pm.
-        const double Ag = dim == 2 ? 2 * rbar : M_PI * rbar * rbar;
+        // Grain-wall stiffness of a grain of the mean drawn radius.
+        double rbar = 0;
+        for (double r : radii)
+          rbar += r;
+        rbar /= radii.size();
+        ContactGeometry<dim> gbw;
+        gbw.R1                = rbar;
+        gbw.ball_wall         = true;
+        const double wall_kn  = Deformability{vp.emod, 0.0}.kn_force(gbw);
+        const double Ag       = dim == 2 ? 2 * rbar : M_PI * rbar * rbar;
         sp.v_limit =
             p.v_limit > 0
                 ? p.v_limit
-                : 10 * p.Pm * Ag / std::sqrt(wall.kn * rho * ball_volume<dim>(rbar));
+                : 10 * p.Pm * Ag / std::sqrt(wall_kn * rho * ball_volume<dim>(rbar));
         Servo<dim> servo(s.vessel, sp);
         for (int a = 0; a < dim; ++a)
           servo.set_pressure(a, p.Pm);

@@ -18,14 +18,12 @@ namespace demfem::dem
     MaterialParams material;
     /// Law groups: linear group of the material (packing, non-bonded and new
     /// grain-grain contacts); grain-wall group (frictionless linear);
-    /// bonded-material groups (contact bond / parallel bond / flat joint).
-    /// Per-contact deformability (kn = f(R1, R2)) and strength draws need one
-    /// immutable Params per value, so bonded contacts are spread over groups
-    /// keyed by quantized L = R1 + R2 and strengths; bond_group is the first.
-    int              linear_group = -1;
-    int              wall_group   = -1;
-    int              bond_group   = -1;
-    std::vector<int> bond_groups;
+    /// the bonded-material group (contact bond / parallel bond / flat
+    /// joint): one group per law, each contact with its own property block
+    /// set by the material's property rules (dem/property_rules.h).
+    int linear_group = -1;
+    int wall_group   = -1;
+    int bond_group   = -1;
 
     // Packing record.
     double       packing_pressure = 0; ///< wall-based mean pressure at the end of packing

@@ -288,16 +288,27 @@ namespace demfem::dem
         const auto *wg = dynamic_cast<const Group *>(&m_.group(s_.wall_group));
         if (!wg)
           throw InputError("lab test: platen friction needs a linear grain-wall law");
-        typename LinearLaw<dim>::Params lp = wg->params;
-        lp.friction                        = p_.platen_friction;
         // The grain-wall group is frictionless with ks = 0 (§4.1): without a
         // shear stiffness no shear force ever builds and the friction
         // coefficient does nothing (a coarse 3D disk rotated between the
-        // platens and carried no load). Shear stiffness of the material's
-        // linear group: ks = kn / kappa*.
-        const double krat = s_.material.lnm_krat > 0 ? s_.material.lnm_krat : 1.0;
-        lp.ks             = lp.kn / krat;
-        const int g       = m_.template add_law<LinearLaw<dim>>(lp, "platen friction");
+        // platens and carried no load). The platen contacts keep the
+        // grain-wall kn of each contact, with the shear stiffness of the
+        // material's linear group, ks = kn / kappa*, and the platen friction.
+        const double krat     = s_.material.lnm_krat > 0 ? s_.material.lnm_krat : 1.0;
+        const double friction = p_.platen_friction;
+        typename Group::Rule wall_rule = wg->rule;
+        typename LinearLaw<dim>::Params lp = wg->params;
+        lp.friction                        = friction;
+        lp.ks                              = lp.kn / krat;
+        const int g = m_.template add_law<LinearLaw<dim>>(
+            lp, "platen friction",
+            [wall_rule, krat, friction](const ContactGeometry<dim>      &geo,
+                                        typename LinearLaw<dim>::Props &q) {
+              if (wall_rule)
+                wall_rule(geo, q);
+              q.ks       = q.kn / krat;
+              q.friction = friction;
+            });
         std::vector<ContactRef> walls;
         for (int k = 0; k < m_.n_groups(); ++k)
           for (std::size_t c = 0; c < m_.group(k).size(); ++c)

@@ -47,10 +47,10 @@ namespace demfem::dem
 
     int as_int(double v) { return static_cast<int>(std::lround(v)); }
 
-    template <int dim>
-    std::vector<Key<typename LinearLaw<dim>::Params>> keys_linear()
+    /// Keys of the linear block; P is LinearLaw's Params or Props.
+    template <int dim, class P = typename LinearLaw<dim>::Params>
+    std::vector<Key<P>> keys_linear()
     {
-      using P = typename LinearLaw<dim>::Params;
       return {{"kn", [](P &p, double v) { p.kn = v; }},
               {"ks", [](P &p, double v) { p.ks = v; }},
               {"fric", [](P &p, double v) { p.friction = v; }},
@@ -62,7 +62,7 @@ namespace demfem::dem
     std::vector<Key<P>> lifted_linear()
     {
       std::vector<Key<P>> out;
-      for (auto k : keys_linear<dim>())
+      for (auto k : keys_linear<dim, typename LinearLaw<dim>::Props>())
         out.push_back({k.name, [set = k.set](P &p, double v) { set(p.linear, v); }});
       return out;
     }

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace demfem::dem
 {
@@ -15,36 +16,55 @@ namespace demfem::dem
   {
     static constexpr const char *name = "linear";
 
-    struct Params
+    static constexpr BondType bond_type = BondType::none;
+
+    /// Per-contact properties (PFC lin_kn, lin_ks, lin_fric, rgap).
+    struct Props
     {
       double kn            = 0; ///< normal stiffness [N/m]
       double ks            = 0; ///< shear stiffness [N/m]
       double friction      = 0; ///< friction coefficient mu
       double reference_gap = 0; ///< springs engage when gap < reference gap
+    };
 
+    /// No group-wide parameter: the Props part is the default block.
+    struct Params : Props
+    {
+      /// A copy with the group constants derived (what Model::add_law
+      /// stores), for calling the law directly (tests, probes).
+      Params prepared() const
+      {
+        Params c = *this;
+        prepare(c);
+        return c;
+      }
       void validate(const std::string &where) const
       {
         const double inf = HUGE_VAL;
-        check_range(where, "kn", kn, 0, inf);
-        check_range(where, "ks", ks, 0, inf);
-        check_range(where, "friction", friction, 0, inf);
-        check_range(where, "reference_gap", reference_gap, -inf, inf, true, true);
+        check_range(where, "kn", this->kn, 0, inf);
+        check_range(where, "ks", this->ks, 0, inf);
+        check_range(where, "friction", this->friction, 0, inf);
+        check_range(where, "reference_gap", this->reference_gap, -inf, inf, true, true);
       }
     };
 
-    /// Stiffnesses from the deformability method (memo Eq. 40 analogue for
-    /// the linear model): kn = A E*/L with A the cross section of the
-    /// equivalent beam of radius min(R1, R2), ks = kn / kappa*.
-    static Params deformability(double emod, double kratio, double friction,
-                                const ContactGeometry<dim> &g)
+    static void prepare(Params &) {}
+    static void derive(const Params &, Props &) {}
+
+    static const std::vector<PropertyField<Props>> &properties()
     {
-      const double r = g.min_radius();
-      const double A = (dim == 2 ? 2 * r : M_PI * r * r);
-      Params p;
-      p.kn       = A * emod / g.length();
-      p.ks       = kratio > 0 ? p.kn / kratio : 0;
-      p.friction = friction;
-      return p;
+      using P                                            = Props;
+      const double                                   inf = HUGE_VAL;
+      static const std::vector<PropertyField<Props>> f   = {
+          {"kn", [](const P &q) { return q.kn; }, [](P &q, double v) { q.kn = v; }, true, 0,
+           inf},
+          {"ks", [](const P &q) { return q.ks; }, [](P &q, double v) { q.ks = v; }, true, 0,
+           inf},
+          {"fric", [](const P &q) { return q.friction; },
+           [](P &q, double v) { q.friction = v; }, true, 0, inf},
+          {"rgap", [](const P &q) { return q.reference_gap; },
+           [](P &q, double v) { q.reference_gap = v; }, false, -inf, inf}};
+      return f;
     }
 
     // state: [0] Fn, [1] Fss, [2] Fst, [3] slipping flag, [4] slip energy
@@ -60,24 +80,25 @@ namespace demfem::dem
 
     static int state_size(const Params &) { return n_state; }
 
-    static void install(const Params &, const ContactGeometry<dim> &, double *st)
+    static void install(const Params &, const Props &, const ContactGeometry<dim> &,
+                        double *st)
     {
       for (int i = 0; i < n_state; ++i)
         st[i] = 0;
     }
 
-    static bool active(const Params &p, const double *, double gap)
+    static bool active(const Params &, const Props &p, const double *, double gap)
     {
       return gap < p.reference_gap;
     }
 
-    static bool deletable(const Params &p, const double *, double gap)
+    static bool deletable(const Params &, const Props &p, const double *, double gap)
     {
       return gap >= p.reference_gap;
     }
 
-    static void update(const Params &p, const ContactStep<dim> &k, double *st,
-                       ContactForce &f, EventSink &events)
+    static void update(const Params &, const Props &p, const ContactStep<dim> &k,
+                       double *st, ContactForce &f, EventSink &events)
     {
       // Normal: compression only, Fn > 0 would be tension.
       const double overlap = k.gap - p.reference_gap;
@@ -117,13 +138,13 @@ namespace demfem::dem
       f         = ContactForce{fn, fss, fst, 0, 0, 0};
     }
 
-    static ContactStiffness stiffness(const Params &p, const ContactGeometry<dim> &,
-                                      const double *)
+    static ContactStiffness stiffness(const Params &, const Props &p,
+                                      const ContactGeometry<dim> &, const double *)
     {
       return {p.kn, p.ks, 0, 0};
     }
 
-    static double strain_energy(const Params &p, const double *st)
+    static double strain_energy(const Params &, const Props &p, const double *st)
     {
       double e = 0;
       if (p.kn > 0)
@@ -133,6 +154,26 @@ namespace demfem::dem
       return e;
     }
 
-    static double slip_energy(const Params &, const double *st) { return st[s_eslip]; }
+    static double slip_energy(const Params &, const Props &, const double *st)
+    {
+      return st[s_eslip];
+    }
   };
+
+  /// The linear block's properties (same keywords as LinearLaw::properties)
+  /// for a law whose Props holds it as its `linear` member.
+  template <class Outer>
+  std::vector<PropertyField<Outer>> lifted_linear_properties()
+  {
+    using P          = Outer;
+    const double inf = HUGE_VAL;
+    return {{"kn", [](const P &q) { return q.linear.kn; },
+             [](P &q, double v) { q.linear.kn = v; }, true, 0, inf},
+            {"ks", [](const P &q) { return q.linear.ks; },
+             [](P &q, double v) { q.linear.ks = v; }, true, 0, inf},
+            {"fric", [](const P &q) { return q.linear.friction; },
+             [](P &q, double v) { q.linear.friction = v; }, true, 0, inf},
+            {"rgap", [](const P &q) { return q.linear.reference_gap; },
+             [](P &q, double v) { q.linear.reference_gap = v; }, false, -inf, inf}};
+  }
 } // namespace demfem::dem

@@ -308,6 +308,7 @@ namespace demfem::dem
               {
                 CrackRecord<dim> c;
                 c.id1 = id1, c.id2 = id2, c.element = e.element, c.mode = e.mode;
+                c.type         = g.bond_type();
                 const Vec<dim> n = g.n_prev[k];
                 Vec<dim>       t;
                 if constexpr (dim == 3)
@@ -315,7 +316,10 @@ namespace demfem::dem
                   c.position = g.xc[k] + e.r_s * g.s_axis[k] + e.r_t * t;
                 else
                   t = Vec<2>(-n[1], n[0]), c.position = g.xc[k] + e.r_t * t;
-                c.normal            = n;
+                c.normal = n;
+                if (e.has_normal)
+                  for (int a = 0; a < dim; ++a)
+                    c.normal[a] = e.normal[a];
                 c.offset            = c.position - g.xc[k];
                 c.size              = e.size;
                 c.gap               = e.gap;
@@ -635,6 +639,14 @@ namespace demfem::dem
           continue;
         const Vec<dim> n   = d / dist;
         const double   gap = dist - R1 - R2;
+        if (c.type == BondType::smooth_joint)
+          {
+            // The joint plane is fixed in space (seed 001): the crack keeps
+            // its normal and sits at the current contact location.
+            c.position = particles.x[i] + (R1 + 0.5 * gap) * n;
+            c.gap      = c.gap_break + (gap - c.contact_gap_break);
+            continue;
+          }
         // Minimal rotation taking the old normal to the new one.
         Vec<dim> off = c.offset;
         if constexpr (dim == 2)

@@ -19,8 +19,11 @@ namespace demfem::dem
     std::int64_t id1 = 0, id2 = 0; ///< particle ids (id2 = -1 - facet for walls)
     int          element = 0;      ///< element of the interface (0-based)
     int          mode    = 0;      ///< 0 tension, 1 shear
+    BondType     type    = BondType::flat_joint; ///< what broke
     Vec<dim>     position;         ///< element centroid at breakage
-    Vec<dim>     normal;           ///< contact normal at breakage
+    /// Crack normal at breakage: the contact normal; for a smooth joint the
+    /// joint normal (seed 001).
+    Vec<dim> normal;
     double       size     = 0;     ///< 2D: element length; 3D: 2 r_e
     double       gap      = 0;     ///< element gap at breakage
     double       strength = 0;     ///< strength exceeded [stress or force]
@@ -62,13 +65,27 @@ namespace demfem::dem
 
     // ---- contact laws ----------------------------------------------------
     /// Adds a group of contacts governed by law `Law` with parameters `p`
-    /// (validated here); returns the group id.
+    /// (validated here, then the group constants derived: Law::prepare) and
+    /// the optional property rule that completes each new contact's property
+    /// block (dem/property_rules.h); returns the group id.
     template <class Law>
-    int add_law(const typename Law::Params &p, const std::string &where = "contact law")
+    int add_law(typename Law::Params p, const std::string &where = "contact law",
+                typename ContactGroup<dim, Law>::Rule rule = {})
     {
       p.validate(where);
-      groups_.push_back(std::make_unique<ContactGroup<dim, Law>>(p));
+      Law::prepare(p);
+      groups_.push_back(std::make_unique<ContactGroup<dim, Law>>(p, std::move(rule)));
       return static_cast<int>(groups_.size()) - 1;
+    }
+    /// Group g as its law's type; InputError if it has another law.
+    template <class Law>
+    ContactGroup<dim, Law> &typed_group(int g)
+    {
+      auto *t = dynamic_cast<ContactGroup<dim, Law> *>(groups_.at(g).get());
+      if (!t)
+        throw InputError("contact group " + std::to_string(g) + " has law '" +
+                         groups_[g]->law_name() + "', not '" + Law::name + "'");
+      return *t;
     }
     int add_group(std::unique_ptr<ContactGroupBase<dim>> g);
 

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace demfem::dem
 {
@@ -19,31 +20,82 @@ namespace demfem::dem
     static constexpr const char *name = "parallelbond";
     using Linear                      = LinearLaw<dim>;
 
-    struct Params
+    static constexpr BondType bond_type = BondType::parallel_bond;
+
+    /// Per-contact properties (memo §2.1.3): the linear block and the bond's.
+    struct Props
     {
-      typename Linear::Params linear;          ///< kn, ks, friction, reference_gap
-      double                  pb_kn   = 0;     ///< bond normal stiffness [stress/disp]
-      double                  pb_ks   = 0;     ///< bond shear stiffness [stress/disp]
-      double                  pb_rmul = 1;     ///< radius multiplier lambda_bar
-      double                  pb_mcf  = 1;     ///< moment-contribution factor beta_bar
-      double                  pb_ten  = 0;     ///< tensile strength sigma_bar_c [stress]
-      double                  pb_coh  = 0;     ///< cohesion c_bar [stress]
-      double                  pb_fa   = 0;     ///< friction angle phi_bar [degrees]
-      bool                    bonded  = false; ///< bond the contact when installed
+      typename Linear::Props linear;      ///< kn, ks, friction, reference_gap
+      double                 pb_kn   = 0; ///< bond normal stiffness [stress/disp]
+      double                 pb_ks   = 0; ///< bond shear stiffness [stress/disp]
+      double                 pb_rmul = 1; ///< radius multiplier lambda_bar
+      double                 pb_mcf  = 1; ///< moment-contribution factor beta_bar
+      double                 pb_ten  = 0; ///< tensile strength sigma_bar_c [stress]
+      double                 pb_coh  = 0; ///< cohesion c_bar [stress]
+      double                 pb_fa   = 0; ///< friction angle phi_bar [degrees]
+      double                 pb_tan_fa = 0; ///< tan(phi_bar), derived
+    };
+
+    struct Params : Props
+    {
+      /// A copy with the group constants derived (what Model::add_law
+      /// stores), for calling the law directly (tests, probes).
+      Params prepared() const
+      {
+        Params c = *this;
+        prepare(c);
+        return c;
+      }
+      bool bonded = false; ///< bond the contact when installed
 
       void validate(const std::string &where) const
       {
-        const double inf = HUGE_VAL;
-        linear.validate(where);
-        check_range(where, "pb_kn", pb_kn, 0, inf);
-        check_range(where, "pb_ks", pb_ks, 0, inf);
-        check_range(where, "pb_rmul", pb_rmul, 0, inf, true, false);
-        check_range(where, "pb_mcf", pb_mcf, 0, 1);
-        check_range(where, "pb_ten", pb_ten, 0, inf);
-        check_range(where, "pb_coh", pb_coh, 0, inf);
-        check_range(where, "pb_fa", pb_fa, 0, 90, false, true);
+        const double            inf = HUGE_VAL;
+        typename Linear::Params lin;
+        static_cast<typename Linear::Props &>(lin) = this->linear;
+        lin.validate(where);
+        check_range(where, "pb_kn", this->pb_kn, 0, inf);
+        check_range(where, "pb_ks", this->pb_ks, 0, inf);
+        check_range(where, "pb_rmul", this->pb_rmul, 0, inf, true, false);
+        check_range(where, "pb_mcf", this->pb_mcf, 0, 1);
+        check_range(where, "pb_ten", this->pb_ten, 0, inf);
+        check_range(where, "pb_coh", this->pb_coh, 0, inf);
+        check_range(where, "pb_fa", this->pb_fa, 0, 90, false, true);
       }
     };
+
+    static void prepare(Params &p) { derive(p, p); }
+    static void derive(const Params &, Props &q)
+    {
+      q.pb_tan_fa = std::tan(q.pb_fa * M_PI / 180.0);
+    }
+
+    static const std::vector<PropertyField<Props>> &properties()
+    {
+      using P                                          = Props;
+      const double                                 inf = HUGE_VAL;
+      static const std::vector<PropertyField<Props>> f = [inf] {
+        std::vector<PropertyField<Props>> out = lifted_linear_properties<Props>();
+        std::vector<PropertyField<Props>> own = {
+            {"pb_kn", [](const P &q) { return q.pb_kn; },
+             [](P &q, double v) { q.pb_kn = v; }, true, 0, inf},
+            {"pb_ks", [](const P &q) { return q.pb_ks; },
+             [](P &q, double v) { q.pb_ks = v; }, true, 0, inf},
+            {"pb_rmul", [](const P &q) { return q.pb_rmul; },
+             [](P &q, double v) { q.pb_rmul = v; }, false, 0, inf},
+            {"pb_mcf", [](const P &q) { return q.pb_mcf; },
+             [](P &q, double v) { q.pb_mcf = v; }, true, 0, 1},
+            {"pb_ten", [](const P &q) { return q.pb_ten; },
+             [](P &q, double v) { q.pb_ten = v; }, true, 0, inf},
+            {"pb_coh", [](const P &q) { return q.pb_coh; },
+             [](P &q, double v) { q.pb_coh = v; }, true, 0, inf},
+            {"pb_fa", [](const P &q) { return q.pb_fa; },
+             [](P &q, double v) { q.pb_fa = v; }, true, 0, 89.999999}};
+        out.insert(out.end(), own.begin(), own.end());
+        return out;
+      }();
+      return f;
+    }
 
     /// Bond state B_bar as in PFC.
     enum BondState : int
@@ -84,32 +136,40 @@ namespace demfem::dem
 
     static int state_size(const Params &) { return n_state; }
 
-    static void install(const Params &p, const ContactGeometry<dim> &g, double *st)
+    /// The linear law has no group-wide parameter (its Params is empty).
+    static const typename Linear::Params &linear_group()
     {
-      Linear::install(p.linear, g, st + s_lin);
+      static const typename Linear::Params none{};
+      return none;
+    }
+
+    static void install(const Params &p, const Props &q, const ContactGeometry<dim> &g,
+                        double *st)
+    {
+      Linear::install(linear_group(), q.linear, g, st + s_lin);
       st[s_state] = p.bonded ? intact : unbonded;
       // R_bar is fixed at installation (memo Eq. 57; R1 for ball-wall).
-      st[s_rad] = p.pb_rmul * g.min_radius();
+      st[s_rad] = q.pb_rmul * g.min_radius();
       for (int i = s_fn; i < n_state; ++i)
         st[i] = 0;
     }
 
     static bool bonded(const double *st) { return st[s_state] == intact; }
 
-    static bool active(const Params &p, const double *st, double gap)
+    static bool active(const Params &, const Props &q, const double *st, double gap)
     {
-      return bonded(st) || Linear::active(p.linear, st + s_lin, gap);
+      return bonded(st) || Linear::active(linear_group(), q.linear, st + s_lin, gap);
     }
 
-    static bool deletable(const Params &p, const double *st, double gap)
+    static bool deletable(const Params &, const Props &q, const double *st, double gap)
     {
-      return !bonded(st) && Linear::deletable(p.linear, st + s_lin, gap);
+      return !bonded(st) && Linear::deletable(linear_group(), q.linear, st + s_lin, gap);
     }
 
-    static void update(const Params &p, const ContactStep<dim> &k, double *st,
-                       ContactForce &f, EventSink &events)
+    static void update(const Params &, const Props &p, const ContactStep<dim> &k,
+                       double *st, ContactForce &f, EventSink &events)
     {
-      Linear::update(p.linear, k, st + s_lin, f, events);
+      Linear::update(linear_group(), p.linear, k, st + s_lin, f, events);
       if (!bonded(st))
         return;
       const double  R = st[s_rad];
@@ -142,7 +202,7 @@ namespace demfem::dem
       else
         {
           // Mohr-Coulomb shear strength; compression (sig < 0) strengthens.
-          const double tauc = p.pb_coh - sig * std::tan(p.pb_fa * M_PI / 180.0);
+          const double tauc = p.pb_coh - sig * p.pb_tan_fa;
           if (tau > tauc)
             {
               mode     = 1;
@@ -178,10 +238,10 @@ namespace demfem::dem
       return {st[s_fn], st[s_fss], st[s_fst], st[s_mt], st[s_mbs], st[s_mbt]};
     }
 
-    static ContactStiffness stiffness(const Params &p, const ContactGeometry<dim> &g,
-                                      const double *st)
+    static ContactStiffness stiffness(const Params &, const Props &p,
+                                      const ContactGeometry<dim> &g, const double *st)
     {
-      ContactStiffness s = Linear::stiffness(p.linear, g, st + s_lin);
+      ContactStiffness s = Linear::stiffness(linear_group(), p.linear, g, st + s_lin);
       if (bonded(st))
         {
           const Section c = section(st[s_rad]);
@@ -193,9 +253,9 @@ namespace demfem::dem
       return s;
     }
 
-    static double strain_energy(const Params &p, const double *st)
+    static double strain_energy(const Params &, const Props &p, const double *st)
     {
-      double        e   = Linear::strain_energy(p.linear, st + s_lin);
+      double        e   = Linear::strain_energy(linear_group(), p.linear, st + s_lin);
       const Section c   = section(st[s_rad]);
       auto          add = [&e](double f2, double k) {
         if (k > 0)
@@ -208,9 +268,9 @@ namespace demfem::dem
       return e;
     }
 
-    static double slip_energy(const Params &p, const double *st)
+    static double slip_energy(const Params &, const Props &q, const double *st)
     {
-      return Linear::slip_energy(p.linear, st + s_lin);
+      return Linear::slip_energy(linear_group(), q.linear, st + s_lin);
     }
   };
 } // namespace demfem::dem

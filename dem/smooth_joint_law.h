@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace demfem::dem
 {
@@ -19,16 +20,34 @@ namespace demfem::dem
   {
     static constexpr const char *name = "smoothjoint";
 
-    struct Params
+    static constexpr BondType bond_type = BondType::smooth_joint;
+
+    /// Per-contact properties (seed Table 2).
+    struct Props
     {
-      double sj_kn    = 0;     ///< normal stiffness [stress/disp]
-      double sj_ks    = 0;     ///< shear stiffness [stress/disp]
-      double sj_fric  = 0;     ///< friction coefficient mu
-      double sj_da    = 0;     ///< dilation angle psi [degrees]
-      double sj_ten   = 0;     ///< tensile strength sigma_c [stress]
-      double sj_coh   = 0;     ///< cohesion c [stress]
-      double sj_fa    = 0;     ///< friction angle phi [degrees]
-      double sj_rmul  = 1;     ///< radius multiplier lambda
+      double sj_kn     = 0; ///< normal stiffness [stress/disp]
+      double sj_ks     = 0; ///< shear stiffness [stress/disp]
+      double sj_fric   = 0; ///< friction coefficient mu
+      double sj_da     = 0; ///< dilation angle psi [degrees]
+      double sj_ten    = 0; ///< tensile strength sigma_c [stress]
+      double sj_coh    = 0; ///< cohesion c [stress]
+      double sj_fa     = 0; ///< friction angle phi [degrees]
+      double sj_rmul   = 1; ///< radius multiplier lambda
+      double sj_tan_fa = 0; ///< tan(phi), derived
+      double sj_tan_da = 0; ///< tan(psi), derived
+    };
+
+    /// Group-wide: the joint plane and the modes.
+    struct Params : Props
+    {
+      /// A copy with the group constants derived (what Model::add_law
+      /// stores), for calling the law directly (tests, probes).
+      Params prepared() const
+      {
+        Params c = *this;
+        prepare(c);
+        return c;
+      }
       double dip      = 0;     ///< dip angle theta_p [degrees]
       double ddir     = 0;     ///< dip direction theta_d [degrees] (3D)
       bool   sj_large = false; ///< large-strain mode S_l
@@ -37,21 +56,52 @@ namespace demfem::dem
       void validate(const std::string &where) const
       {
         const double inf = HUGE_VAL;
-        check_range(where, "sj_kn", sj_kn, 0, inf);
-        check_range(where, "sj_ks", sj_ks, 0, inf);
-        check_range(where, "sj_fric", sj_fric, 0, inf);
+        check_range(where, "sj_kn", this->sj_kn, 0, inf);
+        check_range(where, "sj_ks", this->sj_ks, 0, inf);
+        check_range(where, "sj_fric", this->sj_fric, 0, inf);
         // Table 2 allows [0, inf) but tan(psi) is meaningless from 90 deg on.
-        check_range(where, "sj_da", sj_da, 0, 90, false, true);
-        check_range(where, "sj_ten", sj_ten, 0, inf);
-        check_range(where, "sj_coh", sj_coh, 0, inf);
-        check_range(where, "sj_fa", sj_fa, 0, 90, false, true);
+        check_range(where, "sj_da", this->sj_da, 0, 90, false, true);
+        check_range(where, "sj_ten", this->sj_ten, 0, inf);
+        check_range(where, "sj_coh", this->sj_coh, 0, inf);
+        check_range(where, "sj_fa", this->sj_fa, 0, 90, false, true);
         // Table 2 allows 0, but then the joint has no area (Eq. 2).
-        check_range(where, "sj_rmul", sj_rmul, 0, inf, true, false);
+        check_range(where, "sj_rmul", this->sj_rmul, 0, inf, true, false);
         // Ranges of seed Table 2, taken literally.
         check_range(where, "dip", dip, 0, 360);
         check_range(where, "ddir", ddir, 0, 180);
       }
     };
+
+    static void prepare(Params &p) { derive(p, p); }
+    static void derive(const Params &, Props &q)
+    {
+      q.sj_tan_fa = std::tan(deg(q.sj_fa));
+      q.sj_tan_da = std::tan(deg(q.sj_da));
+    }
+
+    static const std::vector<PropertyField<Props>> &properties()
+    {
+      using P                                        = Props;
+      const double                                   inf = HUGE_VAL;
+      static const std::vector<PropertyField<Props>> f   = {
+          {"sj_kn", [](const P &q) { return q.sj_kn; }, [](P &q, double v) { q.sj_kn = v; },
+           true, 0, inf},
+          {"sj_ks", [](const P &q) { return q.sj_ks; }, [](P &q, double v) { q.sj_ks = v; },
+           true, 0, inf},
+          {"sj_fric", [](const P &q) { return q.sj_fric; },
+           [](P &q, double v) { q.sj_fric = v; }, true, 0, inf},
+          {"sj_da", [](const P &q) { return q.sj_da; }, [](P &q, double v) { q.sj_da = v; },
+           true, 0, 89.999999},
+          {"sj_ten", [](const P &q) { return q.sj_ten; },
+           [](P &q, double v) { q.sj_ten = v; }, true, 0, inf},
+          {"sj_coh", [](const P &q) { return q.sj_coh; },
+           [](P &q, double v) { q.sj_coh = v; }, true, 0, inf},
+          {"sj_fa", [](const P &q) { return q.sj_fa; }, [](P &q, double v) { q.sj_fa = v; },
+           true, 0, 89.999999},
+          {"sj_rmul", [](const P &q) { return q.sj_rmul; },
+           [](P &q, double v) { q.sj_rmul = v; }, false, 0, inf}};
+      return f;
+    }
 
     /// Joint bond state S_j (Table 2).
     enum BondState : int
@@ -109,7 +159,8 @@ namespace demfem::dem
       Eigen::Map<Vec<dim>>(st + off) = v;
     }
 
-    static void install(const Params &p, const ContactGeometry<dim> &g, double *st)
+    static void install(const Params &p, const Props &q, const ContactGeometry<dim> &g,
+                        double *st)
     {
       for (int i = 0; i < n_state; ++i)
         st[i] = 0;
@@ -122,23 +173,23 @@ namespace demfem::dem
         nj = -nj;
       set_vec(st, s_nj, nj);
       st[s_state] = p.bonded ? intact : unbonded;
-      st[s_rad]   = p.sj_rmul * g.min_radius(); // seed Eq. 2
+      st[s_rad]   = q.sj_rmul * g.min_radius(); // seed Eq. 2
     }
 
     static bool bonded(const double *st) { return st[s_state] == intact; }
 
-    static bool active(const Params &p, const double *st, double gap)
+    static bool active(const Params &p, const Props &, const double *st, double gap)
     {
       return !p.sj_large || bonded(st) || gap < 0;
     }
 
-    static bool deletable(const Params &p, const double *st, double gap)
+    static bool deletable(const Params &p, const Props &, const double *st, double gap)
     {
       return p.sj_large && !bonded(st) && gap >= 0;
     }
 
-    static void update(const Params &p, const ContactStep<dim> &k, double *st,
-                       ContactForce &f, EventSink &events)
+    static void update(const Params &, const Props &p, const ContactStep<dim> &k,
+                       double *st, ContactForce &f, EventSink &events)
     {
       const Vec<dim> nj = vec(st, s_nj);
       // Relative displacement increment of piece 2 (global), memo Eq. 11.
@@ -193,7 +244,7 @@ namespace demfem::dem
       if (is_bonded)
         {
           // Eq. 13 with tau_c = c - (Fn / A) tan(phi).
-          const double tauc = p.sj_coh - fn / A * std::tan(deg(p.sj_fa));
+          const double tauc = p.sj_coh - fn / A * p.sj_tan_fa;
           int          mode = -1;
           if (fn >= p.sj_ten * A)
             {
@@ -224,6 +275,11 @@ namespace demfem::dem
               e.size     = 2 * st[s_rad];
               e.gap      = g1;
               e.strength = mode == 0 ? p.sj_ten : tauc;
+              // The crack lies in the joint plane (seed 001), not normal to
+              // the contact.
+              e.has_normal = true;
+              for (int a = 0; a < dim; ++a)
+                e.normal[a] = st[s_nj + a];
               events.push(e);
             }
         }
@@ -243,7 +299,7 @@ namespace demfem::dem
           // writes "+" for the magnitude). With Fn tension positive the
           // normal force therefore decreases.
           if (slip && p.sj_ks > 0)
-            fn -= (fs_tn - fsmu) / p.sj_ks * p.sj_kn * std::tan(deg(p.sj_da));
+            fn -= (fs_tn - fsmu) / p.sj_ks * p.sj_kn * p.sj_tan_da;
         }
 
       // Slip energy (Eq. 17, with the A the seed omits): slip part of the
@@ -275,8 +331,8 @@ namespace demfem::dem
         f.Fss = F.dot(k.s);
     }
 
-    static ContactStiffness stiffness(const Params &p, const ContactGeometry<dim> &,
-                                      const double *st)
+    static ContactStiffness stiffness(const Params &, const Props &p,
+                                      const ContactGeometry<dim> &, const double *st)
     {
       const double A = area(st[s_rad]);
       return {p.sj_kn * A, p.sj_ks * A, 0, 0};
@@ -284,7 +340,7 @@ namespace demfem::dem
 
     /// Strain energy, Eq. 16 made dimensionally consistent: the seed's
     /// stiffnesses are per unit area, so the spring stiffnesses are kn A, ks A.
-    static double strain_energy(const Params &p, const double *st)
+    static double strain_energy(const Params &, const Props &p, const double *st)
     {
       const double A = area(st[s_rad]);
       double       e = 0;
@@ -295,6 +351,9 @@ namespace demfem::dem
       return e;
     }
 
-    static double slip_energy(const Params &, const double *st) { return st[s_eslip]; }
+    static double slip_energy(const Params &, const Props &, const double *st)
+    {
+      return st[s_eslip];
+    }
   };
 } // namespace demfem::dem

@@ -22,6 +22,7 @@
 #include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <algorithm>
 
 namespace demfem::dem::vtkout
 {
@@ -83,6 +84,32 @@ namespace demfem::dem::vtkout
       if (dynamic_cast<const ContactGroup<dim, ContactBondLaw<dim>> *>(&g))
         return ContactBondLaw<dim>::bonded(g.state(k)) ? 1.0 : 0.0;
       return 0.0;
+    }
+
+    /// Where a group keeps the properties the contacts VTK shows: tensile
+    /// and shear strength (cohesion) as stresses, initial microstructural
+    /// type (flat joint). -1: the law has none. Contact-bond strengths are
+    /// forces (Table 3 draws stresses, the rule multiplies by the cross
+    /// section): shown divided by the same cross section.
+    struct ShownProperties
+    {
+      std::string ten, shear, mtype;
+      bool        force_strengths = false;
+    };
+    ShownProperties shown_properties(const std::vector<std::string> &names)
+    {
+      ShownProperties s;
+      auto            has = [&](const char *n) {
+        return std::find(names.begin(), names.end(), n) != names.end();
+      };
+      for (const char *p : {"fj", "pb", "sj"})
+        if (has((std::string(p) + "_ten").c_str()))
+          s.ten = std::string(p) + "_ten", s.shear = std::string(p) + "_coh";
+      if (has("cb_tenf"))
+        s.ten = "cb_tenf", s.shear = "cb_shearf", s.force_strengths = true;
+      if (has("fj_mtype"))
+        s.mtype = "fj_mtype";
+      return s;
     }
   } // namespace
 
@@ -175,10 +202,18 @@ namespace demfem::dem::vtkout
     auto                 force  = array("force", 3, nc);
     auto                 fn     = array("normal_force", 1, nc);
     auto                 gap    = array("gap", 1, nc);
-    vtkIdType            c      = 0;
+    // Per-contact properties (memo §1.9): the translational stiffness [N/m]
+    // (memo Eq. 41, whatever the law's units), strengths, initial type.
+    auto      kn    = array("kn", 1, nc);
+    auto      ten   = array("tensile_strength", 1, nc);
+    auto      shear = array("cohesion", 1, nc);
+    auto      mtype = int_array("initial_type", nc);
+    auto      btype = int_array("bond_type", nc);
+    vtkIdType c     = 0;
     for (int g = 0; g < model.n_groups(); ++g)
       {
-        const auto &grp = model.group(g);
+        const auto           &grp   = model.group(g);
+        const ShownProperties shown = shown_properties(grp.property_names());
         for (std::size_t k = 0; k < grp.size(); ++k, ++c)
           {
             const Vec<dim> a = p.x[grp.end1[k]];
@@ -194,6 +229,22 @@ namespace demfem::dem::vtkout
             force->SetTuple(c, p3<dim>(grp.force[k]).data());
             fn->SetValue(c, grp.local_force[k].Fn);
             gap->SetValue(c, grp.gap[k]);
+            kn->SetValue(c, grp.stiffness(k, p).kn);
+            double area = 1;
+            if (shown.force_strengths)
+              {
+                const double r = grp.is_wall[k]
+                                     ? p.radius[grp.end1[k]]
+                                     : std::min(p.radius[grp.end1[k]], p.radius[grp.end2[k]]);
+                area = dim == 2 ? 2 * r : M_PI * r * r;
+              }
+            ten->SetValue(c, shown.ten.empty() ? 0.0 : grp.property(k, shown.ten) / area);
+            shear->SetValue(c,
+                            shown.shear.empty() ? 0.0 : grp.property(k, shown.shear) / area);
+            mtype->SetValue(c, shown.mtype.empty()
+                                   ? 0
+                                   : static_cast<int>(grp.property(k, shown.mtype)));
+            btype->SetValue(c, static_cast<int>(grp.bond_type()));
           }
       }
     vtkNew<vtkPolyData> data;
@@ -203,7 +254,9 @@ namespace demfem::dem::vtkout
          {static_cast<vtkDataArray *>(group), static_cast<vtkDataArray *>(wall),
           static_cast<vtkDataArray *>(active), static_cast<vtkDataArray *>(bonded),
           static_cast<vtkDataArray *>(force), static_cast<vtkDataArray *>(fn),
-          static_cast<vtkDataArray *>(gap)})
+          static_cast<vtkDataArray *>(gap), static_cast<vtkDataArray *>(kn),
+          static_cast<vtkDataArray *>(ten), static_cast<vtkDataArray *>(shear),
+          static_cast<vtkDataArray *>(mtype), static_cast<vtkDataArray *>(btype)})
       data->GetCellData()->AddArray(a);
     write_polydata(path, data);
   }
@@ -217,6 +270,7 @@ namespace demfem::dem::vtkout
     pts->SetDataTypeToDouble();
     vtkNew<vtkCellArray> cells;
     auto                 mode   = int_array("mode", n);
+    auto                 type   = int_array("type", n); // BondType
     auto                 size   = array("size", 1, n);
     auto                 gap    = array("gap", 1, n);
     auto                 step   = int_array("step", n);
@@ -261,6 +315,7 @@ namespace demfem::dem::vtkout
             cells->InsertNextCell(disk_sides, ids.data());
           }
         mode->SetValue(c, r.mode);
+        type->SetValue(c, static_cast<int>(r.type));
         size->SetValue(c, r.size);
         gap->SetValue(c, r.gap);
         step->SetValue(c, static_cast<int>(r.step));
@@ -273,7 +328,8 @@ namespace demfem::dem::vtkout
     else
       data->SetPolys(cells);
     for (vtkDataArray *a :
-         {static_cast<vtkDataArray *>(mode), static_cast<vtkDataArray *>(size),
+         {static_cast<vtkDataArray *>(mode), static_cast<vtkDataArray *>(type),
+          static_cast<vtkDataArray *>(size),
           static_cast<vtkDataArray *>(gap), static_cast<vtkDataArray *>(step),
           static_cast<vtkDataArray *>(normal)})
       data->GetCellData()->AddArray(a);

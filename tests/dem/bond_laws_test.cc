@@ -60,7 +60,7 @@ namespace
     {
       p.validate("test");
       st.resize(Law::state_size(p));
-      Law::install(p, k, st.data());
+      Law::install(p, p.prepared(), k, st.data());
     }
 
     void run(int steps, double dn, double dss, double dst, double dtw, double dbs,
@@ -76,7 +76,7 @@ namespace
           k.d_bt    = dbt;
           k.gap += dn;
           const std::size_t before = sink.events.size();
-          Law::update(p, k, st.data(), f, sink);
+          Law::update(p, p.prepared(), k, st.data(), f, sink);
           ++step;
           for (std::size_t e = before; e < sink.events.size(); ++e)
             event_steps.push_back(step);
@@ -135,7 +135,7 @@ TEST_CASE("parallel bond: two-grain axial load, memo Eq. 59", "[bond]")
   CHECK(d3.f.Mbs == 0);
   CHECK(d3.f.Mbt == 0);
   // Bond strain energy 1/2 Fn^2 / (kn_bar A_bar) = 1/2 Fn * 1 mm.
-  CHECK(ParallelBondLaw<3>::strain_energy(d3.p, d3.st.data()) ==
+  CHECK(ParallelBondLaw<3>::strain_energy(d3.p, d3.p.prepared(), d3.st.data()) ==
         Approx(0.5 * 1.8221e5 * 1e-3).epsilon(tol));
   CHECK(d2.breaks() + d3.breaks() == 0);
 }
@@ -149,9 +149,9 @@ TEST_CASE("parallel bond: two-grain twisting load, memo Eq. 60", "[bond]")
   CHECK(d.f.Mbs == 0);
   CHECK(d.f.Mbt == 0);
   // Strain energy 1/2 Mt^2 / (ks_bar J_bar) = 1/2 |Mt| 0.2 rad.
-  CHECK(ParallelBondLaw<3>::strain_energy(d.p, d.st.data()) ==
+  CHECK(ParallelBondLaw<3>::strain_energy(d.p, d.p.prepared(), d.st.data()) ==
         Approx(0.5 * 1.9806e2 * 0.2).epsilon(tol));
-  const ContactStiffness s = ParallelBondLaw<3>::stiffness(d.p, d.k, d.st.data());
+  const ContactStiffness s = ParallelBondLaw<3>::stiffness(d.p, d.p.prepared(), d.k, d.st.data());
   CHECK(s.kt == Approx(1.9806e2 / 0.2).epsilon(tol));
 }
 
@@ -162,7 +162,7 @@ TEST_CASE("parallel bond: two-grain bending load, memo Eq. 61", "[bond]")
   CHECK(d2.f.Mbs == Approx(-7.7333e4).epsilon(tol));
   CHECK(d2.f.Fn == 0);
   CHECK(d2.f.Fst == 0);
-  const ContactStiffness s2 = ParallelBondLaw<2>::stiffness(d2.p, d2.k, d2.st.data());
+  const ContactStiffness s2 = ParallelBondLaw<2>::stiffness(d2.p, d2.p.prepared(), d2.k, d2.st.data());
   CHECK(s2.kb == Approx(7.7333e4 / 0.4).epsilon(tol));
   CHECK(s2.kn == Approx(2.3200e7 / 1e-3).epsilon(tol));
 
@@ -220,7 +220,7 @@ TEST_CASE("parallel bond: tensile breakage on both sides of sigma_c", "[bond]")
     // Bond force and moment reset; linear part (kn = 0) carries nothing.
     CHECK(d.f.Fn == 0);
     CHECK(d.f.Mbs == 0);
-    CHECK(ParallelBondLaw<3>::strain_energy(d.p, d.st.data()) == 0);
+    CHECK(ParallelBondLaw<3>::strain_energy(d.p, d.p.prepared(), d.st.data()) == 0);
     // Further loading does not re-bond.
     d.run(10, dn / nsteps, 0, 0, 0, 0, 0);
     CHECK(d.breaks() == 1);
@@ -288,7 +288,7 @@ TEST_CASE("parallel bond: linear part after breakage follows Coulomb", "[bond]")
   // Bond gone: total force = linear force, Fn = kn * overlap, |Fs| = mu |Fn|.
   CHECK(d.f.Fn == Approx(-1000).epsilon(1e-9));
   CHECK(d.f.Fst == Approx(-400).epsilon(1e-9));
-  CHECK(ParallelBondLaw<2>::slip_energy(d.p, d.st.data()) > 0);
+  CHECK(ParallelBondLaw<2>::slip_energy(d.p, d.p.prepared(), d.st.data()) > 0);
 }
 
 // ---------------------------------------------------------------------------
@@ -318,8 +318,8 @@ TEST_CASE("contact bond: carries tension, breaks at cb_tenf", "[bond]")
     d.run(nsteps, 1e-5 / nsteps, 0, 0, 0, 0, 0);
     CHECK(d.breaks() == 0);
     CHECK(d.f.Fn == Approx(fn).epsilon(1e-9));
-    CHECK(ContactBondLaw<2>::active(d.p, d.st.data(), d.k.gap));
-    CHECK_FALSE(ContactBondLaw<2>::deletable(d.p, d.st.data(), d.k.gap));
+    CHECK(ContactBondLaw<2>::active(d.p, d.p.prepared(), d.st.data(), d.k.gap));
+    CHECK_FALSE(ContactBondLaw<2>::deletable(d.p, d.p.prepared(), d.st.data(), d.k.gap));
   }
   {
     Driver<ContactBondLaw<2>, 2> d(cbond(fn * (1 - eps), 1e20));
@@ -332,7 +332,7 @@ TEST_CASE("contact bond: carries tension, breaks at cb_tenf", "[bond]")
     CHECK(d.event_steps[0] == nsteps);
     // Broken, open: behaves as linear (no tension) and may be deleted.
     CHECK(d.f.Fn == 0);
-    CHECK(ContactBondLaw<2>::deletable(d.p, d.st.data(), d.k.gap));
+    CHECK(ContactBondLaw<2>::deletable(d.p, d.p.prepared(), d.st.data(), d.k.gap));
   }
 }
 
@@ -347,7 +347,7 @@ TEST_CASE("contact bond: no slip while bonded, breaks at cb_shearf", "[bond]")
     d.run(nsteps, 0, 0, 2e-5 / nsteps, 0, 0, 0);
     CHECK(d.breaks() == 0);
     CHECK(d.f.Fst == Approx(-fs).epsilon(1e-9));
-    CHECK(ContactBondLaw<2>::slip_energy(d.p, d.st.data()) == 0);
+    CHECK(ContactBondLaw<2>::slip_energy(d.p, d.p.prepared(), d.st.data()) == 0);
   }
   {
     Driver<ContactBondLaw<2>, 2> d(cbond(1e20, fs * (1 - eps)));
@@ -366,7 +366,7 @@ TEST_CASE("contact bond: no slip while bonded, breaks at cb_shearf", "[bond]")
     // Slip energy (linear law, trapezoidal): break step Fo = -999 N,
     // F = -500 N, slip = 2e-8 + 499 / ks = 1e-5 m -> 0.5 * 1499 * 1e-5; then
     // 100 steps of 1e-7 m at 500 N -> 5e-3 J.
-    CHECK(ContactBondLaw<2>::slip_energy(d.p, d.st.data()) ==
+    CHECK(ContactBondLaw<2>::slip_energy(d.p, d.p.prepared(), d.st.data()) ==
           Approx(0.5 * 1499 * 1e-5 + 5e-3).epsilon(1e-6));
   }
 }

@@ -83,12 +83,12 @@ TEST_CASE("flatjoint 3D: the bonded fast path is bitwise the general loop", "[fl
     {
       const Law::Params   p = params(Nr, Nal);
       std::vector<double> fast(Law::state_size(p));
-      Law::install(p, plane(), fast.data());
+      Law::install(p, p.prepared(), plane(), fast.data());
       EventSink sink_fast, sink_general;
       for (int step = 0; step < 200; ++step) // load the shear springs
         {
           ContactForce f;
-          Law::update(p, random_step(gen, 1e-8), fast.data(), f, sink_fast);
+          Law::update(p, p.prepared(), random_step(gen, 1e-8), fast.data(), f, sink_fast);
         }
       REQUIRE(sink_fast.events.empty());
       REQUIRE(Law::bonded_count(p, fast.data()) == Law::element_count(p));
@@ -100,8 +100,8 @@ TEST_CASE("flatjoint 3D: the bonded fast path is bitwise the general loop", "[fl
           const ContactStep<3> k             = random_step(gen, 1e-8);
           ContactForce         f_fast, f_general;
           sink_fast.events.clear(), sink_general.events.clear();
-          Law::update(p, k, fast.data(), f_fast, sink_fast);
-          Law::update(p, k, general.data(), f_general, sink_general);
+          Law::update(p, p.prepared(), k, fast.data(), f_fast, sink_fast);
+          Law::update(p, p.prepared(), k, general.data(), f_general, sink_general);
           CHECK(same(f_fast, f_general));
           CHECK(sink_fast.events.empty());
           CHECK(count(sink_general, LawEvent::slip_end) == 1);
@@ -117,8 +117,8 @@ TEST_CASE("flatjoint 3D: the bonded fast path is bitwise the general loop", "[fl
       k.d_n                              = 1e-5;
       ContactForce f_fast, f_general;
       sink_fast.events.clear(), sink_general.events.clear();
-      Law::update(p, k, fast.data(), f_fast, sink_fast);
-      Law::update(p, k, general.data(), f_general, sink_general);
+      Law::update(p, p.prepared(), k, fast.data(), f_fast, sink_fast);
+      Law::update(p, p.prepared(), k, general.data(), f_general, sink_general);
       CHECK(same(f_fast, f_general));
       CHECK(f_fast.Fn == 0); // memo step 1: broken elements carry nothing
       CHECK(count(sink_fast, LawEvent::bond_break) == Law::element_count(p));
@@ -135,7 +135,7 @@ TEST_CASE("flatjoint 3D: element codes are bytes that survive a copy as doubles"
   // contact block moved or checkpointed as doubles keeps them bit for bit.
   const Law::Params   p = params(2, 8);
   std::vector<double> st(Law::state_size(p));
-  Law::install(p, plane(), st.data());
+  Law::install(p, p.prepared(), plane(), st.data());
   CHECK(Law::state_size(p) == 6 + 2 + 3 * 16); // header, 16 code bytes, 3 fields
   Law::unbond(p, st.data(), 5);
   Law::code_array(st.data())[9] = Law::make_code(2, true);

@@ -66,7 +66,7 @@ namespace
     explicit Driver(const typename Law::Params &pp) : p(pp)
     {
       st.resize(Law::state_size(p));
-      Law::install(p, k, st.data());
+      Law::install(p, p.prepared(), k, st.data());
     }
     /// Apply a total motion in n equal increments.
     void move(double dn, double dss, double dst, double dtw, double dbs, double dbt,
@@ -75,7 +75,7 @@ namespace
       k.d_n = dn / n, k.d_ss = dss / n, k.d_st = dst / n;
       k.d_twist = dtw / n, k.d_bs = dbs / n, k.d_bt = dbt / n;
       for (int i = 0; i < n; ++i)
-        Law::update(p, k, st.data(), f, sink);
+        Law::update(p, p.prepared(), k, st.data(), f, sink);
     }
     int count(LawEvent::Kind kind) const
     {
@@ -121,11 +121,11 @@ TEST_CASE("flatjoint: deformability and properties of memo §2.1", "[flatjoint]"
   CHECK(std::abs(S) < 1e-20);                      // centroid of the disk at 0
   CHECK(std::abs(T) < 1e-20);
   // Eq. 41-42
-  auto ks = FlatJointLaw<3>::stiffness(c.p, c.k, c.st.data());
+  auto ks = FlatJointLaw<3>::stiffness(c.p, c.p.prepared(), c.k, c.st.data());
   CHECK(ks.kn == Approx(c.p.kn * M_PI * 25e-6));
   CHECK(ks.kt == Approx(c.p.ks * 0.5 * M_PI * std::pow(5e-3, 4)));
   Driver<2> c2(memo_params<2>(4, 1));
-  auto      ks2 = FlatJointLaw<2>::stiffness(c2.p, c2.k, c2.st.data());
+  auto      ks2 = FlatJointLaw<2>::stiffness(c2.p, c2.p.prepared(), c2.k, c2.st.data());
   CHECK(ks2.kn == Approx(c2.p.kn * 1e-2));
   CHECK(ks2.kb == Approx(c2.p.kn * 2.0 / 3.0 * 125e-9));
   CHECK(ks2.kt == 0);
@@ -139,7 +139,7 @@ TEST_CASE("flatjoint: 2D axial and bending, memo Eq. 64 and 66", "[flatjoint]")
   CHECK(max_abs({a.f.Fss, a.f.Fst, a.f.Mt, a.f.Mbs, a.f.Mbt}) < 1e-6 * a.f.Fn);
   // strain energy of a uniform stress = F^2 / (2 kn A) exactly (Eq. 36-37)
   const double EA = a.p.kn * 1e-2;
-  CHECK(FlatJointLaw<2>::strain_energy(a.p, a.st.data()) ==
+  CHECK(FlatJointLaw<2>::strain_energy(a.p, a.p.prepared(), a.st.data()) ==
         Approx(0.5 * a.f.Fn * a.f.Fn / EA).epsilon(1e-12));
 
   for (int Nr : {1, 2, 4, 7})
@@ -153,7 +153,7 @@ TEST_CASE("flatjoint: 2D axial and bending, memo Eq. 64 and 66", "[flatjoint]")
       CHECK(b.f.Mbs == Approx(-7.7333e4).epsilon(1e-4));
       CHECK(max_abs({b.f.Fn, b.f.Fss, b.f.Fst, b.f.Mt, b.f.Mbt}) <
             1e-6 * std::abs(b.f.Mbs));
-      CHECK(FlatJointLaw<2>::strain_energy(b.p, b.st.data()) ==
+      CHECK(FlatJointLaw<2>::strain_energy(b.p, b.p.prepared(), b.st.data()) ==
             Approx(0.5 * b.f.Mbs * b.f.Mbs / (b.p.kn * I)).epsilon(1e-12));
     }
 }
@@ -164,7 +164,7 @@ TEST_CASE("flatjoint: 3D axial, twist and bending, memo Eq. 64-66", "[flatjoint]
   a.move(1e-3, 0, 0, 0, 0, 0);
   CHECK(a.f.Fn == Approx(1.8221e5).epsilon(1e-4));
   CHECK(max_abs({a.f.Fss, a.f.Fst, a.f.Mt, a.f.Mbs, a.f.Mbt}) < 1e-6 * a.f.Fn);
-  CHECK(FlatJointLaw<3>::strain_energy(a.p, a.st.data()) ==
+  CHECK(FlatJointLaw<3>::strain_energy(a.p, a.p.prepared(), a.st.data()) ==
         Approx(0.5 * a.f.Fn * a.f.Fn / (a.p.kn * M_PI * 25e-6)).epsilon(1e-12));
 
   struct Case
@@ -288,13 +288,13 @@ TEST_CASE("flatjoint: tensile breakage at sigma > sigma_c", "[flatjoint]")
         for (int e = 0; e < FlatJointLaw<dim>::element_count(p); ++e)
           {
             CHECK(FlatJointLaw<dim>::bond_state(p, a.st.data(), e) == 1);
-            auto fe = FlatJointLaw<dim>::element_force(p, a.st.data(), e);
+            auto fe = FlatJointLaw<dim>::element_force(p, p.prepared(), a.st.data(), e);
             CHECK(fe[0] == 0);
             CHECK(fe[1] == 0);
             CHECK(fe[2] == 0);
           }
         CHECK(a.f.Fn == 0);
-        CHECK_FALSE(FlatJointLaw<dim>::active(p, a.st.data(), 0)); // open, unbonded
+        CHECK_FALSE(FlatJointLaw<dim>::active(p, p.prepared(), a.st.data(), 0)); // open, unbonded
         // further steps: no more events (elements stay broken)
         a.move(1e-4, 0, 0, 0, 0, 0, 3);
         CHECK(a.count(LawEvent::bond_break) == FlatJointLaw<dim>::element_count(p));
@@ -321,7 +321,7 @@ TEST_CASE("flatjoint: shear breakage at tau > c - sigma tan(phi)", "[flatjoint]"
   a.move(gn, 0, 0, 0, 0, 0, 10);
   a.move(0, 0, 0.999 * dc, 0, 0, 0, 1000);
   CHECK(a.count(LawEvent::bond_break) == 0);
-  auto         fe = FlatJointLaw<3>::element_force(p, a.st.data(), 0);
+  auto         fe = FlatJointLaw<3>::element_force(p, p.prepared(), a.st.data(), 0);
   const double A  = FlatJointLaw<3>::element_area(p, a.st.data(), 0);
   CHECK(fe[2] / A == Approx(-0.999 * tauc).epsilon(1e-9));
   CHECK(a.f.Fst == Approx(-0.999 * tauc * M_PI * 25e-6).epsilon(1e-9));
@@ -336,7 +336,7 @@ TEST_CASE("flatjoint: shear breakage at tau > c - sigma tan(phi)", "[flatjoint]"
   for (int e = 0; e < 3; ++e)
     {
       CHECK(FlatJointLaw<3>::bond_state(p, a.st.data(), e) == 2);
-      auto f = FlatJointLaw<3>::element_force(p, a.st.data(), e);
+      auto f = FlatJointLaw<3>::element_force(p, p.prepared(), a.st.data(), e);
       CHECK(f[1] == 0);
       CHECK(f[2] == 0);
       // Fn re-evaluated as unbonded: still compressive kn g A
@@ -375,7 +375,7 @@ TEST_CASE("flatjoint: unbonded Coulomb slip, slip energy Eq. 39, events", "[flat
   // slipping steps: the first step with ks * i * inc > mu |sigma|
   const int    first = int(std::floor(dslip / inc)) + 1;
   const double Eexp  = (n - first + 1) * (-0.4 * sig) * A * inc; // Eq. 39 summed
-  CHECK(FlatJointLaw<3>::slip_energy(p, a.st.data()) == Approx(Eexp).epsilon(1e-9));
+  CHECK(FlatJointLaw<3>::slip_energy(p, p.prepared(), a.st.data()) == Approx(Eexp).epsilon(1e-9));
   // reverse: slip ends
   a.move(0, -1e-7, 0, 0, 0, 0, 1);
   CHECK(a.count(LawEvent::slip_end) == 8);
@@ -392,13 +392,13 @@ TEST_CASE("flatjoint: alpha of Eq. 33 when an unbonded element closes", "[flatjo
   p.gap0   = 1e-6;
   Driver<3> a(p);
   CHECK(FlatJointLaw<3>::surface_gap(a.st.data()) == 1e-6);
-  CHECK_FALSE(FlatJointLaw<3>::active(p, a.st.data(), 0));
+  CHECK_FALSE(FlatJointLaw<3>::active(p, p.prepared(), a.st.data(), 0));
   // one step: gap 1e-6 -> -3e-6 with shear d_st = 2e-6; alpha = 3/4
   a.move(-4e-6, 0, 2e-6, 0, 0, 0, 1);
   const double A = M_PI * 25e-6;
   CHECK(a.f.Fst == Approx(-p.ks * A * 0.75 * 2e-6).epsilon(1e-12));
   CHECK(a.f.Fn == Approx(p.kn * A * -3e-6).epsilon(1e-12));
-  CHECK(FlatJointLaw<3>::active(p, a.st.data(), 0));
+  CHECK(FlatJointLaw<3>::active(p, p.prepared(), a.st.data(), 0));
   // next step, already closed: full increment
   a.move(0, 0, 1e-6, 0, 0, 0, 1);
   CHECK(a.f.Fst == Approx(-p.ks * A * 2.5e-6).epsilon(1e-12));
@@ -428,13 +428,13 @@ TEST_CASE("flatjoint: 2D partial contact, gap0 unbonds, deletion", "[flatjoint]"
   CHECK(FlatJointLaw<2>::bond(q, b.st.data(), 1) == 1);
   CHECK(FlatJointLaw<2>::bond_state(q, b.st.data(), 0) == 0);
   CHECK(FlatJointLaw<2>::bond_state(q, b.st.data(), 1) == 3);
-  CHECK_FALSE(FlatJointLaw<2>::deletable(q, b.st.data(), 0));
+  CHECK_FALSE(FlatJointLaw<2>::deletable(q, q.prepared(), b.st.data(), 0));
   FlatJointLaw<2>::unbond(q, b.st.data());
   CHECK(FlatJointLaw<2>::bonded_count(q, b.st.data()) == 0);
   b.move(0, 0, 0.9e-2, 0, 0, 0, 10); // 9 mm shear < 2R = 10 mm
-  CHECK_FALSE(FlatJointLaw<2>::deletable(q, b.st.data(), 0));
+  CHECK_FALSE(FlatJointLaw<2>::deletable(q, q.prepared(), b.st.data(), 0));
   b.move(0, 0, 0.2e-2, 0, 0, 0, 10); // 11 mm > 2R
-  CHECK(FlatJointLaw<2>::deletable(q, b.st.data(), 0));
+  CHECK(FlatJointLaw<2>::deletable(q, q.prepared(), b.st.data(), 0));
 }
 
 TEST_CASE("flatjoint: parameter validation", "[flatjoint]")
@@ -504,7 +504,7 @@ TEST_CASE("flatjoint: 2D bending breaks only the outer element", "[flatjoint]")
   CHECK(FlatJointLaw<2>::bond_state(p, a.st.data(), 0) == 1);
   CHECK(FlatJointLaw<2>::bonded_count(p, a.st.data()) == 3);
   // broken element open over its whole length: no force, no moment
-  auto f0 = FlatJointLaw<2>::element_force(p, a.st.data(), 0);
+  auto f0 = FlatJointLaw<2>::element_force(p, p.prepared(), a.st.data(), 0);
   CHECK(f0[0] == 0);
   CHECK(f0[3] == 0);
   // resultant of the three bonded elements: linear stress on [-R, 2.5 mm]
@@ -519,5 +519,5 @@ TEST_CASE("flatjoint: 2D bending breaks only the outer element", "[flatjoint]")
   CHECK(a.f.Fss == 0);
   CHECK(a.f.Mt == 0);
   CHECK(a.f.Mbt == 0);
-  CHECK(FlatJointLaw<2>::active(p, a.st.data(), 0));
+  CHECK(FlatJointLaw<2>::active(p, p.prepared(), a.st.data(), 0));
 }

@@ -188,7 +188,7 @@ namespace
             const Vec<dim> rel  = pos - m.particles.x[0];
             const double   vn   = omega * (-rel[1] * n_c[0] + rel[0] * n_c[1]); // (k x r).n
             const double   gap  = FJ::element_gap(p, st, e);
-            const double   fn_e = FJ::element_force(p, st, e)[0];
+            const double   fn_e = FJ::element_force(p, p.prepared(), st, e)[0];
             const int      bs   = FJ::bond_state(p, st, e);
             CHECK(bs == 0);
             if (vn > 0)

@@ -60,7 +60,7 @@ namespace
     {
       p.validate("test");
       st.resize(Law::state_size(p));
-      Law::install(p, k, st.data());
+      Law::install(p, p.prepared(), k, st.data());
     }
 
     /// `steps` equal increments (d_n, d_ss, d_st); the contact gap follows d_n.
@@ -73,7 +73,7 @@ namespace
           k.d_st = dst;
           k.gap += dn;
           const std::size_t before = sink.events.size();
-          Law::update(p, k, st.data(), f, sink);
+          Law::update(p, p.prepared(), k, st.data(), f, sink);
           ++step;
           for (std::size_t e = before; e < sink.events.size(); ++e)
             event_steps.push_back(step);
@@ -168,7 +168,7 @@ TEST_CASE("smooth joint: tensile breakage, seed Eq. 13-14", "[smoothjoint]")
     CHECK(d.count(LawEvent::bond_break) == 0);
     CHECK(d.fn() == Approx(2000).epsilon(tight));
     CHECK(d.f.Fn == Approx(2000).epsilon(tight)); // tension carried
-    CHECK(SJ2::strain_energy(d.p, d.st.data()) ==
+    CHECK(SJ2::strain_energy(d.p, d.p.prepared(), d.st.data()) ==
           Approx(0.5 * 2000 * 1e-5).epsilon(tight));
   }
   auto d = bonded_pull(1e5 * (1 - eps), 1e-5);
@@ -241,7 +241,7 @@ TEST_CASE("smooth joint: shear breakage, seed Eq. 13, 15", "[smoothjoint]")
     // Slip energy of the breaking step (Eq. 17): Fs_o = -999, Fs = -600,
     // slip part 1e-8 + (-600 + 999) / (ks A) = 4.0e-6 m.
     const double us = 1e-8 + 399.0 / 1e8;
-    CHECK(SJ2::slip_energy(d.p, d.st.data()) ==
+    CHECK(SJ2::slip_energy(d.p, d.p.prepared(), d.st.data()) ==
           Approx(0.5 * (999 + 600) * us).epsilon(1e-8));
     // Sliding on afterwards is unbonded: dilation now increases compression.
     d.run(10, 0, 0, -1e-8);
@@ -298,9 +298,9 @@ TEST_CASE("smooth joint: pair across a 30 deg dipping joint slides along the joi
         Approx(-(1732.0508 * 0.5 - 346.41016 * std::sqrt(3.0) / 2)).epsilon(1e-7));
   // Energies: strain Eq. 16 (with A); slip Eq. 17 summed over equal steps
   // with Fs growing linearly: E = 1/2 |Fs| (D/2 - |Fs| / (ks A)).
-  CHECK(SJ2::strain_energy(d.p, d.st.data()) ==
+  CHECK(SJ2::strain_energy(d.p, d.p.prepared(), d.st.data()) ==
         Approx(0.5 * (fn * fn + fs * fs) / 2e8).epsilon(tight));
-  CHECK(SJ2::slip_energy(d.p, d.st.data()) ==
+  CHECK(SJ2::slip_energy(d.p, d.p.prepared(), d.st.data()) ==
         Approx(0.5 * fs * (0.5 * D - fs / 2e8)).epsilon(1e-8));
 }
 
@@ -358,8 +358,8 @@ TEST_CASE("smooth joint: 3D joint normal, shear components, activity", "[smoothj
   k.gap = 0;
   k.R1 = k.R2 = R;
   Driver<3> d(p, k);
-  CHECK(SJ3::active(d.p, d.st.data(), 0.0) == false);
-  CHECK(SJ3::deletable(d.p, d.st.data(), 0.0));
+  CHECK(SJ3::active(d.p, d.p.prepared(), d.st.data(), 0.0) == false);
+  CHECK(SJ3::deletable(d.p, d.p.prepared(), d.st.data(), 0.0));
   const double A = M_PI * R * R;
   d.run(100, -1e-7, 0, 0);
   d.run(100, 0, 3e-8, -4e-8);
@@ -367,15 +367,15 @@ TEST_CASE("smooth joint: 3D joint normal, shear components, activity", "[smoothj
   CHECK(d.f.Fss == Approx(-5e9 * A * 3e-6).epsilon(tight));
   CHECK(d.f.Fst == Approx(5e9 * A * 4e-6).epsilon(tight));
   CHECK(d.f.Mt == 0);
-  CHECK(SJ3::active(d.p, d.st.data(), -1e-5));
-  CHECK_FALSE(SJ3::deletable(d.p, d.st.data(), -1e-5));
-  const ContactStiffness s = SJ3::stiffness(d.p, d.k, d.st.data());
+  CHECK(SJ3::active(d.p, d.p.prepared(), d.st.data(), -1e-5));
+  CHECK_FALSE(SJ3::deletable(d.p, d.p.prepared(), d.st.data(), -1e-5));
+  const ContactStiffness s = SJ3::stiffness(d.p, d.p.prepared(), d.k, d.st.data());
   CHECK(s.kn == Approx(1e10 * A).epsilon(tight));
   CHECK(s.ks == Approx(5e9 * A).epsilon(tight));
   // Small-strain mode: always active, never deletable.
   d.p.sj_large = false;
-  CHECK(SJ3::active(d.p, d.st.data(), 1.0));
-  CHECK_FALSE(SJ3::deletable(d.p, d.st.data(), 1.0));
+  CHECK(SJ3::active(d.p, d.p.prepared(), d.st.data(), 1.0));
+  CHECK_FALSE(SJ3::deletable(d.p, d.p.prepared(), d.st.data(), 1.0));
 }
 
 TEST_CASE("smooth joint: invalid properties throw InputError", "[smoothjoint]")
