@@ -15,10 +15,13 @@
 // skin later get a linear contact (the usual default law).
 #include "apps/commands.h"
 #include "dem/flat_joint_law.h"
-#include "dem/property_rules.h"
+#include "dem/genesis.h"
 #include "dem/linear_law.h"
+#include "dem/material_file.h"
 #include "dem/model.h"
+#include "dem/property_rules.h"
 
+#include <nlohmann/json.hpp>
 #include <omp.h>
 #include <sys/resource.h>
 
@@ -47,6 +50,8 @@ namespace
     std::int64_t steps   = 1000;
     int          threads = 1;
     bool         json    = false;
+    bool         dim_set = false;
+    std::string  material; ///< material.json: the scene is that material
   };
 
   struct BenchResult
@@ -54,6 +59,8 @@ namespace
     std::size_t n_particles = 0, n_contacts = 0, n_flatjoints = 0;
     double setup_s = 0, wall_s = 0, cpu_s = 0, timestep = 0, unbalanced = 0, kinetic = 0;
     int    elements = 0;
+    std::string material; ///< "" for the single-group scene
+    std::size_t n_bonded = 0, n_gapped = 0, n_slit = 0;
   };
 
   constexpr double r0      = 1e-3; // mean grain radius [m]
@@ -66,11 +73,17 @@ namespace
   void print_usage(std::ostream &out)
   {
     out << "usage: demfem bench [dem] --dim 2|3 --n N --steps S --threads T [--json]\n"
+           "       demfem bench [dem] --material FILE --n N --steps S --threads T "
+           "[--json]\n"
            "\n"
            "Times S steps of a dense, fully flat-jointed assembly of N grains under\n"
            "constant-strain compression (2D Nr = 2; 3D Nr = 2, Nal = 8). Only the\n"
            "stepping is timed.\n"
-           "  --dim 2|3      model dimension (default 2)\n"
+           "  --material FILE  material.json of demfem calibrate (flat-jointed): the\n"
+           "                 scene takes its size distribution, stiffnesses, strength\n"
+           "                 distributions, bonded/gapped/slit fractions, radius-\n"
+           "                 multiplier code and Nr/Nal, and its dimension\n"
+           "  --dim 2|3      model dimension (default 2; with --material: the file's)\n"
            "  --n N          number of grains, 8 <= N <= 100000000 (default 10000)\n"
            "  --steps S      number of timed steps, 1 <= S <= 1e9 (default 1000)\n"
            "  --threads T    OpenMP threads, 1 <= T <= 1024 (default 1)\n"
@@ -107,7 +120,17 @@ namespace
         else if (opt == "--json")
           o.json = true;
         else if (opt == "--dim")
-          o.dim = static_cast<int>(parse_int(opt, value, 2, 3, "2 or 3")), ++a;
+          o.dim     = static_cast<int>(parse_int(opt, value, 2, 3, "2 or 3")),
+          o.dim_set = true, ++a;
+        else if (opt == "--material")
+          {
+            if (value == nullptr)
+              throw std::invalid_argument(
+                  "option --material needs a value (a material.json "
+                  "written by demfem calibrate)");
+            o.material = value;
+            ++a;
+          }
         else if (opt == "--n")
           o.n = parse_int(opt, value, 8, 100000000, "an integer 8 <= N <= 100000000"),
           ++a;
@@ -120,9 +143,10 @@ namespace
               parse_int(opt, value, 1, 1024, "an integer 1 <= T <= 1024")),
           ++a;
         else
-          throw std::invalid_argument("unknown option '" + opt +
-                                      "' (allowed: dem, --dim 2|3, --n N, --steps S, "
-                                      "--threads T, --json, --help)");
+          throw std::invalid_argument(
+              "unknown option '" + opt +
+              "' (allowed: dem, --dim 2|3, --material FILE, --n N, "
+              "--steps S, --threads T, --json, --help)");
       }
     return o;
   }
@@ -180,25 +204,96 @@ namespace
     return x;
   }
 
-  template <int dim>
-  BenchResult run_dem(const BenchOptions &o)
+  /// The material a scene is made of: the single-group default (uniform
+  /// radii in [0.8, 1.2] r0, E* = 50 GPa, kappa* = 2, unbreakable, all
+  /// bonded) or a material file's microparameters.
+  struct SceneMaterial
   {
-    using clock   = std::chrono::steady_clock;
-    const auto t0 = clock::now();
-    Model<dim> model;
-    model.local_damping = 0.7;
+    std::string    file;
+    MaterialParams p;
+  };
 
-    // Grains: lattice sites jittered by up to 1e-3 r0 (breaks the symmetry of
-    // the contact normals without changing which pairs are bonded).
-    std::mt19937_64 gen(12345);
-    const double    a = 2 * r0;
-    for (const Vec<dim> &site : lattice<dim>(o.n, a))
+  SceneMaterial scene_material(const BenchOptions &o)
+  {
+    SceneMaterial s;
+    if (o.material.empty())
       {
-        Vec<dim> x = site;
-        for (int d = 0; d < dim; ++d)
-          x[d] += uniform(gen, -1e-3, 1e-3) * r0;
-        model.particles.add(x, uniform(gen, 0.8, 1.2) * r0, density);
+        s.p.type          = "flatjointed";
+        s.p.sizes         = {SizePiece{false, 1.6 * r0, 2.4 * r0, 0, 0, 1.0}};
+        s.p.density       = density;
+        s.p.lnm_emod      = emod;
+        s.p.lnm_krat      = kratio;
+        s.p.lnm_fric      = 0.5;
+        s.p.emod          = emod;
+        s.p.krat          = kratio;
+        s.p.fric          = 0.5;
+        s.p.fj_Nr         = 2;
+        s.p.fj_Nal        = 8;
+        s.p.fj_ten        = {1e20, 0};
+        s.p.fj_coh        = {1e20, 0};
+        s.p.local_damping = 0.7;
+        return s;
       }
+    s.file               = o.material;
+    const MaterialFile f = read_material_file(o.material);
+    if (o.dim_set && o.dim != f.dim)
+      throw InputError("--dim " + std::to_string(o.dim) +
+                       " contradicts the material file '" + o.material + "' (dim " +
+                       std::to_string(f.dim) + ")");
+    if (f.material.type != "flatjointed")
+      throw InputError("material file '" + o.material + "': type '" + f.material.type +
+                       "': the benchmark scene is flat-jointed (allowed: flatjointed)");
+    s.p = f.material;
+    return s;
+  }
+
+  template <int dim>
+  BenchResult run_dem(const BenchOptions &o, const SceneMaterial &mat)
+  {
+    using clock    = std::chrono::steady_clock;
+    const auto  t0 = clock::now();
+    const auto &p  = mat.p;
+    Model<dim>  model;
+    model.local_damping = p.local_damping;
+
+    // Radii: the single-group scene draws uniform radii in [0.8, 1.2] r0 with
+    // its own generator (the figures in docs/bench.md); a material draws
+    // from its size distribution (dem/genesis.h), shuffled so that the
+    // pieces mix. Lattice spacing a = 2 x the mean radius.
+    std::mt19937_64     gen(12345);
+    std::vector<double> radii;
+    if (!mat.file.empty())
+      {
+        Random rng(p.seed);
+        radii = draw_radii<dim>(p, 1.05 * o.n * mean_grain_volume<dim>(p), rng);
+        for (std::size_t k = radii.size(); k-- > 1;)
+          std::swap(radii[k], radii[rng.index(k + 1)]);
+        while (static_cast<std::int64_t>(radii.size()) < o.n)
+          radii.push_back(radii[rng.index(radii.size())]);
+        radii.resize(o.n);
+      }
+    double rbar = r0;
+    if (!mat.file.empty())
+      {
+        rbar = 0;
+        for (double r : radii)
+          rbar += r / radii.size();
+      }
+    const double a = 2 * rbar;
+    {
+      std::size_t k = 0;
+      for (const Vec<dim> &site : lattice<dim>(o.n, a))
+        {
+          // Jitter of up to 1e-3 r: breaks the symmetry of the contact
+          // normals without changing which pairs are bonded.
+          Vec<dim> x = site;
+          for (int d = 0; d < dim; ++d)
+            x[d] += uniform(gen, -1e-3, 1e-3) * rbar;
+          const double r = mat.file.empty() ? uniform(gen, 0.8, 1.2) * r0 : radii[k];
+          model.particles.add(x, r, p.density);
+          ++k;
+        }
+    }
     auto &P = model.particles;
 
     // Platens: bottom layer fixed, top layer moving down (constant strain rate).
@@ -219,37 +314,63 @@ namespace
       }
 
     // Laws: linear contacts for pairs detected by the skin, then a bonded flat
-    // joint on every pair with gap < 0.1 r0; stiffnesses per contact by the
-    // deformability method (memo Eq. 40, kn = E*/L), unbreakable.
+    // joint on every pair with gap < 0.1 r (the material's installation gap
+    // if larger); stiffnesses per contact by the deformability method (memo
+    // Eq. 40, kn = E*/L), strengths drawn per contact (dem/property_rules.h).
     typename FlatJointLaw<dim>::Params fj;
-    fj.Nr            = 2;
-    fj.Nal           = 8;
-    fj.fric          = 0.5;
-    fj.bonded        = true;
-    const Distribution unbreakable{1e20, 0};
-    const int  g_lin = model.template add_law<LinearLaw<dim>>(
-        {}, "bench linear", linear_rule<dim>({emod, kratio}, 0.5));
+    fj.Nr           = p.fj_Nr;
+    fj.Nal          = p.fj_Nal;
+    fj.fric         = p.fric;
+    fj.fa           = p.fj_fa;
+    fj.rmul         = p.fj_rmul;
+    fj.bonded       = true;
+    const int g_lin = model.template add_law<LinearLaw<dim>>(
+        {}, "bench linear", linear_rule<dim>({p.lnm_emod, p.lnm_krat}, p.lnm_fric));
     const int g_fj = model.template add_law<FlatJointLaw<dim>>(
         fj, "bench flatjoint",
-        flat_joint_rule<dim>({emod, kratio}, unbreakable, unbreakable, StrengthDraws(1)));
+        flat_joint_rule<dim>({p.emod, p.krat}, p.fj_ten, p.fj_coh,
+                             StrengthDraws(p.seed + 1)));
     model.set_default_law(g_lin, -1);
-    model.skin = max_gap * r0;
+    const double bond_gap = std::max(max_gap * rbar, p.igap);
+    model.skin            = bond_gap;
     model.detect_contacts();
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    JointList joints;
+    joints.group = g_fj;
     {
-      const auto &G = model.group(g_lin);
+      std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+      const auto                                          &G = model.group(g_lin);
       pairs.reserve(G.size());
       for (std::size_t k = 0; k < G.size(); ++k)
-        if (G.gap[k] < max_gap * r0)
+        if (G.gap[k] < bond_gap)
           pairs.emplace_back(G.end1[k], G.end2[k]);
+      for (const auto &[i, j] : pairs)
+        {
+          const ContactRef c = model.install(i, j, g_fj);
+          joints.index.push_back(c.index);
+          joints.i.push_back(std::min(i, j));
+          joints.j.push_back(std::max(i, j));
+        }
     }
-    for (const auto &[i, j] : pairs)
-      model.install(i, j, g_fj);
+    BenchResult r;
+    if (!mat.file.empty())
+      {
+        // The material's microstructure (fistPkg §2.6.2): valid radius
+        // multipliers, then bonded / gapped / slit joints.
+        set_radius_multipliers(model, joints, p.fj_rmul_code, p.fj_rmul);
+        Random rng(p.seed + 2);
+        designate_microstructure(model, joints, p.fj_B, p.fj_G, p.fj_gap, rng);
+        const auto &G = model.group(g_fj);
+        for (std::size_t k = 0; k < G.size(); ++k)
+          {
+            const int t = static_cast<int>(G.property(k, "fj_mtype"));
+            (t == 1 ? r.n_bonded : t == 2 ? r.n_gapped : r.n_slit)++;
+          }
+      }
     model.skin = 0; // default 0.1 * min radius for the run
     model.set_timestep(0);
     model.detect_contacts(); // time step from the flat-joint stiffnesses
 
-    BenchResult r;
+    r.material     = mat.file;
     r.n_particles  = P.size();
     r.n_contacts   = model.n_contacts();
     r.n_flatjoints = model.group(g_fj).size();
@@ -271,39 +392,60 @@ namespace
   {
     const double ps = double(r.n_particles) * o.steps / r.wall_s;
     const double cs = double(r.n_contacts) * o.steps / r.wall_s;
-    char         buf[2048];
     if (o.json)
       {
-        std::snprintf(
-            buf, sizeof buf,
-            "{\"benchmark\": \"dem\", \"law\": \"flatjoint\", \"dim\": %d, "
-            "\"n_particles\": %zu, \"n_contacts\": %zu, \"n_flatjoints\": %zu, "
-            "\"elements_per_contact\": %d, \"threads\": %d, \"steps\": %lld, "
-            "\"setup_s\": %.6g, \"wall_s\": %.6g, \"cpu_s\": %.6g, \"timestep\": %.6g, "
-            "\"particle_steps_per_s\": %.6g, \"contact_updates_per_s\": %.6g, "
-            "\"particle_steps_per_s_per_thread\": %.6g, "
-            "\"unbalanced_ratio\": %.6g, \"kinetic_energy\": %.6g}\n",
-            o.dim, r.n_particles, r.n_contacts, r.n_flatjoints, r.elements, o.threads,
-            static_cast<long long>(o.steps), r.setup_s, r.wall_s, r.cpu_s, r.timestep, ps,
-            cs, ps / o.threads, r.unbalanced, r.kinetic);
-        std::cout << buf;
+        nlohmann::ordered_json j;
+        j["benchmark"]    = "dem";
+        j["law"]          = "flatjoint";
+        j["material"]     = r.material.empty() ? "single-group scene" : r.material;
+        j["dim"]          = o.dim;
+        j["n_particles"]  = r.n_particles;
+        j["n_contacts"]   = r.n_contacts;
+        j["n_flatjoints"] = r.n_flatjoints;
+        j["elements_per_contact"] = r.elements;
+        if (!r.material.empty())
+          {
+            j["n_bonded"] = r.n_bonded;
+            j["n_gapped"] = r.n_gapped;
+            j["n_slit"]   = r.n_slit;
+          }
+        j["threads"]                         = o.threads;
+        j["steps"]                           = o.steps;
+        j["setup_s"]                         = r.setup_s;
+        j["wall_s"]                          = r.wall_s;
+        j["cpu_s"]                           = r.cpu_s;
+        j["timestep"]                        = r.timestep;
+        j["particle_steps_per_s"]            = ps;
+        j["contact_updates_per_s"]           = cs;
+        j["particle_steps_per_s_per_thread"] = ps / o.threads;
+        j["unbalanced_ratio"]                = r.unbalanced;
+        j["kinetic_energy"]                  = r.kinetic;
+        std::cout << j.dump() << "\n";
         return;
       }
+    char buf[2048];
     std::snprintf(
         buf, sizeof buf,
         "demfem bench dem: %dD flat-joint assembly under constant-strain compression\n"
+        "  material             %s\n"
         "  particles            %zu\n"
-        "  contacts             %zu (%zu flat joints, %d elements each)\n"
-        "  threads              %d\n"
-        "  steps                %lld (time step %.4g s)\n"
-        "  setup                %.3f s (not timed)\n"
-        "  stepping wall time   %.3f s (CPU time %.3f s)\n"
-        "  particle steps / s   %.4g (%.4g per thread)\n"
-        "  contact updates / s  %.4g\n"
-        "  unbalanced ratio     %.3g at the end\n",
-        o.dim, r.n_particles, r.n_contacts, r.n_flatjoints, r.elements, o.threads,
-        static_cast<long long>(o.steps), r.timestep, r.setup_s, r.wall_s, r.cpu_s, ps,
-        ps / o.threads, cs, r.unbalanced);
+        "  contacts             %zu (%zu flat joints, %d elements each)\n",
+        o.dim, r.material.empty() ? "single-group scene" : r.material.c_str(),
+        r.n_particles, r.n_contacts, r.n_flatjoints, r.elements);
+    std::cout << buf;
+    if (!r.material.empty())
+      std::cout << "  microstructure       " << r.n_bonded << " bonded, " << r.n_gapped
+                << " gapped, " << r.n_slit << " slit\n";
+    std::snprintf(buf, sizeof buf,
+                  "  threads              %d\n"
+                  "  steps                %lld (time step %.4g s)\n"
+                  "  setup                %.3f s (not timed)\n"
+                  "  stepping wall time   %.3f s (CPU time %.3f s)\n"
+                  "  particle steps / s   %.4g (%.4g per thread)\n"
+                  "  contact updates / s  %.4g\n"
+                  "  unbalanced ratio     %.3g at the end\n",
+                  o.threads, static_cast<long long>(o.steps), r.timestep, r.setup_s,
+                  r.wall_s, r.cpu_s, ps, ps / o.threads, cs, r.unbalanced);
     std::cout << buf;
   }
 } // namespace
@@ -330,7 +472,10 @@ int demfem::apps::run_bench(int argc, char **argv)
   omp_set_num_threads(o.threads);
   try
     {
-      const BenchResult r = o.dim == 2 ? run_dem<2>(o) : run_dem<3>(o);
+      const SceneMaterial mat = scene_material(o);
+      if (!mat.file.empty())
+        o.dim = read_material_file(mat.file).dim;
+      const BenchResult r = o.dim == 2 ? run_dem<2>(o, mat) : run_dem<3>(o, mat);
       report(o, r);
     }
   catch (const std::exception &e)

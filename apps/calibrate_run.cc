@@ -235,6 +235,10 @@ namespace demfem::apps
           .num("cracks_shear_at_peak", double(r.cracks_shear_peak))
           .num("cracks_tension_at_end", double(r.cracks_tension))
           .num("cracks_shear_at_end", double(r.cracks_shear));
+      for (int t = 0; t < dem::n_bond_types; ++t)
+        j.num(std::string("cracks_") + dem::bond_type_name(static_cast<dem::BondType>(t)) +
+                  "_at_end",
+              double(r.cracks_by_type[t]));
       if (r.kind == dem::TestKind::compression)
         {
           j.num("E_Pa", r.E).num("nu", r.nu).num("E_platen_strain_Pa", r.E_wall);

@@ -260,12 +260,23 @@ namespace demfem::coupling
       }
 
     const double rmean = 0.25 * (p.d_lo + p.d_hi);
-    // Every group sets its contacts' stiffnesses by the deformability method
-    // (memo Eq. 40, dem/property_rules.h), as genesis does.
-    G.pack      = m.template add_law<LN>({}, "DEM region (packing)",
-                                    dem::linear_rule<dim>({p.lnm_emod, 0}, 0));
-    G.pack_wall = m.template add_law<LN>({}, "DEM region (packing, ring)",
-                                         dem::linear_rule<dim>({p.lnm_emod, 0}, 0));
+    // Packing groups: one frictionless stiffness for every contact, that of
+    // a contact between two grains of the mean final radius (memo Eq. 40).
+    // The radii grow after the contacts are made, so a per-contact value set
+    // at installation would go stale; the packing is a numerical device and
+    // its contacts do not outlive it. The material's groups below are per
+    // contact.
+    {
+      dem::ContactGeometry<dim> gbb, gbw;
+      gbb.R1 = gbb.R2 = gbw.R1 = rmean;
+      gbw.ball_wall            = true;
+      const dem::Deformability pack{p.lnm_emod, 0};
+      typename LN::Params      q;
+      q.kn        = pack.kn_force(gbb);
+      G.pack      = m.template add_law<LN>(q, "DEM region (packing)");
+      q.kn        = pack.kn_force(gbw);
+      G.pack_wall = m.template add_law<LN>(q, "DEM region (packing, ring)");
+    }
     m.set_default_law(G.pack, G.pack_wall);
     m.local_damping = 0.7;
     m.set_timestep(0);
@@ -396,9 +407,10 @@ namespace demfem::coupling
       q.bonded = true;
       const dem::Distribution ten{p.breakable ? p.fj_ten : huge, 0};
       const dem::Distribution coh{p.breakable ? p.fj_coh : huge, 0};
-      G.bond = m.template add_law<FJ>(
-          q, "DEM region (flat joints)",
-          dem::flat_joint_rule<dim>({p.emod, p.krat}, ten, coh, dem::StrengthDraws(p.seed)));
+      G.bond =
+          m.template add_law<FJ>(q, "DEM region (flat joints)",
+                                 dem::flat_joint_rule<dim>({p.emod, p.krat}, ten, coh,
+                                                           dem::StrengthDraws(p.seed)));
     }
     for (const auto &pr : pairs)
       m.install(pr.i, pr.j, G.bond);
@@ -458,8 +470,8 @@ namespace demfem::coupling
     if (progress)
       {
         *progress << "DEM region: " << G.n_bonds << " flat joints, "
-                  << walls_touching.size() << " grains on the ring, "
-                  << G.n_rattlers << " rattlers removed\n";
+                  << walls_touching.size() << " grains on the ring, " << G.n_rattlers
+                  << " rattlers removed\n";
         if constexpr (dim == 3)
           *progress << "DEM region: slab 0 < z < " << t << " m, porosity "
                     << G.packed_porosity << " packed (target " << p.porosity_3d << "), "

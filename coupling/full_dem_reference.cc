@@ -383,6 +383,8 @@ namespace demfem::coupling
           {
             r.damage_zone_depth = excavation::damage_zone_depth(m, exc.cracks_before, a,
                                                                 r.evaluation_radius);
+            r.damage_zone_depth_max = excavation::largest_crack_depth(
+                m, exc.cracks_before, a, r.evaluation_radius);
             r.damage_zone_depth_all =
                 excavation::damage_zone_depth(m, exc.cracks_before, a);
             for (std::size_t k = exc.cracks_before; k < m.cracks.size(); ++k)
@@ -446,9 +448,11 @@ namespace demfem::coupling
           << ",\n  \"cracks_total\": " << r.cracks_total
           << ",\n  \"cracks_tensile\": " << r.cracks_tensile
           << ",\n  \"cracks_shear\": " << r.cracks_shear
+          << ",\n  \"cracks_by_type\": {" << excavation::cracks_by_type_json(m) << "}"
           << ",\n  \"cracks_before_excavation\": " << r.cracks_before_excavation
           << ",\n  \"cracks_near_boundary\": " << r.cracks_near_boundary
           << ",\n  \"damage_zone_depth\": " << num(r.damage_zone_depth)
+          << ",\n  \"damage_zone_depth_max\": " << num(r.damage_zone_depth_max)
           << ",\n  \"damage_zone_depth_all\": " << num(r.damage_zone_depth_all)
           << ",\n  \"evaluation_radius_m\": " << num(r.evaluation_radius)
           << ",\n  \"cracks_beyond_evaluation\": " << r.cracks_beyond_evaluation

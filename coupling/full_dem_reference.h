@@ -114,6 +114,7 @@ namespace demfem::coupling
     /// in-situ ramp, broken by the excavation's unloading wave); the
     /// unfiltered value and the count of excavation cracks beyond R/2.
     double      damage_zone_depth        = 0;
+    double      damage_zone_depth_max    = 0; ///< largest crack distance (r <= R/2)
     double      damage_zone_depth_all    = 0;
     std::size_t cracks_beyond_evaluation = 0;
     double      evaluation_radius        = 0;

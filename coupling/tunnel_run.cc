@@ -5,6 +5,7 @@
 #include <deal.II/fe/mapping_q.h>
 #include <deal.II/numerics/data_out.h>
 
+#include "coupling/excavation_measures.h"
 #include "dem/checkpoint.h"
 #include "dem/vtk_output.h"
 
@@ -197,17 +198,6 @@ namespace demfem::coupling
         if (n)
           *n = c;
         return c ? s / c : 0.0;
-      }
-
-      double damage_depth() const
-      {
-        // Cracks formed from the excavation on (isolated cracks of the
-        // in-situ loading are not excavation damage).
-        double d = 0;
-        for (std::size_t k = cracks_before; k < m.dem.cracks.size(); ++k)
-          d = std::max(d, m.dem.cracks[k].position.template head<2>().norm() -
-                              p.tunnel_radius);
-        return d;
       }
 
       // Cracks within two mean grain diameters of the coupling ring: damage
@@ -688,7 +678,10 @@ namespace demfem::coupling
         r.cracks_total                  = cracks(-1);
         r.cracks_tensile                = cracks(0);
         r.cracks_shear                  = cracks(1);
-        r.damage_zone_depth             = damage_depth();
+        r.damage_zone_depth =
+            excavation::damage_zone_depth(m.dem, cracks_before, p.tunnel_radius);
+        r.damage_zone_depth_max =
+            excavation::largest_crack_depth(m.dem, cracks_before, p.tunnel_radius);
         r.interface_force_imbalance_max = m.imbalance_max();
         std::vector<std::array<double, 6>> rows;
         r.wall_convergence_mean = convergence(&r.n_wall_particles, &rows);
@@ -729,7 +722,9 @@ namespace demfem::coupling
           << ",\n  \"cracks_total\": " << r.cracks_total
           << ",\n  \"cracks_tensile\": " << r.cracks_tensile
           << ",\n  \"cracks_shear\": " << r.cracks_shear
+          << ",\n  \"cracks_by_type\": {" << excavation::cracks_by_type_json(m.dem) << "}"
           << ",\n  \"damage_zone_depth\": " << num(r.damage_zone_depth)
+          << ",\n  \"damage_zone_depth_max\": " << num(r.damage_zone_depth_max)
           << ",\n  \"cracks_before_excavation\": " << cracks_before
           << ",\n  \"cracks_near_interface\": " << near_interface()
           << ",\n  \"region_too_small\": " << (near_interface() > 0 ? "true" : "false")

@@ -59,7 +59,8 @@ namespace demfem::coupling
     std::int64_t    steps        = 0;
     double          wall_time_s  = 0;
     std::size_t     cracks_total = 0, cracks_tensile = 0, cracks_shear = 0;
-    double          damage_zone_depth     = 0;
+    double          damage_zone_depth     = 0; ///< 90th-percentile crack distance [m]
+    double          damage_zone_depth_max = 0; ///< largest crack distance [m]
     double          wall_convergence_mean = 0; ///< mean inward radial displacement [m]
     double          interface_force_imbalance_max = 0;
     std::size_t     n_wall_particles              = 0;

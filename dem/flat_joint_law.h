@@ -857,7 +857,7 @@ namespace demfem::dem
     }
 
     // ---- getters -------------------------------------------------------------
-    static int bond_state(const Params &p, const double *st, int e)
+    static int bond_state(const Params &, const double *st, int e)
     {
       return code_bond(code_array(st)[e]);
     }

@@ -257,6 +257,35 @@ namespace demfem::dem
   } // namespace
 
   template <int dim>
+  double mean_grain_volume(const MaterialParams &p)
+  {
+    // Grains per unit solid volume: sum over pieces of fraction / mean volume.
+    double per_volume = 0;
+    for (const auto &s : p.sizes)
+      per_volume += s.volume_fraction /
+                    (mean_grain_volume<dim>(s) * std::pow(p.diameter_multiplier, dim));
+    return 1 / per_volume;
+  }
+
+  template <int dim>
+  std::vector<double> draw_radii(const MaterialParams &p, double solid_volume,
+                                 Random &rng)
+  {
+    std::vector<double> radii;
+    for (const auto &piece : p.sizes)
+      {
+        double acc = 0;
+        while (acc < piece.volume_fraction * solid_volume)
+          {
+            const double r = 0.5 * p.diameter_multiplier * draw_diameter(piece, rng);
+            radii.push_back(r);
+            acc += ball_volume<dim>(r);
+          }
+      }
+    return radii;
+  }
+
+  template <int dim>
   double expected_grain_count(const MaterialParams &p, const VesselParams &v)
   {
     double Vv = v.H * v.W;
@@ -300,19 +329,13 @@ namespace demfem::dem
     Random rng(p.seed);
 
     // 1. Grain cloud of porosity n_c (overlaps not accounted for).
-    const double        Vv = s.vessel.volume(m.walls);
-    const double        Vg = (1 - p.cloud_porosity_or_default(dim)) * Vv;
-    std::vector<double> radii;
-    for (const auto &piece : p.sizes)
-      {
-        double acc = 0;
-        while (acc < piece.volume_fraction * Vg)
-          {
-            const double r = 0.5 * p.diameter_multiplier * draw_diameter(piece, rng);
-            radii.push_back(r);
-            acc += ball_volume<dim>(r);
-          }
-      }
+    const double Vv = s.vessel.volume(m.walls);
+    const double Vg = (1 - p.cloud_porosity_or_default(dim)) * Vv;
+    if (Vg / mean_grain_volume<dim>(p) > 5000000)
+      throw InputError(where + ": the size distribution gives about " +
+                       std::to_string(std::llround(Vg / mean_grain_volume<dim>(p))) +
+                       " grains; raise 'diameter_multiplier'");
+    const std::vector<double> radii = draw_radii<dim>(p, Vg, rng);
     if (radii.size() > 5000000)
       throw InputError(where + ": the size distribution gives " +
                        std::to_string(radii.size()) +
@@ -400,7 +423,14 @@ namespace demfem::dem
             double       alpha = K > 0 ? (p.Pm - Pw) / K : 0.01;
             alpha              = std::clamp(alpha, -0.1, 0.05);
             scale_radii(m, alpha, rho);
-            pk.equilibrate(p.step_limit);
+            // A shrink can leave the assembly off the walls: then a cluster
+            // rattles between them without contact damping and the ratio
+            // never falls. Equilibrate in bounded chunks, stop loose grains
+            // when the walls carry nothing, and let the next scaling grow
+            // them back (the step limit still bounds the whole packing).
+            if (!pk.equilibrate(std::min<std::int64_t>(p.step_limit, 20000)) &&
+                wall_pressure(s) < p.P_tol * p.Pm)
+              calm(P);
             if (it % 5 == 0)
               pk.report("grain scaling");
           }
@@ -448,10 +478,10 @@ namespace demfem::dem
           rbar += r;
         rbar /= radii.size();
         ContactGeometry<dim> gbw;
-        gbw.R1                = rbar;
-        gbw.ball_wall         = true;
-        const double wall_kn  = Deformability{vp.emod, 0.0}.kn_force(gbw);
-        const double Ag       = dim == 2 ? 2 * rbar : M_PI * rbar * rbar;
+        gbw.R1               = rbar;
+        gbw.ball_wall        = true;
+        const double wall_kn = Deformability{vp.emod, 0.0}.kn_force(gbw);
+        const double Ag      = dim == 2 ? 2 * rbar : M_PI * rbar * rbar;
         sp.v_limit =
             p.v_limit > 0
                 ? p.v_limit
@@ -495,6 +525,10 @@ namespace demfem::dem
                                       std::ostream *, const std::string &);
   template Specimen<3> build_specimen(const MaterialParams &, const VesselParams &,
                                       std::ostream *, const std::string &);
+  template double      mean_grain_volume<2>(const MaterialParams &);
+  template double      mean_grain_volume<3>(const MaterialParams &);
+  template std::vector<double> draw_radii<2>(const MaterialParams &, double, Random &);
+  template std::vector<double> draw_radii<3>(const MaterialParams &, double, Random &);
   template double expected_grain_count<2>(const MaterialParams &, const VesselParams &);
   template double expected_grain_count<3>(const MaterialParams &, const VesselParams &);
   template void   set_grain_count<2>(MaterialParams &, const VesselParams &, double);

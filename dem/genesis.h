@@ -49,6 +49,15 @@ namespace demfem::dem
   /// Expected number of grains for p and v (cloud porosity, mean grain volume).
   template <int dim>
   double expected_grain_count(const MaterialParams &p, const VesselParams &v);
+  /// Grain radii of the material's size distribution (all pieces, diameter
+  /// multiplier applied) whose volumes add up to `solid_volume`, each piece
+  /// its volume fraction (fistPkg Table 1), piece after piece.
+  template <int dim>
+  std::vector<double> draw_radii(const MaterialParams &p, double solid_volume,
+                                 Random &rng);
+  /// Number-mean grain volume of the material's size distribution.
+  template <int dim>
+  double mean_grain_volume(const MaterialParams &p);
   /// Sets p.diameter_multiplier so that about n grains fill the vessel.
   template <int dim>
   void set_grain_count(MaterialParams &p, const VesselParams &v, double n);

@@ -2,6 +2,8 @@
 // §5.2, §5.4-5.7).
 #include "dem/lab_tests.h"
 
+#include <array>
+
 #include "dem/linear_law.h"
 #include "dem/measurement.h"
 
@@ -96,24 +98,30 @@ namespace demfem::dem
       }
 
     private:
-      Specimen<dim>             &s_;
-      Model<dim>                &m_;
-      const LabTestParams       &p_;
-      const LabCallbacks<dim>   &cb_;
-      LabTestResult              r_;
-      std::size_t                crack_base_, counted_ = 0;
-      std::size_t                n_ten_ = 0, n_shear_ = 0;
-      double                     far_ = 0;
-      std::vector<std::uint32_t> gauge_, grip_top_, grip_bottom_;
-      double                     L0_ = 0; // loading length (platen gap / grip distance)
-      double                     v_  = 0; // speed of each platen / grip
-      std::int64_t               step0_ = 0;
-      double                     time0_ = 0;
+      Specimen<dim>                        &s_;
+      Model<dim>                           &m_;
+      const LabTestParams                  &p_;
+      const LabCallbacks<dim>              &cb_;
+      LabTestResult                         r_;
+      std::size_t                           crack_base_, counted_ = 0;
+      std::size_t                           n_ten_ = 0, n_shear_ = 0;
+      std::array<std::size_t, n_bond_types> n_type_{}; // by BondType
+      double                                far_ = 0;
+      std::vector<std::uint32_t>            gauge_, grip_top_, grip_bottom_;
+      double       L0_    = 0; // loading length (platen gap / grip distance)
+      double       v_     = 0; // speed of each platen / grip
+      std::int64_t step0_ = 0;
+      double       time0_ = 0;
 
       void count_cracks()
       {
         for (; crack_base_ + counted_ < m_.cracks.size(); ++counted_)
-          (m_.cracks[crack_base_ + counted_].mode == 0 ? n_ten_ : n_shear_)++;
+          {
+            const auto &c = m_.cracks[crack_base_ + counted_];
+            (c.mode == 0 ? n_ten_ : n_shear_)++;
+            if (c.type != BondType::none)
+              ++n_type_[static_cast<int>(c.type)];
+          }
       }
 
       void remove_walls(int a)
@@ -177,9 +185,11 @@ namespace demfem::dem
         gauge_.erase(std::unique(gauge_.begin(), gauge_.end()), gauge_.end());
         count_cracks();
         counted_base_ten_   = n_ten_;
+        counted_base_type_  = n_type_;
         counted_base_shear_ = n_shear_;
       }
       std::size_t counted_base_ten_ = 0, counted_base_shear_ = 0;
+      std::array<std::size_t, n_bond_types> counted_base_type_{};
 
       void setup_compression()
       {
@@ -294,15 +304,15 @@ namespace demfem::dem
         // platens and carried no load). The platen contacts keep the
         // grain-wall kn of each contact, with the shear stiffness of the
         // material's linear group, ks = kn / kappa*, and the platen friction.
-        const double krat     = s_.material.lnm_krat > 0 ? s_.material.lnm_krat : 1.0;
-        const double friction = p_.platen_friction;
-        typename Group::Rule wall_rule = wg->rule;
+        const double         krat = s_.material.lnm_krat > 0 ? s_.material.lnm_krat : 1.0;
+        const double         friction      = p_.platen_friction;
+        typename Group::Rule wall_rule     = wg->rule;
         typename LinearLaw<dim>::Params lp = wg->params;
         lp.friction                        = friction;
         lp.ks                              = lp.kn / krat;
-        const int g = m_.template add_law<LinearLaw<dim>>(
+        const int g                        = m_.template add_law<LinearLaw<dim>>(
             lp, "platen friction",
-            [wall_rule, krat, friction](const ContactGeometry<dim>      &geo,
+            [wall_rule, krat, friction](const ContactGeometry<dim>     &geo,
                                         typename LinearLaw<dim>::Props &q) {
               if (wall_rule)
                 wall_rule(geo, q);
@@ -521,6 +531,9 @@ namespace demfem::dem
         r_.cracks_shear_peak   = pk.cracks_shear;
         r_.cracks_tension      = H.back().cracks_tension;
         r_.cracks_shear        = H.back().cracks_shear;
+        // As counted by the last history row (record() counts the cracks).
+        for (int t = 0; t < n_bond_types; ++t)
+          r_.cracks_by_type[t] = n_type_[t] - counted_base_type_[t];
         const double n_peak    = double(pk.cracks_tension + pk.cracks_shear);
         const double threshold = std::max(1.0, p_.crack_initiation_fraction * n_peak);
         for (std::size_t i = 0; i <= r_.peak_row; ++i)

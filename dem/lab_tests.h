@@ -10,6 +10,7 @@
 #include "dem/genesis.h"
 #include "dem/servo.h"
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -110,8 +111,12 @@ namespace demfem::dem
     double      E_wall = 0; ///< modulus from platen strain (incl. contact compliance)
     std::size_t cracks_tension_peak = 0, cracks_shear_peak = 0;
     std::size_t cracks_tension = 0, cracks_shear = 0; ///< at the end
-    double      R = 0, t = 0; ///< Brazilian disk radius and thickness [m]
-    double      area = 0;     ///< cross-section used for the axial stress [m^2]
+    /// Cracks of the loading phase by what broke (index: BondType), at the
+    /// end: material cracks (contact / parallel bond, flat joint) apart
+    /// from joint cracks (smooth joint).
+    std::array<std::size_t, n_bond_types> cracks_by_type{};
+    double R = 0, t = 0; ///< Brazilian disk radius and thickness [m]
+    double area = 0;     ///< cross-section used for the axial stress [m^2]
   };
 
   /// Callbacks: progress (every history row) and state snapshots, called

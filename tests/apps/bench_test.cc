@@ -85,3 +85,34 @@ TEST_CASE("bench dem rejects invalid options naming them", "[bench]")
   CHECK(help.status == 0);
   CHECK_THAT(help.out, Catch::Contains("--steps"));
 }
+
+TEST_CASE("bench dem --material builds the scene of a material file", "[bench]")
+{
+  const std::string ldb =
+      std::string(DEMFEM_SOURCE_DIR) + "/apps/examples/lac_du_bonnet_2d.material.json";
+  const RunResult r = run_demfem("bench dem --material " + ldb +
+                                 " --n 500 --steps 20 --threads 1 --json");
+  INFO(r.out);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Contains("lac_du_bonnet_2d.material.json"));
+  CHECK(json_number(r.out, "dim") == 2); // from the file
+  CHECK(json_number(r.out, "n_particles") == 500);
+  // The LdB material is all bonded (fj_B = 1): every joint is type 1.
+  CHECK(json_number(r.out, "n_bonded") == json_number(r.out, "n_flatjoints"));
+  CHECK(json_number(r.out, "n_gapped") == 0);
+  CHECK(json_number(r.out, "n_flatjoints") > 500);
+  // Elements per joint from the file (fj_Nr = 2 in 2D).
+  CHECK(json_number(r.out, "elements_per_contact") == 2);
+
+  // A dimension that contradicts the file, a missing file, another law:
+  // refused, naming what is wrong.
+  const RunResult dim = run_demfem("bench dem --material " + ldb + " --dim 3 --n 500");
+  CHECK(dim.status == 1);
+  CHECK_THAT(dim.out, Catch::Contains("--dim 3"));
+  const RunResult none = run_demfem("bench dem --material /nonexistent.json --n 500");
+  CHECK(none.status == 1);
+  CHECK_THAT(none.out, Catch::Contains("/nonexistent.json"));
+  const RunResult arg = run_demfem("bench dem --material");
+  CHECK(arg.status == 2);
+  CHECK_THAT(arg.out, Catch::Contains("--material"));
+}

@@ -137,6 +137,15 @@ TEST_CASE("tunnel restart: stopped and continued run equals the uninterrupted on
   CHECK_THAT(sa, Catch::Contains(std::string("\"region_too_small\": ") +
                                  (near ? "true" : "false")));
   CHECK((log.str().find("DEM region is too small") != std::string::npos) == near);
+  // Every crack of the flat-jointed region is a flat-joint crack, counted by
+  // type in summary.json; the restarted run's crack records keep their type.
+  CHECK_THAT(sa,
+             Catch::Contains("\"cracks_by_type\": {\"contact_bond\": 0, "
+                             "\"parallel_bond\": 0, \"flat_joint\": " +
+                             std::to_string(ra.cracks_total) + ", \"smooth_joint\": 0}"));
+  CHECK(read(db + "/summary.json")
+            .find("\"flat_joint\": " + std::to_string(ra.cracks_total)) !=
+        std::string::npos);
   // summary.json reports the real coupling.
   CHECK_THAT(sa, Catch::Contains("\"variant\": \"" + name + "\""));
   CHECK_THAT(sa, Catch::Contains("\"scheme\": \"" + scheme + "\""));

@@ -3,6 +3,7 @@
 // multiplier validity, reproducibility and input errors.
 #include "dem/flat_joint_law.h"
 #include "dem/genesis.h"
+#include "dem/linear_law.h"
 
 #include <catch2/catch.hpp>
 
@@ -146,6 +147,63 @@ TEST_CASE("packed fabric is isotropic", "[genesis]")
   // component (mean ~10 %); a packing's normals are more regular than that:
   // seeds 1-5 gave 0.7-8.5 %. Bound 15 % (the brief's isotropy criterion).
   CHECK((e.maxCoeff() - e.minCoeff()) / 0.5 < 0.15);
+}
+
+TEST_CASE("measurement-based porosity counts the parts of grains in the region",
+          "[genesis]")
+{
+  // Closed forms: a disk / ball halfway across the rim (centre on the rim,
+  // r << R: about half inside; exact lens below), one wholly inside, and two
+  // overlapping grains whose lens is removed once.
+  const double R = 1.0, r = 0.1;
+  {
+    Model<2> m;
+    m.particles.add(Vec<2>(0, 0), r, 2650);     // inside
+    m.particles.add(Vec<2>(R, 0), r, 2650);     // on the rim
+    m.particles.add(Vec<2>(0, 5 * R), r, 2650); // outside
+    Region<2> reg;
+    reg.radius = R;
+    // Circle-circle lens, d = R: r^2 acos(r/2R) + R^2 acos(1 - r^2/2R^2)
+    // - 0.5 r sqrt(4R^2 - r^2).
+    const double lens = r * r * std::acos(r / (2 * R)) +
+                        R * R * std::acos(1 - r * r / (2 * R * R)) -
+                        0.5 * r * std::sqrt(4 * R * R - r * r);
+    CHECK(region_porosity(m, reg) ==
+          Approx(1 - (M_PI * r * r + lens) / (M_PI * R * R)).epsilon(1e-14));
+    CHECK(lens == Approx(0.5 * M_PI * r * r).epsilon(0.05)); // about half
+  }
+  {
+    Model<3> m;
+    m.particles.add(Vec<3>(0, 0, 0), r, 2650);
+    m.particles.add(Vec<3>(0, 0, R), r, 2650);
+    Region<3> reg;
+    reg.radius = R;
+    // Sphere-sphere lens, d = R: pi r^3 (8 R - 3 r) / (12 R).
+    const double lens = M_PI * r * r * r * (8 * R - 3 * r) / (12 * R);
+    CHECK(region_porosity(m, reg) ==
+          Approx(1 - (4.0 / 3 * M_PI * r * r * r + lens) / (4.0 / 3 * M_PI * R * R * R))
+              .epsilon(1e-14));
+  }
+  {
+    // Two disks overlapping by 0.02 at the centre: the contact's lens
+    // (d = 0.18) is subtracted, so the solid is the union of the two.
+    Model<2> m;
+    m.particles.add(Vec<2>(-0.09, 0), r, 2650);
+    m.particles.add(Vec<2>(0.09, 0), r, 2650);
+    LinearLaw<2>::Params lp;
+    lp.kn = 1e6;
+    m.install(0, 1, m.add_law<LinearLaw<2>>(lp));
+    m.particles.fixity[0] = m.particles.fixity[1] = fix_all;
+    m.set_timestep(1e-9);
+    m.step(); // the contact's location (memo Eq. 2) is at the origin
+    Region<2> reg;
+    reg.radius     = R;
+    const double d = 0.18;
+    const double lens =
+        2 * r * r * std::acos(d / (2 * r)) - 0.5 * d * std::sqrt(4 * r * r - d * d);
+    CHECK(region_porosity(m, reg) ==
+          Approx(1 - (2 * M_PI * r * r - lens) / (M_PI * R * R)).epsilon(1e-6));
+  }
 }
 
 TEST_CASE("gauge and wall strains", "[genesis]")
