@@ -18,11 +18,11 @@ namespace demfem::dem
 
   namespace
   {
-    constexpr const char *format_name    = "demfem DEM checkpoint";
+    constexpr const char *format_name = "demfem DEM checkpoint";
     // 2: flat-joint element codes stored as bytes (FlatJointLaw state layout).
     // 3: per-contact property blocks ("props" per group, "props_names") and
     //    the crack type.
-    constexpr int         format_version = 3;
+    constexpr int format_version = 3;
 
     // ----------------------------------------------------------------------
     // Law parameters. Params are stored as an opaque blob (with its size) and
@@ -187,7 +187,8 @@ namespace demfem::dem
       {
         Handle g = make_group(c, file, "model");
         write_scalar<std::int64_t>(c, g, "step", m.step_);
-        write_scalar<std::int64_t>(c, g, "next_particle_id", m.particles.next_particle_id());
+        write_scalar<std::int64_t>(c, g, "next_particle_id",
+                                   m.particles.next_particle_id());
         write_scalar<double>(c, g, "time", m.time_);
         write_scalar<double>(c, g, "timestep", m.dt_);
         write_scalar<std::uint8_t>(c, g, "auto_timestep", m.auto_dt_);
@@ -481,7 +482,7 @@ namespace demfem::dem
             r.id1 = id1[k], r.id2 = id2[k], r.element = element[k], r.mode = mode[k];
             if (type[k] < -1 || type[k] >= n_bond_types)
               c.fail("crack " + std::to_string(k) + " has an unknown type");
-            r.type = static_cast<BondType>(type[k]);
+            r.type     = static_cast<BondType>(type[k]);
             r.position = position[k], r.normal = normal[k];
             r.size = size[k], r.gap = gap[k], r.strength = strength[k];
             r.step = step[k], r.time = time[k];
@@ -540,10 +541,11 @@ namespace demfem::dem
           G.facet_weights = std::move(D.facet_weights);
           G.state_data()  = std::move(D.state);
           G.set_props_data(D.props);
+          G.topology_changed();
         }
-      m.index_         = std::move(index);
-      m.cracks         = std::move(cracks);
-      m.step_          = step;
+      m.index_ = std::move(index);
+      m.cracks = std::move(cracks);
+      m.step_  = step;
       m.particles.set_next_particle_id(next_id);
       m.time_          = time;
       m.dt_            = dt;

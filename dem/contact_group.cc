@@ -6,16 +6,16 @@ namespace demfem::dem
   {
     switch (t)
       {
-        case BondType::contact_bond:
-          return "contact_bond";
-        case BondType::parallel_bond:
-          return "parallel_bond";
-        case BondType::flat_joint:
-          return "flat_joint";
-        case BondType::smooth_joint:
-          return "smooth_joint";
-        default:
-          return "none";
+      case BondType::contact_bond:
+        return "contact_bond";
+      case BondType::parallel_bond:
+        return "parallel_bond";
+      case BondType::flat_joint:
+        return "flat_joint";
+      case BondType::smooth_joint:
+        return "smooth_joint";
+      default:
+        return "none";
       }
   }
 
@@ -40,6 +40,7 @@ namespace demfem::dem
   {
     const std::size_t k = size();
     energy_fresh_       = false;
+    ++topology_;
     end1.push_back(i);
     end2.push_back(j);
     is_wall.push_back(wall);
@@ -71,6 +72,7 @@ namespace demfem::dem
   {
     const std::size_t last = size() - 1;
     energy_fresh_          = false;
+    ++topology_;
     if (k != last)
       {
         end1[k]          = end1[last];

@@ -14,8 +14,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <memory>
 #include <string>
@@ -53,7 +53,7 @@ namespace demfem::dem
     virtual int props_stride() const = 0;
     /// All property blocks (size() * props_stride() doubles), for
     /// checkpoints, and their restoration.
-    virtual std::vector<double> props_data() const                    = 0;
+    virtual std::vector<double> props_data() const                           = 0;
     virtual void                set_props_data(const std::vector<double> &d) = 0;
 
     /// Adds a contact between particle i and particle j (or facet j when
@@ -103,6 +103,12 @@ namespace demfem::dem
 
     std::size_t size() const { return end1.size(); }
 
+    /// Changes whenever the list of contacts or their ends change (add,
+    /// remove, renumbering, restore): the model's particle-to-contact
+    /// incidence is rebuilt only then.
+    std::uint64_t topology_version() const { return topology_; }
+    void          topology_changed() { ++topology_; }
+
     /// Resolves the contact plane of contact k from the current positions
     /// (memo Eq. 2; the s axis is the stored one, not updated here).
     ContactGeometry<dim> geometry(std::size_t k, const Particles<dim> &p,
@@ -128,6 +134,7 @@ namespace demfem::dem
     /// energy_fresh_: cleared by add/remove and non-const state access).
     std::vector<double> energy_;
     bool                energy_requested_ = false, energy_fresh_ = false;
+    std::uint64_t       topology_ = 0;
   };
 
   template <int dim, class Law>
@@ -191,7 +198,7 @@ namespace demfem::dem
       Law::derive(params, props_[k]);
       this->energy_fresh_ = false;
     }
-    int props_stride() const override { return props_doubles<Props>(); }
+    int                 props_stride() const override { return props_doubles<Props>(); }
     std::vector<double> props_data() const override
     {
       std::vector<double> d(props_.size() * props_doubles<Props>());
@@ -203,7 +210,8 @@ namespace demfem::dem
     {
       props_.resize(d.size() / props_doubles<Props>());
       if (!d.empty())
-        std::memcpy(static_cast<void *>(props_.data()), d.data(), sizeof(double) * d.size());
+        std::memcpy(static_cast<void *>(props_.data()), d.data(),
+                    sizeof(double) * d.size());
       this->energy_fresh_ = false;
     }
 
@@ -292,8 +300,8 @@ namespace demfem::dem
   private:
     /// Contact plane and relative increments of contact k for this step
     /// (memo §1.3, Eq. 2-11); updates the tracked s axis and n_prev.
-    void kinematics(std::size_t k, const Particles<dim> &p, const Walls<dim> &w, double dt,
-                    ContactStep<dim> &st);
+    void kinematics(std::size_t k, const Particles<dim> &p, const Walls<dim> &w,
+                    double dt, ContactStep<dim> &st);
     const PropertyField<Props> &field(const std::string &name) const
     {
       for (const auto &f : Law::properties())
@@ -443,7 +451,7 @@ namespace demfem::dem
       this->energy_.resize(nc);
     double *const      state_block = this->state_.data();
     const Props *const props_block = props_.data();
-    const int     n_state     = stride_;
+    const int          n_state     = stride_;
     // Contacts go in blocks: first the kinematics of the whole block, whose
     // iterations are independent so the out-of-order core overlaps their
     // sqrt/division latency chains (one contact at a time, the long law
@@ -464,7 +472,7 @@ namespace demfem::dem
             double *const           state = state_block + k * n_state;
             sink.contact                  = k;
             ContactForce &f               = this->local_force[k];
-            const Props &q = props_block[k];
+            const Props  &q               = props_block[k];
             Law::update(params, q, st, state, f, sink);
             if (want_energy)
               this->energy_[k] = Law::strain_energy(params, q, state);

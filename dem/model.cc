@@ -245,14 +245,111 @@ namespace demfem::dem
   }
 
   template <int dim>
-  void Model<dim>::compute_forces()
+  void Model<dim>::update_incidence()
   {
+    // Valid while no group changed its contacts and the particles are the
+    // same: contact detection runs every few steps, the scatter every step.
     const std::size_t N = particles.size();
+    bool              same =
+        incidence_key_.size() == groups_.size() && incidence_start_.size() == N + 1;
+    for (std::size_t gi = 0; same && gi < groups_.size(); ++gi)
+      same = incidence_key_[gi].first == groups_[gi].get() &&
+             incidence_key_[gi].second == groups_[gi]->topology_version();
+    if (same)
+      return;
+    incidence_key_.clear();
+    for (const auto &g : groups_)
+      incidence_key_.emplace_back(g.get(), g->topology_version());
+    // Counting sort by particle, stable: each particle's entries stay in
+    // (group, contact) order, the order of the serial scatter, so the sums
+    // are bit for bit those of a serial loop over the contacts.
+    incidence_start_.assign(N + 1, 0);
+    wall_incidence_.clear();
+    for (std::size_t gi = 0; gi < groups_.size(); ++gi)
+      {
+        const auto &g = *groups_[gi];
+        for (std::size_t k = 0; k < g.size(); ++k)
+          {
+            ++incidence_start_[g.end1[k] + 1];
+            if (!g.is_wall[k])
+              ++incidence_start_[g.end2[k] + 1];
+            else
+              wall_incidence_.push_back(
+                  {static_cast<std::uint32_t>(gi), static_cast<std::uint32_t>(k)});
+          }
+      }
+    for (std::size_t i = 0; i < N; ++i)
+      incidence_start_[i + 1] += incidence_start_[i];
+    incidence_.resize(incidence_start_[N]);
+    std::vector<std::uint32_t> fill(incidence_start_.begin(), incidence_start_.end() - 1);
+    for (std::size_t gi = 0; gi < groups_.size(); ++gi)
+      {
+        const auto &g = *groups_[gi];
+        for (std::size_t k = 0; k < g.size(); ++k)
+          {
+            // side bit 0: piece 1 (receives -F), 1: piece 2 (receives +F)
+            const auto c                  = static_cast<std::uint32_t>(k) << 1;
+            incidence_[fill[g.end1[k]]++] = {static_cast<std::uint32_t>(gi), c};
+            if (!g.is_wall[k])
+              incidence_[fill[g.end2[k]]++] = {static_cast<std::uint32_t>(gi), c | 1u};
+          }
+      }
+  }
+
+  template <int dim>
+  void Model<dim>::scatter_forces()
+  {
+    // Each particle sums its contacts' forces and moments in (group,
+    // contact) order: the same additions as a serial loop over the contacts,
+    // so the result does not depend on the thread count; the particles are
+    // independent, so the loop runs on threads.
+    update_incidence();
+    const std::size_t N = particles.size();
+#pragma omp parallel for schedule(static) if (N > parallel_threshold)
     for (std::size_t i = 0; i < N; ++i)
       {
-        particles.f[i].setZero();
-        particles.m[i].setZero();
+        Vec<dim>    f = Vec<dim>::Zero();
+        RotVec<dim> m = RotVec<dim>::Zero();
+        for (std::uint32_t e = incidence_start_[i]; e < incidence_start_[i + 1]; ++e)
+          {
+            const auto        &g = *groups_[incidence_[e].group];
+            const std::size_t  k = incidence_[e].contact >> 1;
+            const Vec<dim>    &F = g.force[k];
+            const RotVec<dim> &M = g.moment[k];
+            const Vec<dim>     r = g.xc[k] - particles.x[i];
+            if (incidence_[e].contact & 1u)
+              {
+                f += F;
+                if constexpr (dim == 3)
+                  m += M + r.cross(F);
+                else
+                  m[0] += M[0] + cross2(r, F);
+              }
+            else
+              {
+                f -= F;
+                if constexpr (dim == 3)
+                  m -= M + r.cross(F);
+                else
+                  m[0] -= M[0] + cross2(r, F);
+              }
+          }
+        particles.f[i] = f;
+        particles.m[i] = m;
       }
+    for (const auto &w : wall_incidence_)
+      {
+        const auto &g = *groups_[w.group];
+        const auto  k = w.contact;
+        for (int a = 0; a < dim; ++a)
+          walls.vertex_force[walls.facet[g.end2[k]][a]] +=
+              g.facet_weights[k][a] * g.force[k];
+      }
+  }
+
+  template <int dim>
+  void Model<dim>::compute_forces()
+  {
     for (auto &v : walls.vertex_force)
       v.setZero();
     sinks_.resize(std::max(1, omp_get_max_threads()));
@@ -263,31 +360,6 @@ namespace demfem::dem
           s.events.clear();
         g.compute(particles, walls, dt_, sinks_);
         suppress_duplicate_wall_contacts(g);
-        // Deterministic scatter of contact forces to the pieces.
-        for (std::size_t k = 0; k < g.size(); ++k)
-          {
-            const std::uint32_t i = g.end1[k], j = g.end2[k];
-            const Vec<dim>     &F  = g.force[k];
-            const RotVec<dim>  &M  = g.moment[k];
-            const Vec<dim>      r1 = g.xc[k] - particles.x[i];
-            particles.f[i] -= F;
-            if constexpr (dim == 3)
-              particles.m[i] -= M + r1.cross(F);
-            else
-              particles.m[i][0] -= M[0] + cross2(r1, F);
-            if (!g.is_wall[k])
-              {
-                const Vec<dim> r2 = g.xc[k] - particles.x[j];
-                particles.f[j] += F;
-                if constexpr (dim == 3)
-                  particles.m[j] += M + r2.cross(F);
-                else
-                  particles.m[j][0] += M[0] + cross2(r2, F);
-              }
-            else
-              for (int a = 0; a < dim; ++a)
-                walls.vertex_force[walls.facet[j][a]] += g.facet_weights[k][a] * F;
-          }
         // Events of this group, in contact order whatever the thread count.
         std::vector<std::pair<std::size_t, LawEvent>> ev;
         for (auto &s : sinks_)
@@ -308,7 +380,7 @@ namespace demfem::dem
               {
                 CrackRecord<dim> c;
                 c.id1 = id1, c.id2 = id2, c.element = e.element, c.mode = e.mode;
-                c.type         = g.bond_type();
+                c.type           = g.bond_type();
                 const Vec<dim> n = g.n_prev[k];
                 Vec<dim>       t;
                 if constexpr (dim == 3)
@@ -337,6 +409,8 @@ namespace demfem::dem
                   SlipRecord{id1, id2, e.element, e.kind == LawEvent::slip_start, step_});
           }
       }
+    // Forces of all groups to the pieces (nothing above reads them).
+    scatter_forces();
   }
 
   template <int dim>
@@ -693,6 +767,7 @@ namespace demfem::dem
     for (std::size_t g = 0; g < groups_.size(); ++g)
       {
         auto &G = *groups_[g];
+        G.topology_changed();
         for (std::size_t k = 0; k < G.size(); ++k)
           {
             G.end1[k] = static_cast<std::uint32_t>(map[G.end1[k]]);

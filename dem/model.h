@@ -20,13 +20,13 @@ namespace demfem::dem
     int          element = 0;      ///< element of the interface (0-based)
     int          mode    = 0;      ///< 0 tension, 1 shear
     BondType     type    = BondType::flat_joint; ///< what broke
-    Vec<dim>     position;         ///< element centroid at breakage
+    Vec<dim>     position;                       ///< element centroid at breakage
     /// Crack normal at breakage: the contact normal; for a smooth joint the
     /// joint normal (seed 001).
-    Vec<dim> normal;
-    double       size     = 0;     ///< 2D: element length; 3D: 2 r_e
-    double       gap      = 0;     ///< element gap at breakage
-    double       strength = 0;     ///< strength exceeded [stress or force]
+    Vec<dim>     normal;
+    double       size     = 0; ///< 2D: element length; 3D: 2 r_e
+    double       gap      = 0; ///< element gap at breakage
+    double       strength = 0; ///< strength exceeded [stress or force]
     std::int64_t step     = 0;
     double       time     = 0;
     /// Kept to follow the material after breakage (fistPkg §3.4): element
@@ -181,7 +181,20 @@ namespace demfem::dem
 
   private:
     friend struct ModelCheckpoint<dim>;
-    void                     compute_forces();
+    void compute_forces();
+    /// Contact forces and moments to the particles and wall vertices.
+    void scatter_forces();
+    /// Rebuilds the particle-to-contact incidence when the contacts changed.
+    void update_incidence();
+    struct Incidence
+    {
+      std::uint32_t group;   ///< law group
+      std::uint32_t contact; ///< contact index << 1 | (1 if the particle is piece 2)
+    };
+    std::vector<std::uint32_t> incidence_start_; ///< CSR, N + 1
+    std::vector<Incidence>     incidence_;
+    std::vector<Incidence>     wall_incidence_; ///< ball-wall, in order
+    std::vector<std::pair<const void *, std::uint64_t>> incidence_key_;
     void                     suppress_duplicate_wall_contacts(ContactGroupBase<dim> &g);
     std::vector<std::size_t> wall_scratch_;
     void                     integrate();
