@@ -317,14 +317,8 @@ namespace
     // joint on every pair with gap < 0.1 r (the material's installation gap
     // if larger); stiffnesses per contact by the deformability method (memo
     // Eq. 40, kn = E*/L), strengths drawn per contact (dem/property_rules.h).
-    typename FlatJointLaw<dim>::Params fj;
-    fj.Nr           = p.fj_Nr;
-    fj.Nal          = p.fj_Nal;
-    fj.fric         = p.fric;
-    fj.fa           = p.fj_fa;
-    fj.rmul         = p.fj_rmul;
-    fj.bonded       = true;
-    const int g_lin = model.template add_law<LinearLaw<dim>>(
+    const auto fj    = flat_joint_params<dim>(p);
+    const int  g_lin = model.template add_law<LinearLaw<dim>>(
         {}, "bench linear", linear_rule<dim>({p.lnm_emod, p.lnm_krat}, p.lnm_fric));
     const int g_fj = model.template add_law<FlatJointLaw<dim>>(
         fj, "bench flatjoint",

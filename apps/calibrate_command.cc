@@ -1,7 +1,8 @@
-// `demfem calibrate FILE.prm`: material genesis (fistPkg §4) + laboratory
-// tests (§5.4-5.7) -> material.json with the measured properties (E, nu for
-// the continuum, DESIGN §7). Every input is validated before the output
-// directory is created, so a bad input writes nothing.
+// `demfem calibrate FILE.prm`: material genesis (fistPkg §4) + laboratory tests
+// (§5.4-5.7) -> material.json with the measured properties (E, nu for the
+// continuum, docs/architecture.md, "Plane-stress and plane-strain constants").
+// Every input is validated before the output directory is created, so a bad
+// input writes nothing.
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/parameter_handler.h>
 
@@ -222,7 +223,7 @@ namespace demfem::apps
     using Settings = CalibrateSettings;
 
     // Physical checks that patterns cannot express name the key, the file
-    // and the allowed range (DESIGN §8).
+    // and the allowed range (docs/architecture.md, "Input validation").
     void check(const std::string &where, const std::string &key, double v, double lo,
                double hi, bool lo_open = false, bool hi_open = false)
     {

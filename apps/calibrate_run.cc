@@ -424,7 +424,7 @@ namespace demfem::apps
     mat.str(
         "elastic_constants",
         dim == 2
-            ? "E, nu: plane-strain pair for the continuum (DESIGN 7: nu = nu'/(1+nu'), "
+            ? "E, nu: plane-strain pair for the continuum (docs/architecture.md: nu = nu'/(1+nu'), "
               "E = E'(1-nu^2)) from the plane-stress fit E', nu' (fistPkg Eq. 19)"
             : "E, nu: fistPkg Eq. 18");
     mat.str("fit_window", "secant least squares between " + std::to_string(s.lab.fit_lo) +

@@ -1,7 +1,8 @@
 #pragma once
-// `demfem study` (issue 6): speed-versus-accuracy sweep of the elastic
-// embedded tunnel, stability map of the scheme settings, and right-sizing of
-// the DEM region by a Kirsch elastic pre-analysis.
+// `demfem study` (docs/architecture.md, "Speed-versus-accuracy study"):
+// speed-versus-accuracy sweep of the elastic embedded tunnel, stability map of
+// the scheme settings, and right-sizing of the DEM region by a Kirsch elastic
+// pre-analysis.
 #include <deal.II/base/parameter_handler.h>
 
 #include "coupling/full_dem_reference.h"
@@ -39,9 +40,9 @@ namespace demfem::apps::study
     /// Continuum/young modulus = this x the material's E (DEM/continuum
     /// stiffness contrast; 1: matched constants)
     std::vector<double> stiffness_contrasts;
-    /// Breakable mode (issue 6 item 2): the embedded runs use breakable
-    /// bonds and are compared with a full-DEM reference on damage-zone depth
-    /// and crack counts instead of Kirsch.
+    /// Breakable mode: the embedded runs use breakable bonds and are compared
+    /// with a full-DEM reference on damage-zone depth and crack counts instead
+    /// of Kirsch.
     bool   breakable               = false;
     double reference_radius_factor = 8;    ///< reference domain radius / a (>= 8)
     double servo_tolerance         = 0.02; ///< membrane servo: held-stress tolerance

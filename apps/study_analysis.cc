@@ -1,4 +1,4 @@
-// Closed forms, Pareto front, CSV and SVG chart of `demfem study` (issue 6).
+// Closed forms, Pareto front, CSV and SVG chart of `demfem study`.
 #include "apps/study.h"
 #include "dem/types.h"
 

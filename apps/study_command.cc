@@ -1,16 +1,16 @@
-// `demfem study FILE.prm` (issue 6): runs the embedded tunnel (no VTK) for
-// every combination of the swept settings (region radius, grain resolution
-// a/d, coupling variant, scheme, subcycles, time-step safety, relaxation,
-// stiffness contrast, seed) and writes study.csv (one row per run),
-// study_pareto.svg (wall time versus error, Pareto front marked) and
-// summary.json (stability limits per scheme setting, overall and per
-// scheme; the right-sized region radius). Elastic mode: unbreakable bonds,
-// error against Kirsch. Breakable mode (issue 6 item 2): a full-DEM
-// reference per resolution and seed (coupling/full_dem_reference.h), each
-// run's damage-zone depth and crack counts against it, study_speedup.csv
-// and study.md. A run that diverges is a result (unstable, with the
-// engine's diagnosis), not an error; a combination the tunnel run refuses
-// is an 'invalid' row. Exit codes: 0 done, 1 bad input or error.
+// `demfem study FILE.prm` (docs/architecture.md, "Speed-versus-accuracy
+// study"): runs the embedded tunnel (no VTK) for every combination of the swept
+// settings (region radius, grain resolution a/d, coupling variant, scheme,
+// subcycles, time-step safety, relaxation, stiffness contrast, seed) and writes
+// study.csv (one row per run), study_pareto.svg (wall time versus error, Pareto
+// front marked) and summary.json (stability limits per scheme setting, overall
+// and per scheme; the right-sized region radius). Elastic mode: unbreakable
+// bonds, error against Kirsch. Breakable mode: a full-DEM reference per
+// resolution and seed (coupling/full_dem_reference.h), each run's damage-zone
+// depth and crack counts against it, study_speedup.csv and study.md. A run that
+// diverges is a result (unstable, with the engine's diagnosis), not an error; a
+// combination the tunnel run refuses is an 'invalid' row. Exit codes: 0 done, 1
+// bad input or error.
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
@@ -64,13 +64,13 @@ namespace demfem::apps
       return s.str();
     }
 
-    // Stability map (issue 6 item 3). The scheme settings swept: time-step
-    // safety, subcycles, relaxation factor and stiffness contrast. For one of
-    // them, the largest value whose runs were all stable and the smallest
-    // value with an unstable run, among the runs whose other settings are at
-    // their most conservative swept value (smallest safety, subcycles and
-    // relaxation; contrast closest to 1), so that a too-large safety does
-    // not mark every subcycling ratio unstable.
+    // Stability map. The scheme settings swept: time-step safety, subcycles,
+    // relaxation factor and stiffness contrast. For one of them, the largest
+    // value whose runs were all stable and the smallest value with an unstable
+    // run, among the runs whose other settings are at their most conservative
+    // swept value (smallest safety, subcycles and relaxation; contrast closest
+    // to 1), so that a too-large safety does not mark every subcycling ratio
+    // unstable.
     using Getter = double (*)(const study::Row &);
     const std::vector<std::pair<std::string, Getter>> &axes()
     {
@@ -339,7 +339,7 @@ namespace demfem::apps
         prm.leave_subsection();
         const study::Settings st = study::read_study_settings(prm, material);
         // Elastic mode: unbreakable bonds, compared with Kirsch. Breakable
-        // mode: compared with the full-DEM reference (issue 6 item 2).
+        // mode: compared with the full-DEM reference.
         base.region.breakable = st.breakable;
         base.write_vtk        = false;
         const double a        = base.tunnel_radius;

@@ -1,10 +1,10 @@
 // Parameters of `demfem study`: the keys of the tunnel .prm (so that a
 // tunnel file can be swept as it is) plus the `Study` subsection.
 //
-// The tunnel keys are declared and read here for both commands:
-// `demfem tunnel` (apps/tunnel_command.cc) resolves 'DEM region/radius =
-// auto' (right-sizing, issue 6) and validates; the study validates each run
-// after the sweep settings are applied.
+// The tunnel keys are declared and read here for both commands: `demfem tunnel`
+// (apps/tunnel_command.cc) resolves 'DEM region/radius = auto' (right-sizing,
+// docs/architecture.md, "Speed-versus-accuracy study") and validates; the study
+// validates each run after the sweep settings are applied.
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/parameter_handler.h>
 
@@ -156,7 +156,7 @@ namespace demfem::apps::study
                       Patterns::Selection("slaved-layer|wall-facets"),
                       "slaved-layer: the continuum overlaps the region's rim, whose "
                       "grains follow it; wall-facets: the continuum's inner boundary "
-                      "is a ring of DEM wall facets (DESIGN §5, docs/tunnel.md)");
+                      "is a ring of DEM wall facets (docs/architecture.md, docs/tunnel.md)");
     prm.declare_entry("overlap grains", "2", Patterns::Double(),
                       "slaved-layer: width of the overlap of the continuum and the DEM "
                       "region, in mean grain diameters, in [0.5, 10]");

@@ -1,8 +1,9 @@
-// `demfem tunnel FILE.prm`: the coupled excavation-damage run (issue 5,
-// DESIGN §5-6). Every input is validated before the output directory is
-// created, so a bad input writes nothing. Exit codes: 0 done, 1 bad input
-// or error, 2 the run diverged (diagnosis printed and in summary.json),
-// 130 / 143 stopped by SIGINT / SIGTERM after writing a checkpoint.
+// `demfem tunnel FILE.prm`: the coupled excavation-damage run
+// (docs/architecture.md, "Coupling" and "Outputs and run status"). Every input
+// is validated before the output directory is created, so a bad input writes
+// nothing. Exit codes: 0 done, 1 bad input or error, 2 the run diverged
+// (diagnosis printed and in summary.json), 130 / 143 stopped by SIGINT /
+// SIGTERM after writing a checkpoint.
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
@@ -51,7 +52,7 @@ namespace demfem::apps
 
     /// The tunnel keys (shared with `demfem study`, apps/study_prm.cc) and
     /// the right-sizing keys of the Study subsection, used when
-    /// 'DEM region/radius = auto' (issue 6).
+    /// 'DEM region/radius = auto' (right-sizing).
     void declare_parameters(ParameterHandler &prm)
     {
       study::declare_tunnel_parameters(prm);
@@ -61,7 +62,7 @@ namespace demfem::apps
     coupling::TunnelParams read_settings(ParameterHandler &prm)
     {
       coupling::TunnelParams s = study::read_tunnel_settings(prm, true);
-      if (s.region.radius < 0) // 'auto': Kirsch pre-analysis (issue 6)
+      if (s.region.radius < 0) // 'auto': Kirsch pre-analysis (right-sizing)
         {
           prm.enter_subsection("DEM region");
           const std::string material = prm.get("material file");

@@ -1,7 +1,7 @@
 #pragma once
-// The coupled model of the embedded DEM region and the continuum (DESIGN §5),
-// 2D and 3D (template on dim, instantiated for 2 and 3): what the two
-// kinematic variants share. The tunnel workflow
+// The coupled model of the embedded DEM region and the continuum
+// (docs/architecture.md, "Coupling"), 2D and 3D (template on dim, instantiated
+// for 2 and 3): what the two kinematic variants share. The tunnel workflow
 // (tunnel_run.cc) works on this interface only.
 //
 // The continuum (fem::ExplicitDynamics, Q1, far field fixed) is an annulus
@@ -84,7 +84,7 @@ namespace demfem::coupling
 
   struct CouplingParams
   {
-    /// "slaved-layer" or "wall-facets" (DESIGN §5).
+    /// "slaved-layer" or "wall-facets" (docs/architecture.md, "Coupling").
     std::string variant = "slaved-layer";
     /// "explicit" (continuum stepped every `subcycles` DEM steps) or
     /// "quasi-static" (static continuum response, relaxed).
@@ -103,11 +103,12 @@ namespace demfem::coupling
   };
 
   /// Doubles as hex text of their bytes (checkpoint metadata strings):
-  /// bit-exact, so a restarted run continues bit for bit (DESIGN §8).
+  /// bit-exact, so a restarted run continues bit for bit
+  /// (docs/architecture.md, "Checkpoints and restart").
   std::string         encode_doubles(const std::vector<double> &v);
   std::vector<double> decode_doubles(const std::string &s, const std::string &what);
 
-  /// 3D (issue 5: a slab of the 2D problem, plane strain through walls):
+  /// 3D slab of the 2D problem (plane strain through walls):
   /// the continuum is the annulus extruded over 0 <= z <= t (t =
   /// RegionParams::slab_thickness, element layers about two mean grain
   /// diameters thick) with rollers (u_z = 0) on its z faces; the DEM region
@@ -117,7 +118,7 @@ namespace demfem::coupling
   /// strain has e_zz = 0, the grains push on the slab walls).
   ///
   /// 3D tunnel section in a 3D continuum (ContinuumParams::axial_extension
-  /// L > 0; issue 5): the DEM section (r < b, 0 <= z <= t, spheres packed
+  /// L > 0): the DEM section (r < b, 0 <= z <= t, spheres packed
   /// and bonded as the slab) is surrounded by continuum on every side: the
   /// mesh (fem::generate_section_mesh) covers r <= R, -L <= z <= t + L
   /// with the tunnel r < a through its whole length, and overlaps the

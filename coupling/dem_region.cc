@@ -55,7 +55,8 @@ namespace demfem::coupling
 
   namespace
   {
-    // DESIGN §8: portable random numbers (no <random> distributions).
+    // Portable random numbers, no <random> distributions (docs/architecture.md,
+    // "Random numbers").
     double uniform(std::mt19937_64 &g)
     {
       return (g() >> 11) * (1.0 / 9007199254740992.0);

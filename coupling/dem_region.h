@@ -1,11 +1,12 @@
 #pragma once
-// The embedded DEM region of the coupled tunnel model (DESIGN §5): grains
+// The embedded DEM region of the coupled tunnel model (docs/architecture.md,
+// "Coupling"): grains
 // packed inside a closed surface of wall facets (the continuum's interface,
 // boundary id 2) and bonded force-free, as the genesis finalization of
 // fistPkg §4.2.2 does for a vessel.
 //   2D: a disk of disks inside a ring of segments.
 //   3D: the slab 0 < z < t of the cylinder r < b, spheres (plane strain
-//       through walls, issue 5): the model holds the lateral ring of
+//       through walls): the model holds the lateral ring of
 //       triangle facets (add_cylinder_ring, or the continuum's interface
 //       vertices); build_region adds the two planar walls z = 0 and z = t,
 //       fixed and frictionless, which carry the plane-strain szz.

@@ -2,13 +2,13 @@
 // Excavation and damage bookkeeping shared by the embedded tunnel
 // (coupling/tunnel_run.cc) and the full-DEM reference
 // (coupling/full_dem_reference.cc), so that both models are measured the
-// same way (issue 6: the embedded model is compared with the reference on
+// same way (the study compares the embedded model with the reference on
 // these numbers). Plain DEM: no deal.II.
 //
-// * Excavation (issue 5, workflow step 3): the grains whose centres lie
-//   inside the tunnel radius are removed; the forces they exerted on the
-//   remaining grains are returned by particle id so that they can be applied
-//   and relaxed to zero over the stages.
+// * Excavation (the third step of the tunnel workflow): the grains whose
+//   centres lie inside the tunnel radius are removed; the forces they exerted
+//   on the remaining grains are returned by particle id so that they can be
+//   applied and relaxed to zero over the stages.
 // * Damage-zone depth: the 90th percentile (nearest rank) of the distances
 //   from the tunnel wall of the cracks formed from the excavation on
 //   (isolated cracks of the in-situ loading are not excavation damage). The

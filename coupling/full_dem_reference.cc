@@ -145,7 +145,7 @@ namespace demfem::coupling
         std::ostringstream msg;
         msg << w << ": the full-DEM reference radius (" << region.radius
             << " m) must be at least " << min_radius_factor << " x Tunnel/radius ("
-            << min_radius_factor * tunnel_radius << " m; issue 6: the whole domain to "
+            << min_radius_factor * tunnel_radius << " m: the whole domain to "
             << ">= 8 a)";
         throw dem::InputError(msg.str());
       }

@@ -1,5 +1,6 @@
 #pragma once
-// Full-DEM reference of the breakable tunnel (issue 6 item 2): the whole
+// Full-DEM reference of the breakable tunnel (docs/architecture.md,
+// "Speed-versus-accuracy study"): the whole
 // domain r <= R (R >= 8 a) as bonded DEM, no continuum, with the in-situ
 // stress held at the outer boundary by a servo-controlled flexible membrane;
 // the same excavation workflow and the same damage bookkeeping as the
@@ -86,7 +87,7 @@ namespace demfem::coupling
     /// The material and packing of the embedded region; region.radius is
     /// the outer radius R of the DEM domain.
     RegionParams        region;
-    double              min_radius_factor = 8;   ///< R >= this x a (issue 6)
+    double              min_radius_factor = 8;   ///< R >= this x a (boundary far from damage)
     double              safety            = 0.8; ///< dt = safety x DEM critical
     double              ratio_tolerance   = 1e-3;
     std::int64_t        ramp_steps        = 2000;

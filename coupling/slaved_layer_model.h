@@ -1,6 +1,7 @@
 #pragma once
-// Slaved-layer coupling of the embedded DEM region and the continuum (DESIGN
-// §5, the default variant), 2D and 3D (slab, dem_region.h).
+// Slaved-layer coupling of the embedded DEM region and the continuum
+// (docs/architecture.md, "Slaved layer"; the default variant), 2D and 3D
+// (slab, dem_region.h).
 //
 // The region (disk of radius b) is packed and bonded inside a temporary
 // ring of wall facets at r = b; the ring then takes no part in the coupling

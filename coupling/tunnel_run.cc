@@ -139,9 +139,10 @@ namespace demfem::coupling
       std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
       std::int64_t budget = 0; // expected coupled steps for the ETA (upper bound)
       std::int64_t step0  = 0; // steps of the packing
-      // Checkpoint / restart state (DESIGN §8): the workflow position is the
-      // phase index (0 in-situ, 1..stages excavation stage, stages+1
-      // equilibrium, stages+2 done) and the iteration n of its cycle loop.
+      // Checkpoint / restart state (docs/architecture.md, "Checkpoints and restart"):
+      // the workflow position is the phase index (0 in-situ, 1..stages excavation
+      // stage, stages+1 equilibrium, stages+2 done) and the iteration n of its cycle
+      // loop.
       int                             phase_index = 0;
       bool                            resuming    = false;
       std::int64_t                    resume_n    = 1;
@@ -332,8 +333,9 @@ namespace demfem::coupling
         out << "[" << phase << "] step " << n << "  t = " << std::setprecision(4)
             << m.dem.time() << " s  ratio = " << ur << "  cracks = " << cracks(-1)
             << "  ETA <= " << std::setprecision(3) << eta << " s" << std::endl;
-        // Issue 6: damage reaching the coupling boundary means the region is
-        // too small for the scene (the continuum cannot crack).
+        // Damage reaching the coupling boundary means the region is too small
+        // for the scene: the continuum cannot crack (docs/architecture.md,
+        // "Speed-versus-accuracy study").
         if (!warned_region_too_small && near_interface() > 0)
           {
             warned_region_too_small = true;

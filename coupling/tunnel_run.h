@@ -1,5 +1,5 @@
 #pragma once
-// The `demfem tunnel` workflow (issue 5) on the coupled model (either
+// The `demfem tunnel` workflow on the coupled model (either
 // variant, coupled_model.h; 2D or the 3D plane-strain slab):
 // build, in-situ stress ramp and equilibrium, excavation (at once or in
 // stages with the removed grains' forces relaxed to zero), cycling to
@@ -34,7 +34,8 @@ namespace demfem::coupling
     std::int64_t history_interval = 100;
     bool         write_vtk        = true;
     /// Steps between checkpoints (output_directory/checkpoint.h5, written
-    /// atomically; also written at the end of the run); 0: none (DESIGN §8).
+    /// atomically; also written at the end of the run); 0: none
+    /// (docs/architecture.md, "Checkpoints and restart").
     std::int64_t checkpoint_interval = 0;
     /// Checkpoint to continue from ("" : fresh run). It must have been
     /// written with the same prm_text (output directory and checkpoint

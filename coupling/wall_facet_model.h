@@ -1,6 +1,7 @@
 #pragma once
 // Wall-facet coupling of the embedded DEM region and the explicit-dynamic
-// continuum (DESIGN §5, as PFC-FLAC wall-zone coupling), 2D and 3D.
+// continuum (docs/architecture.md, "Wall facets"; as PFC-FLAC wall-zone
+// coupling), 2D and 3D.
 //
 // The continuum covers b <= r <= R; its interface circle r = b (boundary id
 // 2) is a closed ring of DEM wall facets whose vertices are the continuum's

@@ -1,6 +1,6 @@
 #pragma once
-// HDF5 checkpoints of a DEM model (DESIGN §6 "HDF5 checkpoints", §8
-// "Checkpoints"): the complete dynamic state — particles, walls, every
+// HDF5 checkpoints of a DEM model (docs/architecture.md, "Checkpoints and
+// restart"): the complete dynamic state — particles, walls, every
 // contact group with its per-contact arrays and law state, the stepping
 // state (step, time, time step, detection reference positions), the energy
 // baseline and the crack records — so that a restarted run continues

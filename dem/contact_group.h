@@ -3,7 +3,7 @@
 // whatever the property distributions. Per-contact data common to every law
 // is kept in structure-of-arrays form in ContactGroupBase; the law's
 // per-contact property block and its state live in ContactGroup<dim, Law>,
-// each at a fixed stride (docs/architecture.md, "The law contract"). The
+// each at a fixed stride (docs/architecture.md, "The contact-law contract"). The
 // only virtual call is one `compute` per group per step: the contact loop
 // inside is compiled for the concrete law.
 #include "dem/contact_law.h"

@@ -1,6 +1,6 @@
 #pragma once
 // The contract between the DEM engine and its contact laws
-// (docs/architecture.md, "The law contract").
+// (docs/architecture.md, "The contact-law contract").
 //
 // A law is a struct templated on dim with only static functions and two
 // nested types:

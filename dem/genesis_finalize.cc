@@ -33,8 +33,9 @@ namespace demfem::dem
         P.w[i].setZero();
       }
     // The material's linear group: deformability per contact (memo Eq. 40).
-    s.linear_group = m.template add_law<LN>(
-        {}, where + " (linear group)", linear_rule<dim>({p.lnm_emod, p.lnm_krat}, p.lnm_fric));
+    s.linear_group =
+        m.template add_law<LN>({}, where + " (linear group)",
+                               linear_rule<dim>({p.lnm_emod, p.lnm_krat}, p.lnm_fric));
     // Every packing contact becomes a contact of the material's linear group.
     for (int g = 0; g < s.linear_group; ++g)
       if (g != s.wall_group)
@@ -79,15 +80,9 @@ namespace demfem::dem
         const Deformability bonded{p.emod, p.krat};
         if (p.type == "flatjointed")
           {
-            typename FJ::Params q;
-            q.Nr         = p.fj_Nr;
-            q.Nal        = p.fj_Nal;
-            q.rmul       = p.fj_rmul;
-            q.fric       = p.fric;
-            q.fa         = p.fj_fa;
-            q.bonded     = true;
             s.bond_group = m.template add_law<FJ>(
-                q, where + " (flat joints)", flat_joint_rule<dim>(bonded, p.fj_ten, p.fj_coh, draws));
+                flat_joint_params<dim>(p), where + " (flat joints)",
+                flat_joint_rule<dim>(bonded, p.fj_ten, p.fj_coh, draws));
           }
         else if (p.type == "parallelbonded")
           {
@@ -98,8 +93,8 @@ namespace demfem::dem
             q.bonded     = true;
             s.bond_group = m.template add_law<PB>(
                 q, where + " (parallel bonds)",
-                parallel_bond_rule<dim>(bonded, p.fric, {p.pb_bemod, p.pb_bkrat}, p.pb_ten,
-                                        p.pb_coh, draws));
+                parallel_bond_rule<dim>(bonded, p.fric, {p.pb_bemod, p.pb_bkrat},
+                                        p.pb_ten, p.pb_coh, draws));
           }
         else
           {

@@ -1,8 +1,9 @@
 #pragma once
 // Thin RAII layer over the HDF5 C API used by the DEM checkpoints
 // (dem/checkpoint.cc): datasets of fixed-size rows, scalars, string lists,
-// and atomic file replacement (DESIGN §8: write a new name, fsync, rename
-// over the old file, keep the previous one). Internal to dem/: it includes
+// and atomic file replacement (docs/architecture.md, "Checkpoints and
+// restart": write a new name, fsync, rename over the old file, keep the
+// previous one). Internal to dem/: it includes
 // hdf5.h (OpenMPI flavour, see dem/CMakeLists.txt).
 #include "dem/types.h"
 
@@ -256,7 +257,7 @@ namespace demfem::dem::hdf5io
   }
 
   // ----------------------------------------------------------------------
-  // Atomic file replacement (DESIGN §8).
+  // Atomic file replacement (docs/architecture.md, "Checkpoints and restart").
 
   inline void fsync_path(const std::string &p, bool directory, const Ctx &c)
   {

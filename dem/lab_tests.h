@@ -5,7 +5,7 @@
 // Eq. 22-24) and direct tension with grip grains (§5.7, Table 12), each a
 // single loading stage that ends when the stress falls below a fraction of
 // its peak or at a strain limit; and the properties of §5.2 (Eq. 18-20,
-// DESIGN §7). Sign convention: tension positive in the history; reported
+// docs/architecture.md, "Plane-stress and plane-strain constants"). Sign convention: tension positive in the history; reported
 // strengths are magnitudes.
 #include "dem/genesis.h"
 #include "dem/servo.h"
@@ -105,7 +105,7 @@ namespace demfem::dem
     double crack_initiation_load = 0; ///< load measure at crack initiation
     /// Elastic constants of the loading branch (compression only):
     /// 3D: Eq. 18 (E, nu); 2D: Eq. 19 plane stress (E_ps, nu_ps) and the
-    /// plane-strain pair of DESIGN §7 in (E, nu). Uniaxial strain: E holds the
+    /// plane-strain pair (docs/architecture.md) in (E, nu). Uniaxial strain: E holds the
     /// constrained modulus and nu = 0.
     double      E = 0, nu = 0, E_ps = 0, nu_ps = 0;
     double      E_wall = 0; ///< modulus from platen strain (incl. contact compliance)
@@ -134,7 +134,7 @@ namespace demfem::dem
                              const LabCallbacks<dim> &cb = {});
 
   /// Plane-stress (Eq. 19) to plane-strain constants for the continuum
-  /// (DESIGN §7): nu = nu'/(1 + nu'), E = E' (1 - nu^2).
+  /// (docs/architecture.md, "Plane-stress and plane-strain constants"): nu = nu'/(1 + nu'), E = E' (1 - nu^2).
   inline void plane_stress_to_plane_strain(double E_ps, double nu_ps, double &E,
                                            double &nu)
   {

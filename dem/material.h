@@ -98,7 +98,8 @@ namespace demfem::dem
     double cloud_porosity_or_default(int dim) const;
   };
 
-  /// Portable random numbers (DESIGN §8): mt19937_64 with our own transforms.
+  /// Portable random numbers (docs/architecture.md, "Random numbers"):
+  /// mt19937_64 with our own transforms.
   class Random
   {
   public:

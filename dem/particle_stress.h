@@ -1,5 +1,6 @@
 #pragma once
-// Per-grain averaged stress (issue 5: "particles (.vtp: ... averaged stress)").
+// Per-grain averaged stress, the "averaged_stress" array of the particles'
+// VTK output (.vtp; docs/architecture.md, "VTK files").
 //
 // The Love-Weber average stress of a grain p with volume V_p (2D: unit
 // thickness) from the forces F_c its contacts exert on it at the contact

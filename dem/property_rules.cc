@@ -30,19 +30,33 @@ namespace demfem::dem
   typename ContactGroup<dim, LinearLaw<dim>>::Rule linear_rule(const Deformability &d,
                                                                double friction)
   {
-    return [d, friction](const ContactGeometry<dim> &g, typename LinearLaw<dim>::Props &q) {
-      q.kn       = d.kn_force(g);
-      q.ks       = d.ks(q.kn);
-      q.friction = friction;
-    };
+    return
+        [d, friction](const ContactGeometry<dim> &g, typename LinearLaw<dim>::Props &q) {
+          q.kn       = d.kn_force(g);
+          q.ks       = d.ks(q.kn);
+          q.friction = friction;
+        };
   }
 
   template <int dim>
-  typename ContactGroup<dim, FlatJointLaw<dim>>::Rule
-  flat_joint_rule(const Deformability &d, const Distribution &ten, const Distribution &coh,
-                  StrengthDraws draws)
+  typename FlatJointLaw<dim>::Params flat_joint_params(const MaterialParams &p)
   {
-    return [d, ten, coh, draws](const ContactGeometry<dim>         &g,
+    typename FlatJointLaw<dim>::Params q;
+    q.Nr     = p.fj_Nr;
+    q.Nal    = p.fj_Nal;
+    q.rmul   = p.fj_rmul;
+    q.fric   = p.fric;
+    q.fa     = p.fj_fa;
+    q.bonded = true;
+    return q;
+  }
+
+  template <int dim>
+  typename ContactGroup<dim, FlatJointLaw<dim>>::Rule flat_joint_rule(
+      const Deformability &d, const Distribution &ten, const Distribution &coh,
+      StrengthDraws draws)
+  {
+    return [d, ten, coh, draws](const ContactGeometry<dim>        &g,
                                 typename FlatJointLaw<dim>::Props &q) {
       q.kn  = d.kn_stress(g); // memo Eq. 40
       q.ks  = d.ks(q.kn);
@@ -52,9 +66,9 @@ namespace demfem::dem
   }
 
   template <int dim>
-  typename ContactGroup<dim, ParallelBondLaw<dim>>::Rule
-  parallel_bond_rule(const Deformability &linear, double friction, const Deformability &bond,
-                     const Distribution &ten, const Distribution &coh, StrengthDraws draws)
+  typename ContactGroup<dim, ParallelBondLaw<dim>>::Rule parallel_bond_rule(
+      const Deformability &linear, double friction, const Deformability &bond,
+      const Distribution &ten, const Distribution &coh, StrengthDraws draws)
   {
     return [=](const ContactGeometry<dim> &g, typename ParallelBondLaw<dim>::Props &q) {
       q.linear.kn            = linear.kn_force(g);
@@ -69,9 +83,9 @@ namespace demfem::dem
   }
 
   template <int dim>
-  typename ContactGroup<dim, ContactBondLaw<dim>>::Rule
-  contact_bond_rule(const Deformability &linear, double friction, const Distribution &tens,
-                    const Distribution &shears, StrengthDraws draws)
+  typename ContactGroup<dim, ContactBondLaw<dim>>::Rule contact_bond_rule(
+      const Deformability &linear, double friction, const Distribution &tens,
+      const Distribution &shears, StrengthDraws draws)
   {
     return [=](const ContactGeometry<dim> &g, typename ContactBondLaw<dim>::Props &q) {
       q.linear.kn            = linear.kn_force(g);
@@ -109,14 +123,14 @@ namespace demfem::dem
     const std::size_t n = joints.index.size();
     if (n == 0)
       return {rmul, rmul};
-    auto                               &grp = m.template typed_group<FlatJointLaw<dim>>(joints.group);
-    const auto                         &P   = m.particles;
-    std::vector<double>                 mult(n, rmul);
+    auto               &grp = m.template typed_group<FlatJointLaw<dim>>(joints.group);
+    const auto         &P   = m.particles;
+    std::vector<double> mult(n, rmul);
     std::vector<std::vector<Face<dim>>> faces(P.size());
     for (std::size_t f = 0; f < n; ++f)
       {
-        const auto     geo     = grp.geometry(joints.index[f], P, m.walls);
-        const auto     i       = joints.i[f], j = joints.j[f];
+        const auto     geo = grp.geometry(joints.index[f], P, m.walls);
+        const auto     i = joints.i[f], j = joints.j[f];
         const double   mr      = std::min(P.radius[i], P.radius[j]);
         const bool     i_first = grp.end1[joints.index[f]] == i;
         const Vec<dim> n_i     = i_first ? geo.n : Vec<dim>(-geo.n);
@@ -125,8 +139,8 @@ namespace demfem::dem
       }
     auto overlap = [&](const Face<dim> &a, const Face<dim> &b, double sa, double sb) {
       const double th = std::acos(std::clamp(a.dir.dot(b.dir), -1.0, 1.0));
-      return half_angle(sa * mult[a.fj] * a.m, a.a) + half_angle(sb * mult[b.fj] * b.m, b.a) -
-             th;
+      return half_angle(sa * mult[a.fj] * a.m, a.a) +
+             half_angle(sb * mult[b.fj] * b.m, b.a) - th;
     };
     if (code == 2)
       {
@@ -156,7 +170,7 @@ namespace demfem::dem
                 double lo = 0, hi = 1;
                 for (int it = 0; it < 60; ++it)
                   {
-                    const double mid = 0.5 * (lo + hi);
+                    const double mid                                = 0.5 * (lo + hi);
                     (overlap(fs[a], fs[b], mid, mid) > 0 ? hi : lo) = mid;
                   }
                 mult[fs[a].fj] *= lo;
@@ -206,21 +220,22 @@ namespace demfem::dem
       }
   }
 
-#define DEMFEM_INSTANTIATE(dim)                                                              \
-  template typename ContactGroup<dim, LinearLaw<dim>>::Rule linear_rule<dim>(               \
-      const Deformability &, double);                                                        \
-  template typename ContactGroup<dim, FlatJointLaw<dim>>::Rule flat_joint_rule<dim>(        \
-      const Deformability &, const Distribution &, const Distribution &, StrengthDraws);    \
-  template typename ContactGroup<dim, ParallelBondLaw<dim>>::Rule parallel_bond_rule<dim>(  \
-      const Deformability &, double, const Deformability &, const Distribution &,           \
-      const Distribution &, StrengthDraws);                                                  \
-  template typename ContactGroup<dim, ContactBondLaw<dim>>::Rule contact_bond_rule<dim>(    \
-      const Deformability &, double, const Distribution &, const Distribution &,            \
-      StrengthDraws);                                                                        \
-  template std::pair<double, double> set_radius_multipliers<dim>(Model<dim> &,               \
-                                                                 const JointList &, int,    \
-                                                                 double);                    \
-  template void designate_microstructure<dim>(Model<dim> &, const JointList &, double,      \
+#define DEMFEM_INSTANTIATE(dim)                                                          \
+  template typename ContactGroup<dim, LinearLaw<dim>>::Rule linear_rule<dim>(            \
+      const Deformability &, double);                                                    \
+  template typename FlatJointLaw<dim>::Params flat_joint_params<dim>(                    \
+      const MaterialParams &);                                                           \
+  template typename ContactGroup<dim, FlatJointLaw<dim>>::Rule flat_joint_rule<dim>(     \
+      const Deformability &, const Distribution &, const Distribution &, StrengthDraws); \
+  template typename ContactGroup<dim, ParallelBondLaw<dim>>::Rule                        \
+  parallel_bond_rule<dim>(const Deformability &, double, const Deformability &,          \
+                          const Distribution &, const Distribution &, StrengthDraws);    \
+  template typename ContactGroup<dim, ContactBondLaw<dim>>::Rule contact_bond_rule<dim>( \
+      const Deformability &, double, const Distribution &, const Distribution &,         \
+      StrengthDraws);                                                                    \
+  template std::pair<double, double> set_radius_multipliers<dim>(                        \
+      Model<dim> &, const JointList &, int, double);                                     \
+  template void designate_microstructure<dim>(Model<dim> &, const JointList &, double,   \
                                               double, const Distribution &, Random &);
   DEMFEM_INSTANTIATE(2)
   DEMFEM_INSTANTIATE(3)

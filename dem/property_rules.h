@@ -82,29 +82,35 @@ namespace demfem::dem
   typename ContactGroup<dim, LinearLaw<dim>>::Rule linear_rule(const Deformability &d,
                                                                double friction);
 
+  /// Group parameters of a flat-jointed material's joints (memo Table 5):
+  /// element grid, friction, friction angle, radius multiplier, installed
+  /// bonded; the per-contact rest comes from flat_joint_rule.
+  template <int dim>
+  typename FlatJointLaw<dim>::Params flat_joint_params(const MaterialParams &p);
+
   /// Rule of a flat-jointed material's joints: deformability (memo Eq. 40)
   /// and tensile strength and cohesion drawn per contact.
   template <int dim>
-  typename ContactGroup<dim, FlatJointLaw<dim>>::Rule
-  flat_joint_rule(const Deformability &d, const Distribution &ten, const Distribution &coh,
-                  StrengthDraws draws);
+  typename ContactGroup<dim, FlatJointLaw<dim>>::Rule flat_joint_rule(
+      const Deformability &d, const Distribution &ten, const Distribution &coh,
+      StrengthDraws draws);
 
   /// Rule of a parallel-bonded material: the linear part by `linear`
   /// (reference gap min(g, 0): no force at installation), the bond by
   /// `bond` (pb_kn = E*_bar / L), strengths drawn per contact.
   template <int dim>
-  typename ContactGroup<dim, ParallelBondLaw<dim>>::Rule
-  parallel_bond_rule(const Deformability &linear, double friction, const Deformability &bond,
-                     const Distribution &ten, const Distribution &coh, StrengthDraws draws);
+  typename ContactGroup<dim, ParallelBondLaw<dim>>::Rule parallel_bond_rule(
+      const Deformability &linear, double friction, const Deformability &bond,
+      const Distribution &ten, const Distribution &coh, StrengthDraws draws);
 
   /// Rule of a contact-bonded material: the linear part (reference gap =
   /// the gap at installation, so the bonded springs start force-free) and
   /// strengths drawn as stresses on the cross section of the equivalent beam
   /// (2 R_min or pi R_min^2), stored as forces.
   template <int dim>
-  typename ContactGroup<dim, ContactBondLaw<dim>>::Rule
-  contact_bond_rule(const Deformability &linear, double friction, const Distribution &tens,
-                    const Distribution &shears, StrengthDraws draws);
+  typename ContactGroup<dim, ContactBondLaw<dim>>::Rule contact_bond_rule(
+      const Deformability &linear, double friction, const Distribution &tens,
+      const Distribution &shears, StrengthDraws draws);
 
   /// Flat joints of a material, where they live in the model.
   struct JointList

@@ -1,5 +1,6 @@
 #pragma once
-// VTK XML output of a DEM model for ParaView (DESIGN §6): particles as
+// VTK XML output of a DEM model for ParaView (docs/architecture.md, "VTK
+// files"): particles as
 // points (.vtp, Point Gaussian-ready: "radius" array), contacts/bonds as
 // lines between the centres, cracks (fistPkg §3.4) as segments (2D) or
 // disks drawn as polygons (3D), and .pvd collections of a time series.

@@ -1,5 +1,6 @@
-// Linear elastic continuum around a tunnel (DESIGN.md section 4): dim 2 is
-// plane strain, dim 3 full 3D. Tension positive, SI units.
+// Linear elastic continuum around a tunnel (docs/architecture.md, "The
+// continuum"): dim 2 is plane strain, dim 3 full 3D. Tension positive, SI
+// units.
 //
 // Formulation. The medium starts in a uniform in-situ stress sigma0 with zero
 // displacement. Excavation releases the traction sigma0.n that the removed

@@ -1,10 +1,10 @@
-// Explicit-dynamic elastic continuum for the DEM coupling (DESIGN.md sections
-// 4 and 5): lumped (row-sum) mass with optional density scaling,
-// mass-proportional damping, central-difference (leapfrog) stepping, external
-// nodal forces on a set of coupling vertices (by default the vertices of the
-// interface boundary, id 2; set_coupling_vertices() takes any mesh vertices,
-// e.g. the nodes of the cells a slaved DEM layer overlaps), and queries of
-// the coupling vertices' displacement and velocity.
+// Explicit-dynamic elastic continuum for the DEM coupling
+// (docs/architecture.md, "The continuum" and "Coupling"): lumped (row-sum) mass
+// with optional density scaling, mass-proportional damping, central-difference
+// (leapfrog) stepping, external nodal forces on a set of coupling vertices (by
+// default the vertices of the interface boundary, id 2; set_coupling_vertices()
+// takes any mesh vertices, e.g. the nodes of the cells a slaved DEM layer
+// overlaps), and queries of the coupling vertices' displacement and velocity.
 //
 // Scheme (velocities at half steps, damping centred in time):
 //   v_{n+1/2} = [(1 - a dt/2) v_{n-1/2} + dt M^-1 (f_n - K u_n)] / (1 + a dt/2)
@@ -126,9 +126,10 @@ namespace demfem::fem
     const dealii::TrilinosWrappers::MPI::Vector &displacement() const { return u; }
     const dealii::DoFHandler<dim> &get_dof_handler() const { return dof_handler; }
 
-    /** Dynamic state for checkpoints (DESIGN §8): the locally owned entries
-     *  of u, v and the external forces, the fixed-dof velocities and the
-     *  time, bit for bit. Serial runs only (one rank owns every dof). */
+    /** Dynamic state for checkpoints (docs/architecture.md, "Checkpoints and
+     *  restart"): the locally owned entries of u, v and the external forces,
+     *  the fixed-dof velocities and the time, bit for bit. Serial runs only
+     *  (one rank owns every dof). */
     std::vector<double> save_state() const;
     /** Restores what save_state wrote, after setup() on the same mesh;
      *  throws std::runtime_error on a size mismatch. */

@@ -1,6 +1,6 @@
 // Meshes for the elastic continuum: a generated graded tunnel mesh (no files
 // needed) and Gmsh meshes read from disk, with the boundary-id conventions of
-// DESIGN.md section 4:
+// docs/architecture.md, "The continuum":
 //   1 far field, 2 interface to a DEM region, 3 tunnel wall,
 //   4 faces normal to the tunnel axis (z) carrying a roller (u_z = 0).
 #ifndef DEMFEM_FEM_MESH_H
@@ -45,8 +45,9 @@ namespace demfem::fem
   void generate_tunnel_mesh(dealii::Triangulation<dim>  &tria,
                             const GeneratedMeshSettings &settings);
 
-  /// A tunnel section embedded in a 3D continuum (issue 5): the DEM
-  /// section occupies r < b, 0 <= z <= t; the continuum is the cylinder
+  /// A tunnel section embedded in a 3D continuum (docs/architecture.md,
+  /// "In-situ stress and excavation"): the DEM section occupies r < b,
+  /// 0 <= z <= t; the continuum is the cylinder
   /// r <= R, -L <= z <= t + L with the tunnel r < a through its whole length
   /// and, inside the section, the hole r < r_in, h <= z <= t - h (the part of
   /// the section the continuum does not overlap: r_in = b - h and the end

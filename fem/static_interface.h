@@ -1,7 +1,7 @@
 // Static response of the elastic continuum at the coupling vertices, for the
-// quasi-static coupling scheme (DESIGN.md section 5, issue 5: "continuum
-// response through a precomputed interface flexibility or periodic static
-// solves, with a relaxation factor").
+// quasi-static coupling scheme (docs/architecture.md, "Time schemes"): the
+// continuum responds through a precomputed interface flexibility or periodic
+// static solves, with a relaxation factor.
 //
 // Problem (linear elasticity, Q_p, plane strain in 2D, tension positive):
 //   K u = f                         on the free dofs,

@@ -1,4 +1,4 @@
-// `demfem bench dem` (issue 2 §5): output contract and option checking.
+// `demfem bench dem` (docs/bench.md): output contract and option checking.
 // No timing assertions: the benchmark's speed depends on the machine.
 #include <catch2/catch.hpp>
 

@@ -1,6 +1,7 @@
-// `demfem calibrate`: a tiny flat-jointed material runs end to end and
-// writes material.json with every contract key (issue 3, DESIGN §6-7); bad
-// parameter files fail with a message naming the key, and write nothing.
+// `demfem calibrate`: a tiny flat-jointed material runs end to end and writes
+// material.json with every contract key (docs/architecture.md, "From the lab to
+// the tunnel"); bad parameter files fail with a message naming the key, and
+// write nothing.
 #include "run_command.h"
 
 #include <catch2/catch.hpp>
@@ -84,7 +85,8 @@ TEST_CASE("calibrate: tiny 2D material end to end", "[calibrate]")
       CHECK(std::isfinite(v.at(k)));
     }
   CHECK(v.at("dim") == 2);
-  // DESIGN §7: the continuum pair is the plane-strain map of the fit.
+  // The continuum pair is the plane-strain map of the fit (docs/architecture.md,
+  // "Plane-stress and plane-strain constants").
   const double nps = v.at("nu_plane_stress");
   CHECK(v.at("nu") == Approx(nps / (1 + nps)).epsilon(1e-12));
   CHECK(v.at("E") ==

@@ -1,6 +1,6 @@
-// `demfem study` in breakable mode (issue 6 item 2) and the sweep axes of
-// issue 6 items 1 and 3 (coupling variant, scheme, relaxation, stiffness
-// contrast).
+// `demfem study` in breakable mode (compared with the full-DEM reference) and
+// the sweep axes of the method choices and the stability map (coupling
+// variant, scheme, relaxation, stiffness contrast).
 #include <catch2/catch.hpp>
 
 #include "run_command.h"

@@ -1,5 +1,6 @@
-// `demfem study` (issue 6): small sweeps of apps/examples/study_2d.prm
-// (a = 0.4 m, hydrostatic 10 MPa, region b = 2.5 a, a few hundred grains).
+// `demfem study` (docs/architecture.md, "Speed-versus-accuracy study"): small
+// sweeps of apps/examples/study_2d.prm (a = 0.4 m, hydrostatic 10 MPa, region b
+// = 2.5 a, a few hundred grains).
 #include <catch2/catch.hpp>
 
 #include "run_command.h"

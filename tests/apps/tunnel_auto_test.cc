@@ -1,5 +1,6 @@
-// `demfem tunnel` with 'DEM region/radius = auto' (issue 6 right-sizing):
-// without a UCS the run stops before writing anything and names the keys.
+// `demfem tunnel` with 'DEM region/radius = auto' (right-sizing,
+// docs/architecture.md, "Speed-versus-accuracy study"): without a UCS the run
+// stops before writing anything and names the keys.
 #include "run_command.h"
 
 #include <catch2/catch.hpp>

@@ -1,6 +1,7 @@
-// Full-DEM reference of the breakable tunnel (issue 6 item 2): the
-// membrane servo's target forces reproduce the in-situ stress exactly; the
-// servo holds it in a packed, bonded disk; bad parameters are refused.
+// Full-DEM reference of the breakable tunnel (docs/architecture.md,
+// "Speed-versus-accuracy study"): the membrane servo's target forces reproduce
+// the in-situ stress exactly; the servo holds it in a packed, bonded disk; bad
+// parameters are refused.
 #include <catch2/catch.hpp>
 
 #include "coupling/full_dem_reference.h"

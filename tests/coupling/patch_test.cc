@@ -1,10 +1,10 @@
-// Embedded elastic patch test (DESIGN §7): unbreakable bonds, uniform
-// hydrostatic far-field stress. A circular inclusion whose plane-strain
-// bulk stiffness lambda + G equals the continuum's carries exactly the
-// applied hydrostatic stress (the homogeneous field u = eps r satisfies
-// equilibrium and continuity whatever G), so once the continuum is given the
-// region's lambda + G the stress measured in the region must equal the
-// applied one. Run 1 measures lambda + G of the packing (mean stress over
+// Embedded elastic patch test (docs/architecture.md, "Verification cases"):
+// unbreakable bonds, uniform hydrostatic far-field stress. A circular inclusion
+// whose plane-strain bulk stiffness lambda + G equals the continuum's carries
+// exactly the applied hydrostatic stress (the homogeneous field u = eps r
+// satisfies equilibrium and continuity whatever G), so once the continuum is
+// given the region's lambda + G the stress measured in the region must equal
+// the applied one. Run 1 measures lambda + G of the packing (mean stress over
 // the ring strain); run 2 uses it and checks the region stress.
 #include <catch2/catch.hpp>
 
@@ -143,7 +143,7 @@ TEST_CASE("coupling: embedded elastic patch test, hydrostatic far field",
                                  << m1.whole << " / " << m2.whole);
   INFO("run 2: centre mean stress " << sm << " (applied " << -p << "), deviator " << dev
                                     << ", rim mean stress " << rim);
-  CHECK(std::abs(sm + p) < 0.02 * p);   // region stress = applied (issue 5: 2 %)
+  CHECK(std::abs(sm + p) < 0.02 * p);   // region stress = applied (within 2 %)
   CHECK(dev < 0.02 * p);                // isotropic
   CHECK(std::abs(rim - sm) < 0.04 * p); // uniform: rim annulus vs centre disk
   // The VTK's averaged_stress reads as the continuum stress: it differs from
@@ -154,7 +154,7 @@ TEST_CASE("coupling: embedded elastic patch test, hydrostatic far field",
   CHECK(std::abs(m2.grains + p) < 0.04 * p);
   INFO("largest jump of the radial strain, outer grain layer vs ring, per sector: "
        << m2.jump);
-  CHECK(m2.jump < 0.05); // issue 5: displacement continuous within 5 %
+  CHECK(m2.jump < 0.05); // displacement continuous within 5 %
 }
 
 TEST_CASE("coupling: a sub-cycled slaved layer reaches the same in-situ state",

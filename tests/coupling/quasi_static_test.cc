@@ -60,7 +60,7 @@ namespace
 // the region's plane-strain lambda + G measured by the explicit patch test's
 // first run on this packing (slaved layer 10.17 GPa -> E = 12.71 GPa, wall
 // facets 9.59 GPa -> E = 11.99 GPa, at nu = 0.25), so the region must carry
-// the applied stress (issue 5: 2 %).
+// the applied stress (within 2 %, docs/architecture.md, "Verification cases").
 TEST_CASE("quasi-static: embedded patch test and agreement with the explicit scheme",
           "[coupling][quasi-static]")
 {

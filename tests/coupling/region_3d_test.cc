@@ -1,4 +1,4 @@
-// The 3D embedded DEM region (coupling/dem_region.h, issue 5): spheres packed
+// The 3D embedded DEM region (coupling/dem_region.h): spheres packed
 // by grain scaling in the slab 0 < z < t of the cylinder r < b, between a
 // lateral ring of triangle facets and two frictionless planar slab walls,
 // bonded with 3D flat joints (Nr x Nal elements).

@@ -1,8 +1,8 @@
-// Checkpoint / restart of the coupled tunnel run (issue 5, DESIGN §8): a run
-// stopped at a step boundary and continued from its checkpoint gives the
-// same results, bit for bit, as the uninterrupted run (the checkpoint holds
-// the complete DEM, continuum and workflow state); a checkpoint written with
-// other parameters is refused, naming it.
+// Checkpoint / restart of the coupled tunnel run (docs/architecture.md,
+// "Checkpoints and restart"): a run stopped at a step boundary and continued
+// from its checkpoint gives the same results, bit for bit, as the uninterrupted
+// run (the checkpoint holds the complete DEM, continuum and workflow state); a
+// checkpoint written with other parameters is refused, naming it.
 #include <catch2/catch.hpp>
 
 #include "coupling/tunnel_run.h"
@@ -131,7 +131,7 @@ TEST_CASE("tunnel restart: stopped and continued run equals the uninterrupted on
   CHECK(read(db + "/history.csv") == read(da + "/history.csv"));
   INFO("cracks " << ra.cracks_total << ", convergence " << ra.wall_convergence_mean);
   CHECK(ra.cracks_total > 0); // the test exercises crack records too
-  // Issue 6: cracks near the coupling boundary flag the region as too small.
+  // Cracks near the coupling boundary flag the region as too small.
   const std::string sa   = read(da + "/summary.json");
   const bool        near = sa.find("\"cracks_near_interface\": 0,") == std::string::npos;
   CHECK_THAT(sa, Catch::Contains(std::string("\"region_too_small\": ") +

@@ -1,12 +1,12 @@
-// A tunnel section in a 3D continuum (issue 5): the DEM section (r < b,
-// 0 <= z <= t) is surrounded by continuum on every side — beyond its rim
-// and, over Continuum/axial extension L, beyond both ends — with the tunnel
-// through the whole length (coupled_model.h, fem::generate_section_mesh).
-// The mesh, the force balance across the whole interface (rim and ends),
-// the embedded patch test (incl. szz carried through the ends) and the
-// excavation convergence vs plane-strain Kirsch (exact for a tunnel
-// excavated along its whole length between rollers), the app run with its
-// VTK read back, and bad input.
+// A tunnel section in a 3D continuum (docs/architecture.md, "In-situ stress and
+// excavation"): the DEM section (r < b, 0 <= z <= t) is surrounded by continuum
+// on every side — beyond its rim and, over Continuum/axial extension L, beyond
+// both ends — with the tunnel through the whole length (coupled_model.h,
+// fem::generate_section_mesh). The mesh, the force balance across the whole
+// interface (rim and ends), the embedded patch test (incl. szz carried through
+// the ends) and the excavation convergence vs plane-strain Kirsch (exact for a
+// tunnel excavated along its whole length between rollers), the app run with
+// its VTK read back, and bad input.
 #include <catch2/catch.hpp>
 
 #include <deal.II/grid/grid_tools.h>
@@ -301,7 +301,7 @@ TEST_CASE("3D section: patch test through the ends and excavation convergence vs
        << s << "\nin-plane mean " << sm << " vs " << -p << ", deviator " << dev
        << "; core strain e_m " << em << ", e_zz " << ezz);
   CHECK(m.dem.unbalanced_ratio() < 1e-3);
-  CHECK(std::abs(sm + p) < 0.03 * p); // as the slab (issue 5: 2 % in 2D)
+  CHECK(std::abs(sm + p) < 0.03 * p); // as the slab (2 % in 2D)
   CHECK(dev < 0.03 * p);
   CHECK(em < 0);
   CHECK(std::abs(ezz) < 0.05 * std::abs(em));
@@ -363,7 +363,7 @@ TEST_CASE("3D section: patch test through the ends and excavation convergence vs
                 << "); imbalance max " << m.imbalance_max() << "; unbalanced ratio "
                 << m.dem.unbalanced_ratio());
   CHECK(m.dem.unbalanced_ratio() < 1e-3);
-  CHECK(std::abs(C / C_kirsch - 1) < 0.15); // issue 5: 3D within 15 %
+  CHECK(std::abs(C / C_kirsch - 1) < 0.15); // 3D within 15 %
   CHECK(std::abs(uw / uw_kirsch - 1) < 0.15);
   // Q1 continuum, fixed far field at R = 10 b: a few per cent.
   CHECK(std::abs(uc / uw_kirsch - 1) < 0.05);

@@ -1,5 +1,5 @@
-// The 3D coupled slab (issue 5: "a slab of the 2D problem, plane strain
-// through walls"): DEM spheres in 0 < z < t between fixed frictionless walls,
+// The 3D coupled slab (a slab of the 2D problem, plane strain through
+// walls): DEM spheres in 0 < z < t between fixed frictionless walls,
 // embedded in the annulus extruded over the same thickness with rollers on
 // its z faces (coupled_model.h). Force balance across the interface, the
 // embedded patch test and the excavation convergence vs plane-strain Kirsch.
@@ -155,7 +155,7 @@ TEST_CASE("3D slab: patch test and excavation convergence vs plane-strain Kirsch
   INFO("centre stress (Pa)\n"
        << s << "\nin-plane mean " << sm << " vs " << -p << ", deviator " << dev);
   CHECK(m.dem.unbalanced_ratio() < 1e-3);
-  CHECK(std::abs(sm + p) < 0.03 * p); // issue 5 asks 2 % in 2D; 3 % for the slab
+  CHECK(std::abs(sm + p) < 0.03 * p); // 2 % in 2D; 3 % for the slab
   CHECK(dev < 0.03 * p);
   CHECK(s(2, 2) < 0); // plane strain: the slab walls push back (szz = nu' (sxx + syy))
 
@@ -184,7 +184,7 @@ TEST_CASE("3D slab: patch test and excavation convergence vs plane-strain Kirsch
                 << m.imbalance_max() << "; unbalanced ratio "
                 << m.dem.unbalanced_ratio());
   CHECK(m.dem.unbalanced_ratio() < 1e-3);
-  CHECK(std::abs(C / C_kirsch - 1) < 0.15); // issue 5: 3D slab within 15 %
+  CHECK(std::abs(C / C_kirsch - 1) < 0.15); // 3D slab within 15 %
   CHECK(std::abs(uw / uw_kirsch - 1) < 0.15);
   CHECK(m.imbalance_max() < 1e-10);
 }

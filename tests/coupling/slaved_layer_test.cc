@@ -1,6 +1,6 @@
-// Slaved-layer coupling (DESIGN §5, coupling/slaved_layer_model.h): force
-// balance across the interface, slaved-slaved contacts transfer nothing,
-// divergence detected.
+// Slaved-layer coupling (docs/architecture.md, "Slaved layer";
+// coupling/slaved_layer_model.h): force balance across the interface,
+// slaved-slaved contacts transfer nothing, divergence detected.
 #include <catch2/catch.hpp>
 
 #include "coupling/slaved_layer_model.h"

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Read back the VTK series of a 3D `demfem tunnel` run (DESIGN §8): parse each
+"""Read back the VTK series of a 3D `demfem tunnel` run (docs/architecture.md): parse each
 .pvd, load every referenced file with VTK's own reader, and check that it is
 3D (z coordinates spanning the slab), holds the expected arrays, is finite and
 has its connectivity in range. Prints 'ok' or the failures (exit 1).

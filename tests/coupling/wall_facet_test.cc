@@ -1,5 +1,5 @@
-// Wall-facet coupling (DESIGN §5): force balance across the interface and
-// the embedded elastic patch test.
+// Wall-facet coupling (docs/architecture.md, "Wall facets"): force balance
+// across the interface and the embedded elastic patch test.
 #include <catch2/catch.hpp>
 
 #include "coupling/wall_facet_model.h"

@@ -1,5 +1,5 @@
 // HDF5 checkpoints (dem/checkpoint.h): a restarted run continues bit for bit,
-// writes are atomic and keep the previous file (DESIGN §8), and a restart
+// writes are atomic and keep the previous file (docs/architecture.md, "Checkpoints and restart"), and a restart
 // with different contact-law parameters is refused.
 #include "dem/checkpoint.h"
 #include "dem/flat_joint_law.h"

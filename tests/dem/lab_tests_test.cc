@@ -1,4 +1,4 @@
-// Laboratory tests (fistPkg §5.2, §5.5-5.6; DESIGN §7): elastic scaling of
+// Laboratory tests (fistPkg §5.2, §5.5-5.6; docs/architecture.md, "Plane-stress and plane-strain constants"): elastic scaling of
 // the measured constants, the plane-stress -> plane-strain map, and the
 // agreement of wall-based, measurement-based and gauge-based quantities and
 // of the Brazilian formula (Eq. 24) with the elastic disk solution.
@@ -63,7 +63,7 @@ namespace
   }
 } // namespace
 
-TEST_CASE("plane-stress to plane-strain constants (DESIGN 7)", "[labtests]")
+TEST_CASE("plane-stress to plane-strain constants (plane strain for the continuum)", "[labtests]")
 {
   // A plane-strain continuum with (E, nu) responds in plane like a plane-
   // stress one with E/(1 - nu^2), nu/(1 - nu) (seed Eq. 20): the inverse

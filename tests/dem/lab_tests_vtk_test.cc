@@ -1,6 +1,6 @@
 // VTK writers (dem/vtk_output.h): files re-read with VTK's own XML reader;
 // arrays present with one tuple per point/cell, finite values, connectivity
-// in range (no VTK reader checks it, DESIGN §8), and the .pvd paths relative.
+// in range (no VTK reader checks it, docs/architecture.md, "VTK files"), and the .pvd paths relative.
 #include "dem/linear_law.h"
 #include "dem/model.h"
 #include "dem/vtk_output.h"

@@ -1,4 +1,4 @@
-// Per-grain averaged stress (dem/particle_stress.h), issue 5 VTK output.
+// Per-grain averaged stress (dem/particle_stress.h), as written to the particles VTK.
 #include "dem/linear_law.h"
 #include "dem/model.h"
 #include "dem/particle_stress.h"

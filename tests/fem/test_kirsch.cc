@@ -89,7 +89,8 @@ namespace
 // Default mesh of `demfem fem` (generated, outer radius 30a, 32 cells around
 // the wall, degree 2) with the exact Kirsch tractions on the outer boundary,
 // which removes the truncation error of the finite domain, so the 0.5 % / 2 %
-// limits of the issue test the discretization and the stress recovery.
+// limits (docs/architecture.md, "Verification cases") test the
+// discretization and the stress recovery.
 // Measured (pointwise relative, max over the 32 wall vertices):
 //   hydrostatic: u 0.0064 %, hoop 0.50 %;  K = 0.5: u 0.041 %, hoop 1.06 %.
 // (The hoop error is that of averaging the cell stresses at the vertices.)

@@ -1,5 +1,5 @@
 // Static interface response of the continuum (fem::StaticInterfaceResponse,
-// quasi-static coupling of issue 5): flexibility symmetry (Betti) and
+// quasi-static coupling scheme): flexibility symmetry (Betti) and
 // definiteness, the thick-walled cylinder (plane-strain Lame) under interface
 // pressure, the far-field response of an annulus with a free hole against
 // its closed form (Lame + Michell n = 2 terms), linearity u_c = lambda U_ff +
