@@ -210,12 +210,14 @@ namespace
   struct SceneMaterial
   {
     std::string    file;
+    int            dim = 2; ///< the file's, or --dim
     MaterialParams p;
   };
 
   SceneMaterial scene_material(const BenchOptions &o)
   {
     SceneMaterial s;
+    s.dim = o.dim;
     if (o.material.empty())
       {
         s.p.type          = "flatjointed";
@@ -243,7 +245,8 @@ namespace
     if (f.material.type != "flatjointed")
       throw InputError("material file '" + o.material + "': type '" + f.material.type +
                        "': the benchmark scene is flat-jointed (allowed: flatjointed)");
-    s.p = f.material;
+    s.p   = f.material;
+    s.dim = f.dim;
     return s;
   }
 
@@ -467,9 +470,8 @@ int demfem::apps::run_bench(int argc, char **argv)
   try
     {
       const SceneMaterial mat = scene_material(o);
-      if (!mat.file.empty())
-        o.dim = read_material_file(mat.file).dim;
-      const BenchResult r = o.dim == 2 ? run_dem<2>(o, mat) : run_dem<3>(o, mat);
+      o.dim                   = mat.dim;
+      const BenchResult r     = o.dim == 2 ? run_dem<2>(o, mat) : run_dem<3>(o, mat);
       report(o, r);
     }
   catch (const std::exception &e)

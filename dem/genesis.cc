@@ -335,12 +335,8 @@ namespace demfem::dem
       throw InputError(where + ": the size distribution gives about " +
                        std::to_string(std::llround(Vg / mean_grain_volume<dim>(p))) +
                        " grains; raise 'diameter_multiplier'");
-    const std::vector<double> radii = draw_radii<dim>(p, Vg, rng);
-    if (radii.size() > 5000000)
-      throw InputError(where + ": the size distribution gives " +
-                       std::to_string(radii.size()) +
-                       " grains; raise 'diameter_multiplier'");
-    double Vgrains = 0;
+    const std::vector<double> radii   = draw_radii<dim>(p, Vg, rng);
+    double                    Vgrains = 0;
     for (double r : radii)
       Vgrains += ball_volume<dim>(r);
     const double rho = p.bulk_density ? p.density * Vv / Vgrains : p.density;

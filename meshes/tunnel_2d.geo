@@ -1,6 +1,6 @@
 // 2D circular tunnel (radius a) in a circular domain of radius R = 30a,
 // all quadrilaterals, graded geometrically from the wall to the far field.
-// Physical ids (DESIGN.md section 4): 1 far field, 3 tunnel wall.
+// Physical ids (docs/architecture.md, "The continuum"): 1 far field, 3 tunnel wall.
 // Generate: gmsh -2 -format msh2 tunnel_2d.geo -o tunnel_2d.msh
 a  = 1.0;
 R  = 30.0;

@@ -1,7 +1,7 @@
 // 2D continuum around an embedded DEM region: the DEM region fills the ring
 // a <= r <= b around the tunnel (radius a); the continuum covers b <= r <= R
 // and its inner circle r = b is the interface to the DEM region.
-// Physical ids (DESIGN.md section 4): 1 far field, 2 interface (r = b).
+// Physical ids (docs/architecture.md, "The continuum"): 1 far field, 2 interface (r = b).
 // Generate: gmsh -2 -format msh2 tunnel_dem_2d.geo -o tunnel_dem_2d.msh
 b  = 3.0;   // interface radius (DEM region outer radius), a = 1
 R  = 30.0;

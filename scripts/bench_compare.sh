@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs `demfem bench dem` and the same scene in Yade (scripts/bench_yade.py)
 # on this machine in one invocation and prints the speed ratio demfem / Yade
-# in particle steps per second per core (issue 2 §5; target >= 3).
+# in particle steps per second per core (docs/bench.md; target >= 3).
 #
 # Usage: scripts/bench_compare.sh [--dim 2|3] [--n N] [--steps S] [--threads T]
 #   DEMFEM_EXE   demfem executable (default: build/apps/demfem)

@@ -1,4 +1,4 @@
-# Yade counterpart of `demfem bench dem` (issue 2 §5).
+# Yade counterpart of `demfem bench dem` (docs/bench.md).
 #
 # Usage (Debian package `yade`, not a project dependency):
 #   yade -j T -n -x scripts/bench_yade.py --dim 3 --n N --steps S [--json]
