@@ -5,15 +5,15 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 
-#include <boost/property_tree/json_parser.hpp>
-#include <boost/property_tree/ptree.hpp>
-
 #include "apps/commands.h"
+#include "apps/output_dir.h"
 #include "apps/prm_cli.h"
+#include "dem/material_file.h"
 #include "fem/elastic_problem.h"
 
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -26,14 +26,18 @@ namespace demfem::apps
 
     const char *usage =
         "usage: demfem fem FILE.prm [--set \"Section/key=value\"]... "
-        "[--print-parameters] [--help]\n"
+        "[--overwrite] [--defaults] [--print-parameters] [--help]\n"
         "\n"
         "Linear elastic continuum around a circular tunnel (dim 2: plane strain,\n"
         "dim 3: slab or 3D mesh). In-situ stress (tension positive, Pa) is released\n"
         "on the tunnel wall (boundary id 3); the far field (id 1) keeps its traction.\n"
         "Writes summary.json, wall_displacement.csv (excavation-induced),\n"
         "wall_stress.csv (total stress) and solution.pvd (+ .pvtu/.vtu) into\n"
-        "Problem/output directory. Run with mpirun -np N for a distributed solve.\n";
+        "Problem/output directory, which the run owns (demfem.lock, manifest.json;\n"
+        "an earlier run's results there are refused unless --overwrite,\n"
+        "docs/tunnel.md). Run with mpirun -np N for a distributed solve.\n"
+        "\n"
+        "options:\n";
 
     void declare_parameters(ParameterHandler &prm)
     {
@@ -109,20 +113,9 @@ namespace demfem::apps
           AssertThrow(
               std::filesystem::is_regular_file(material),
               ExcMessage("Continuum/material file: '" + material + "' does not exist"));
-          boost::property_tree::ptree tree;
-          try
-            {
-              boost::property_tree::read_json(material, tree);
-              s.young_modulus = tree.get<double>("E");
-              s.poisson_ratio = tree.get<double>("nu");
-            }
-          catch (const std::exception &e)
-            {
-              AssertThrow(false, ExcMessage("Continuum/material file '" + material +
-                                            "': need numeric top-level keys \"E\" (Pa) "
-                                            "and \"nu\": " +
-                                            e.what()));
-            }
+          // Errors name the material file and its key (dem/material_file.h).
+          s.young_modulus = dem::read_material_number(material, "E");
+          s.poisson_ratio = dem::read_material_number(material, "nu");
         }
       if (s.mesh != "generate")
         AssertThrow(std::filesystem::is_regular_file(s.mesh),
@@ -136,6 +129,7 @@ namespace demfem::apps
   {
     Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
     const MPI_Comm                   comm = MPI_COMM_WORLD;
+    std::optional<RunDirectory>      run_dir;
     try
       {
         std::string      file;
@@ -145,7 +139,7 @@ namespace demfem::apps
           {
           case PrmAction::help:
             if (Utilities::MPI::this_mpi_process(comm) == 0)
-              std::cout << usage;
+              std::cout << usage << common_options_help;
             return 0;
           case PrmAction::print:
             if (Utilities::MPI::this_mpi_process(comm) == 0)
@@ -156,6 +150,21 @@ namespace demfem::apps
           }
 
         const fem::ElasticSettings settings = read_settings(prm);
+        // One owner per directory: rank 0 claims it for all ranks, which
+        // learn the outcome together (a rank alone in an error would hang
+        // the others in the solver's collectives).
+        std::string claim_error;
+        if (Utilities::MPI::this_mpi_process(comm) == 0)
+          try
+            {
+              run_dir.emplace(settings.output_directory, prm);
+            }
+          catch (const std::exception &e)
+            {
+              claim_error = exception_text(e);
+            }
+        claim_error = Utilities::MPI::broadcast(comm, claim_error, 0);
+        AssertThrow(claim_error.empty(), ExcMessage(claim_error));
         if (settings.dimension == 2)
           {
             fem::ElasticProblem<2> problem(settings, comm);
@@ -166,11 +175,15 @@ namespace demfem::apps
             fem::ElasticProblem<3> problem(settings, comm);
             problem.run();
           }
+        if (run_dir)
+          run_dir->finish("ok", 0);
         return 0;
       }
     catch (const std::exception &e)
       {
         std::cerr << "demfem fem: error: " << exception_text(e) << std::endl;
+        if (run_dir)
+          run_dir->finish("error: " + exception_text(e), 1);
         return 1;
       }
   }

@@ -18,10 +18,13 @@
 #include <boost/property_tree/json_parser.hpp>
 #include <boost/property_tree/ptree.hpp>
 
+#include "apps/cli.h"
 #include "apps/commands.h"
+#include "apps/output_dir.h"
 #include "apps/prm_cli.h"
 #include "apps/study.h"
 #include "dem/types.h"
+#include "dem/vtk_output.h"
 
 #include <algorithm>
 #include <cmath>
@@ -30,6 +33,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 namespace demfem::apps
@@ -179,10 +183,9 @@ namespace demfem::apps
         if (name == "unbalanced_ratio")
           try
             {
-              const double v = std::stod(value);
-              return std::isfinite(v) ? v : -1;
+              return parse_number("history.csv unbalanced_ratio", value);
             }
-          catch (...)
+          catch (const UsageError &) // "null": not finite
             {
               return -1;
             }
@@ -316,6 +319,7 @@ namespace demfem::apps
   int run_study(int argc, char **argv)
   {
     Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+    std::optional<RunDirectory>      run_dir;
     try
       {
         ParameterHandler prm;
@@ -325,7 +329,7 @@ namespace demfem::apps
         const auto  action = read_parameters(argc, argv, prm, usage, file);
         if (action == PrmAction::help)
           {
-            std::cout << usage;
+            std::cout << usage << common_options_help;
             return 0;
           }
         if (action == PrmAction::print)
@@ -393,7 +397,7 @@ namespace demfem::apps
             }
 
         const std::string out = base.output_directory;
-        std::filesystem::create_directories(out);
+        run_dir.emplace(out, prm);
 
         // The region of a resolution (grain sizes scaled, d_max/d_min kept).
         auto region_at = [&](double r, std::uint64_t seed) {
@@ -504,8 +508,8 @@ namespace demfem::apps
                                      refs, st.agreement_tolerance, answer);
           }
 
-        std::ofstream j(out + "/summary.json");
-        std::size_t   n_stable = 0, n_unstable = 0;
+        std::ostringstream j; // summary.json, written at once below
+        std::size_t        n_stable = 0, n_unstable = 0;
         for (const auto &r : rows)
           {
             n_stable += r.status == "stable";
@@ -586,6 +590,7 @@ namespace demfem::apps
           if (r.pareto)
             j << (first ? "" : ", ") << r.index, first = false;
         j << "]\n}\n";
+        dem::vtkout::write_text_atomically(out + "/summary.json", j.str());
         std::cout << "demfem study: " << rows.size() << " runs (" << n_stable
                   << " stable, " << n_unstable << " unstable)";
         if (st.breakable)
@@ -593,11 +598,14 @@ namespace demfem::apps
                     << " agreeing with the reference (speed-up table " << out
                     << "/study.md)";
         std::cout << "; output in " << out << std::endl;
+        run_dir->finish("ok", 0);
         return 0;
       }
     catch (const std::exception &e)
       {
         std::cerr << "demfem study: error: " << exception_text(e) << std::endl;
+        if (run_dir)
+          run_dir->finish("error: " + exception_text(e), 1);
         return 1;
       }
   }

@@ -8,13 +8,14 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/parameter_handler.h>
 
-#include <boost/property_tree/json_parser.hpp>
-#include <boost/property_tree/ptree.hpp>
-
+#include "apps/cli.h"
 #include "apps/prm_cli.h"
 #include "apps/study.h"
+#include "dem/material_file.h"
 
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 
 namespace demfem::apps::study
@@ -23,39 +24,29 @@ namespace demfem::apps::study
 
   namespace
   {
-    boost::property_tree::ptree read_json(const std::string &key, const std::string &file)
-    {
-      AssertThrow(std::filesystem::is_regular_file(file),
-                  ExcMessage(key + ": '" + file + "' does not exist"));
-      boost::property_tree::ptree t;
-      try
-        {
-          boost::property_tree::read_json(file, t);
-        }
-      catch (const std::exception &e)
-        {
-          AssertThrow(
-              false, ExcMessage(key + ": '" + file + "' is not valid JSON: " + e.what()));
-        }
-      return t;
-    }
-
+    /// 'DEM region/radius': a positive number [m] or 'auto'.
     double parse_radius(const std::string &v)
     {
       if (v == "auto")
         return -1;
-      double d = 0;
       try
         {
-          d = std::stod(v);
+          return parse_number(key_name("DEM region/radius"), v, 1e-300,
+                              std::numeric_limits<double>::max(), "m");
         }
-      catch (...)
+      catch (const UsageError &e)
         {
-          d = -1;
+          throw UsageError(std::string(e.what()) + "; or 'auto'");
         }
-      AssertThrow(d > 0, ExcMessage("DEM region/radius: '" + v +
-                                    "' is neither 'auto' nor a positive number [m]"));
-      return d;
+    }
+
+    /// Checks that a material file named by `key` exists (dem/material_file.h
+    /// reads it and names the file and its own key in its errors).
+    void check_exists(const std::string &key, const std::string &file)
+    {
+      AssertThrow(
+          std::filesystem::is_regular_file(file),
+          ExcMessage(key_name(key) + ": material file '" + file + "' does not exist"));
     }
   } // namespace
 
@@ -152,11 +143,11 @@ namespace demfem::apps::study
     prm.leave_subsection();
 
     prm.enter_subsection("Coupling");
-    prm.declare_entry("variant", "slaved-layer",
-                      Patterns::Selection("slaved-layer|wall-facets"),
-                      "slaved-layer: the continuum overlaps the region's rim, whose "
-                      "grains follow it; wall-facets: the continuum's inner boundary "
-                      "is a ring of DEM wall facets (docs/architecture.md, docs/tunnel.md)");
+    prm.declare_entry(
+        "variant", "slaved-layer", Patterns::Selection("slaved-layer|wall-facets"),
+        "slaved-layer: the continuum overlaps the region's rim, whose "
+        "grains follow it; wall-facets: the continuum's inner boundary "
+        "is a ring of DEM wall facets (docs/architecture.md, docs/tunnel.md)");
     prm.declare_entry("overlap grains", "2", Patterns::Double(),
                       "slaved-layer: width of the overlap of the continuum and the DEM "
                       "region, in mean grain diameters, in [0.5, 10]");
@@ -249,59 +240,41 @@ namespace demfem::apps::study
     prm.leave_subsection();
     if (!dmat.empty())
       {
-        const auto t = read_json("DEM region/material file", dmat);
-        try
-          {
-            AssertThrow(
-                t.get<int>("dim") == s.dimension,
-                ExcMessage("DEM region/material file '" + dmat +
-                           "': incompatible dimension " + t.get<std::string>("dim") +
-                           " (Problem/dimension = " + std::to_string(s.dimension) + ")"));
-            const auto &m = t.get_child("microparameters");
-            AssertThrow(m.get<std::string>("type", "flatjointed") == "flatjointed",
-                        ExcMessage("DEM region/material file '" + dmat +
-                                   "': only flat-jointed materials are supported"));
-            const auto  &p0   = m.get_child("size_distribution").begin()->second;
-            const double mult = m.get<double>("diameter_multiplier", 1.0);
-            r.d_lo            = mult * p0.get<double>("D_lo_m");
-            r.d_hi            = mult * p0.get<double>("D_hi_m");
-            r.density         = m.get<double>("density_kg_m3");
-            r.damping         = m.get<double>("local_damping", r.damping);
-            r.seed            = m.get<double>("seed", double(r.seed));
-            r.lnm_emod        = m.get<double>("lnm_emod_Pa");
-            r.lnm_krat        = m.get<double>("lnm_krat");
-            r.lnm_fric        = m.get<double>("lnm_fric");
-            r.emod            = m.get<double>("emod_Pa");
-            r.krat            = m.get<double>("krat");
-            r.fric            = m.get<double>("fric");
-            r.igap            = m.get<double>("igap_m", 0.0);
-            r.fj_Nr           = m.get<int>("fj_Nr");
-            r.fj_Nal          = m.get<int>("fj_Nal", r.fj_Nal);
-            r.fj_ten          = m.get<double>("fj_ten_mean_Pa");
-            r.fj_coh          = m.get<double>("fj_coh_mean_Pa");
-            r.fj_fa           = m.get<double>("fj_fa_deg");
-          }
-        catch (const boost::property_tree::ptree_error &e)
-          {
-            AssertThrow(false, ExcMessage("DEM region/material file '" + dmat +
-                                          "': missing or bad key: " + e.what()));
-          }
+        check_exists("DEM region/material file", dmat);
+        const dem::MaterialFile f = dem::read_material_file(dmat);
+        const auto             &m = f.material;
+        AssertThrow(f.dim == s.dimension,
+                    ExcMessage("material file '" + dmat + "': key 'dim' = " +
+                               std::to_string(f.dim) + ": incompatible dimension with " +
+                               key_name("Problem/dimension") + " = " +
+                               std::to_string(s.dimension)));
+        AssertThrow(m.type == "flatjointed",
+                    ExcMessage("material file '" + dmat + "': microparameters/type = '" +
+                               m.type + "'; only flat-jointed materials are supported"));
+        r.d_lo     = m.diameter_multiplier * m.sizes.front().d_lo;
+        r.d_hi     = m.diameter_multiplier * m.sizes.front().d_hi;
+        r.density  = m.density;
+        r.damping  = m.local_damping;
+        r.seed     = m.seed;
+        r.lnm_emod = m.lnm_emod;
+        r.lnm_krat = m.lnm_krat;
+        r.lnm_fric = m.lnm_fric;
+        r.emod     = m.emod;
+        r.krat     = m.krat;
+        r.fric     = m.fric;
+        r.igap     = m.igap;
+        r.fj_Nr    = m.fj_Nr;
+        r.fj_Nal   = m.fj_Nal;
+        r.fj_ten   = m.fj_ten.mean;
+        r.fj_coh   = m.fj_coh.mean;
+        r.fj_fa    = m.fj_fa;
         if (cmat.empty())
           cmat = dmat;
       }
     if (!gd.empty())
       {
-        double d = 0;
-        try
-          {
-            d = std::stod(gd);
-          }
-        catch (...)
-          {
-            d = -1;
-          }
-        AssertThrow(d > 0, ExcMessage("DEM region/grain diameter: '" + gd +
-                                      "' is not a positive number [m]"));
+        const double d = parse_number(key_name("DEM region/grain diameter"), gd, 1e-300,
+                                      std::numeric_limits<double>::max(), "m");
         const double k = d / r.mean_diameter();
         r.d_lo *= k;
         r.d_hi *= k;
@@ -314,18 +287,9 @@ namespace demfem::apps::study
     r.slab_thickness = slab_grains * r.mean_diameter();
     if (!cmat.empty())
       {
-        const auto t = read_json("Continuum/material file", cmat);
-        try
-          {
-            s.continuum.young_modulus = t.get<double>("E");
-            s.continuum.poisson_ratio = t.get<double>("nu");
-          }
-        catch (const boost::property_tree::ptree_error &e)
-          {
-            AssertThrow(false,
-                        ExcMessage("Continuum/material file '" + cmat +
-                                   "': need numeric \"E\" and \"nu\": " + e.what()));
-          }
+        check_exists("Continuum/material file", cmat);
+        s.continuum.young_modulus = dem::read_material_number(cmat, "E");
+        s.continuum.poisson_ratio = dem::read_material_number(cmat, "nu");
       }
 
     prm.enter_subsection("Coupling");
@@ -407,36 +371,14 @@ namespace demfem::apps::study
 
   namespace
   {
-    std::vector<std::string> split(const std::string &v)
+    std::vector<std::string> split(ParameterHandler &prm, const std::string &key)
     {
-      std::vector<std::string> out;
-      std::stringstream        ss(v);
-      for (std::string t; std::getline(ss, t, ',');)
-        {
-          const auto b = t.find_first_not_of(" \t");
-          if (b == std::string::npos)
-            continue;
-          out.push_back(t.substr(b, t.find_last_not_of(" \t") - b + 1));
-        }
-      return out;
+      return split_list(key_name("Study/" + key), prm.get(key));
     }
 
     double number(const std::string &key, const std::string &t, double lo, double hi)
     {
-      double      d = 0;
-      std::size_t n = 0;
-      try
-        {
-          d = std::stod(t, &n);
-        }
-      catch (...)
-        {
-          n = 0;
-        }
-      AssertThrow(n == t.size() && d >= lo && d <= hi,
-                  ExcMessage("Study/" + key + ": '" + t + "' is not a number in [" +
-                             std::to_string(lo) + ", " + std::to_string(hi) + "]"));
-      return d;
+      return parse_number(key_name("Study/" + key), t, lo, hi);
     }
   } // namespace
 
@@ -444,22 +386,24 @@ namespace demfem::apps::study
   {
     Settings s;
     prm.enter_subsection("Study");
-    for (const auto &t : split(prm.get("region radius factors")))
+    for (const auto &t : split(prm, "region radius factors"))
       s.radius_factors.push_back(t == "auto" ? std::optional<double>()
                                              : std::optional<double>(number(
                                                    "region radius factors", t, 1, 1e3)));
-    for (const auto &t : split(prm.get("grain resolutions")))
+    for (const auto &t : split(prm, "grain resolutions"))
       s.resolutions.push_back(number("grain resolutions", t, 1, 1e3));
-    for (const auto &t : split(prm.get("subcycles")))
-      s.subcycles.push_back(static_cast<unsigned int>(number("subcycles", t, 1, 1000)));
-    for (const auto &t : split(prm.get("timestep safety factors")))
+    for (const auto &t : split(prm, "subcycles"))
+      s.subcycles.push_back(static_cast<unsigned int>(
+          parse_integer(key_name("Study/subcycles"), t, 1, 1000)));
+    for (const auto &t : split(prm, "timestep safety factors"))
       s.safeties.push_back(number("timestep safety factors", t, 1e-3, 100));
-    for (const auto &t : split(prm.get("seeds")))
-      s.seeds.push_back(static_cast<std::uint64_t>(number("seeds", t, 0, 1e15)));
+    for (const auto &t : split(prm, "seeds"))
+      s.seeds.push_back(static_cast<std::uint64_t>(
+          parse_integer(key_name("Study/seeds"), t, 0, 1000000000000000LL)));
     s.damage_fraction = prm.get_double("damage threshold");
     s.ucs             = prm.get_double("ucs");
     s.margin_grains   = prm.get_double("margin grains");
-    for (const auto &t : split(prm.get("coupling variants")))
+    for (const auto &t : split(prm, "coupling variants"))
       {
         AssertThrow(
             t == "wall-facets" || t == "slaved-layer",
@@ -467,21 +411,21 @@ namespace demfem::apps::study
                        "' is not a variant (allowed: wall-facets, slaved-layer)"));
         s.variants.push_back(t);
       }
-    for (const auto &t : split(prm.get("schemes")))
+    for (const auto &t : split(prm, "schemes"))
       {
         AssertThrow(t == "explicit" || t == "quasi-static",
                     ExcMessage("Study/schemes: '" + t +
                                "' is not a scheme (allowed: explicit, quasi-static)"));
         s.schemes.push_back(t);
       }
-    for (const auto &t : split(prm.get("relaxation factors")))
+    for (const auto &t : split(prm, "relaxation factors"))
       {
         s.relaxations.push_back(number("relaxation factors", t, 0, 2));
         AssertThrow(s.relaxations.back() > 0 && s.relaxations.back() < 2,
                     ExcMessage("Study/relaxation factors: '" + t +
                                "' is not in the open interval (0, 2)"));
       }
-    for (const auto &t : split(prm.get("stiffness contrasts")))
+    for (const auto &t : split(prm, "stiffness contrasts"))
       {
         s.stiffness_contrasts.push_back(number("stiffness contrasts", t, 0, 1e3));
         AssertThrow(s.stiffness_contrasts.back() > 0,
@@ -496,8 +440,9 @@ namespace demfem::apps::study
     prm.leave_subsection();
     if (s.ucs == 0 && !material_file.empty())
       {
-        const auto t = read_json("DEM region/material file", material_file);
-        s.ucs        = t.get_optional<double>("ucs").value_or(0.0); // may be null
+        check_exists("DEM region/material file", material_file);
+        const double ucs = dem::read_material_number(material_file, "ucs", false);
+        s.ucs            = std::isfinite(ucs) ? ucs : 0.0; // null: not measured
       }
     return s;
   }

@@ -9,6 +9,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include "apps/commands.h"
+#include "apps/output_dir.h"
 #include "apps/prm_cli.h"
 #include "apps/study.h"
 #include "coupling/tunnel_run.h"
@@ -16,6 +17,7 @@
 #include <csignal>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -28,7 +30,8 @@ namespace demfem::apps
 
     const char *usage =
         "usage: demfem tunnel FILE.prm [--set \"Section/key=value\"]... "
-        "[--restart CHECKPOINT.h5] [--print-parameters] [--help]\n"
+        "[--restart CHECKPOINT.h5] [--overwrite] [--defaults] [--print-parameters] "
+        "[--help]\n"
         "\n"
         "Coupled DEM-continuum tunnel excavation, 2D or (Problem/dimension = 3) a\n"
         "slab 0 < z < 'DEM region/slab thickness' in plane strain through walls,\n"
@@ -45,7 +48,19 @@ namespace demfem::apps
         "Every 'Output/checkpoint interval' steps (0: never) and at the end it writes\n"
         "checkpoint.h5 there; Ctrl-C (SIGINT) or SIGTERM writes one and stops.\n"
         "--restart continues from a checkpoint written with the same parameters\n"
-        "(output directory and checkpoint interval may differ) as if never stopped.\n";
+        "(output directory and checkpoint interval may differ) as if never stopped;\n"
+        "into the checkpoint's own directory it continues that run's files, into\n"
+        "another it starts complete ones there. Checkpoints carry checksums: a\n"
+        "damaged one is refused, naming the dataset.\n"
+        "The run owns its output directory: a lock (demfem.lock) refuses a second\n"
+        "run into it, manifest.json records the command, the parameters, the\n"
+        "version and the end status, and a directory holding an earlier run is\n"
+        "refused unless --overwrite (docs/tunnel.md).\n"
+        "Exit codes: 0 done, 1 bad input or error, 2 diverged, 130 / 143 stopped\n"
+        "by SIGINT / SIGTERM after writing a checkpoint.\n"
+        "\n"
+        "options:\n"
+        "  --restart CHECKPOINT.h5  continue from a checkpoint\n";
 
     /// Async-signal-safe: only sets the flag the run polls at step boundaries.
     extern "C" void on_stop_signal(int sig) { coupling::tunnel_stop_requested = sig; }
@@ -59,10 +74,11 @@ namespace demfem::apps
       study::declare_study_parameters(prm);
     }
 
-    coupling::TunnelParams read_settings(ParameterHandler &prm)
+    coupling::TunnelParams read_settings(ParameterHandler &prm, bool &radius_auto)
     {
       coupling::TunnelParams s = study::read_tunnel_settings(prm, true);
-      if (s.region.radius < 0) // 'auto': Kirsch pre-analysis (right-sizing)
+      radius_auto              = s.region.radius < 0;
+      if (radius_auto) // Kirsch pre-analysis (right-sizing)
         {
           prm.enter_subsection("DEM region");
           const std::string material = prm.get("material file");
@@ -81,11 +97,39 @@ namespace demfem::apps
       return s;
     }
 
+    /// The command that continues this run from `checkpoint`: this command
+    /// line (the file and every --set override) without its --restart and
+    /// --overwrite (which would delete the checkpoint), plus --restart.
+    std::string restart_command(const std::string &checkpoint)
+    {
+      const auto              &cl = command_line();
+      std::vector<std::string> a  = {"demfem", "tunnel"};
+      for (const auto &x : cl.arguments)
+        if (x != "--overwrite")
+          a.push_back(x);
+      a.push_back("--restart");
+      a.push_back(checkpoint);
+      return shell_quoted(a);
+    }
+
+    /// Whether `checkpoint` lies in `directory` (a restart that continues
+    /// the run's own files).
+    bool inside(const std::string &checkpoint, const std::string &directory)
+    {
+      std::error_code ec;
+      const auto      a = std::filesystem::weakly_canonical(
+               std::filesystem::absolute(checkpoint).parent_path(), ec);
+      const auto b =
+          std::filesystem::weakly_canonical(std::filesystem::absolute(directory), ec);
+      return a == b;
+    }
+
   } // namespace
 
   int run_tunnel(int argc, char **argv)
   {
     Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+    std::optional<RunDirectory>      run_dir;
     try
       {
         std::string      file, restart;
@@ -99,6 +143,9 @@ namespace demfem::apps
               AssertThrow(i + 1 < argc,
                           ExcMessage("--restart needs a checkpoint file name"));
               restart = argv[++i];
+              AssertThrow(std::filesystem::is_regular_file(restart),
+                          ExcMessage("--restart: checkpoint '" + restart +
+                                     "' does not exist or is not a file"));
             }
           else
             args.push_back(argv[i]);
@@ -106,7 +153,7 @@ namespace demfem::apps
         switch (read_parameters(int(args.size()) - 1, args.data(), prm, usage, file))
           {
           case PrmAction::help:
-            std::cout << usage;
+            std::cout << usage << common_options_help;
             return 0;
           case PrmAction::print:
             prm.print_parameters(std::cout, ParameterHandler::Text);
@@ -114,13 +161,20 @@ namespace demfem::apps
           case PrmAction::run:
             break;
           }
-        coupling::TunnelParams s = read_settings(prm);
+        bool                   radius_auto = false;
+        coupling::TunnelParams s           = read_settings(prm, radius_auto);
         {
           std::ostringstream text; // the parameters after --set overrides
           prm.print_parameters(text, ParameterHandler::ShortPRM);
           s.prm_text = text.str();
         }
         s.restart_file = restart;
+        // A foreign checkpoint is bad input: refused before anything is written.
+        coupling::check_restart(s);
+        run_dir.emplace(s.output_directory, prm,
+                        !restart.empty() && inside(restart, s.output_directory));
+        if (radius_auto)
+          run_dir->resolved("DEM region/radius", s.region.radius);
         std::signal(SIGINT, on_stop_signal);
         std::signal(SIGTERM, on_stop_signal);
         const auto r = coupling::run_tunnel(s, std::cout);
@@ -128,8 +182,9 @@ namespace demfem::apps
           {
             const int sig = coupling::tunnel_stop_requested;
             std::cout << "demfem tunnel: stopped at step " << r.steps
-                      << " on request; continue with: demfem tunnel " << file
-                      << " --restart " << r.checkpoint << std::endl;
+                      << " on request; continue with: " << restart_command(r.checkpoint)
+                      << std::endl;
+            run_dir->finish("interrupted", sig == SIGTERM ? 143 : 130);
             return sig == SIGTERM ? 143 : 130;
           }
         if (r.diverged)
@@ -137,6 +192,7 @@ namespace demfem::apps
             std::cerr << "demfem tunnel: the run diverged: " << r.diagnosis
                       << "\n(summary.json records it; no non-finite value was written)"
                       << std::endl;
+            run_dir->finish("diverged", 2);
             return 2;
           }
         std::cout << "demfem tunnel: done in " << r.wall_time_s << " s: " << r.n_particles
@@ -145,11 +201,14 @@ namespace demfem::apps
                   << " m, mean wall convergence " << r.wall_convergence_mean
                   << " m, interface force imbalance " << r.interface_force_imbalance_max
                   << "; output in " << s.output_directory << std::endl;
+        run_dir->finish("ok", 0);
         return 0;
       }
     catch (const std::exception &e)
       {
         std::cerr << "demfem tunnel: error: " << exception_text(e) << std::endl;
+        if (run_dir)
+          run_dir->finish("error: " + exception_text(e), 1);
         return 1;
       }
   }

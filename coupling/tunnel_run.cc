@@ -124,12 +124,15 @@ namespace demfem::coupling
     template <int dim>
     struct Runner
     {
-      const TunnelParams                                      &p;
-      std::ostream                                            &out;
-      std::unique_ptr<CoupledModel<dim>>                       model;
-      CoupledModel<dim>                                       &m;
-      std::string                                              dir;
-      std::ofstream                                            history;
+      const TunnelParams                &p;
+      std::ostream                      &out;
+      std::unique_ptr<CoupledModel<dim>> model;
+      CoupledModel<dim>                 &m;
+      std::string                        dir;
+      // history.csv is kept here and written whole (temporary file + rename)
+      // at every frame, checkpoint and at the end: a kill leaves the last
+      // complete file, never a torn row.
+      std::ostringstream                                       history;
       int                                                      frame = 0;
       std::vector<std::pair<double, std::vector<std::string>>> frames;
       std::vector<Vec<dim>> ref; // positions by id at excavation start
@@ -160,6 +163,21 @@ namespace demfem::coupling
           , m(*model)
           , dir(pp.output_directory)
       {
+      }
+
+      static std::string history_header()
+      {
+        return std::string(
+                   "step,time,phase,load_factor,unbalanced_ratio,dem_kinetic_energy,"
+                   "dem_strain_energy,continuum_kinetic_energy,cracks,cracks_tensile,"
+                   "cracks_shear,interface_force_imbalance,wall_convergence_mean,"
+                   "ring_force_x,ring_force_y,interface_residual") +
+               (dim == 3 ? ",ring_force_z\n" : "\n");
+      }
+
+      void save_history()
+      {
+        dem::vtkout::write_text_atomically(dir + "/history.csv", history.str());
       }
 
       std::size_t cracks(int mode) const
@@ -214,6 +232,7 @@ namespace demfem::coupling
 
       void write_frame()
       {
+        save_history();
         if (!p.write_vtk)
           return;
         const double t  = m.dem.time();
@@ -444,7 +463,7 @@ namespace demfem::coupling
             sb.push_back(stress_before(a, b));
         md["run.stress_before"] = encode_doubles(sb);
         md["run.frames"]        = fr.str();
-        history.flush();
+        save_history();
         last_checkpoint = dir + "/checkpoint.h5";
         dem::write_checkpoint(m.dem, last_checkpoint, md);
       }
@@ -492,20 +511,31 @@ namespace demfem::coupling
           }
         frame    = int(frames.size());
         resuming = true;
-        // history.csv: keep the rows up to the checkpoint's step.
-        const std::int64_t step = geti("run.step");
-        std::ifstream      in(dir + "/history.csv");
-        std::string        kept, l;
-        bool               header = true;
-        while (std::getline(in, l))
+        // history.csv: the rows up to the checkpoint's step, from this
+        // directory's file when it continues the run, else from the file next
+        // to the checkpoint (a restart into a new directory gets the whole
+        // history, header included).
+        const std::int64_t    step = geti("run.step");
+        std::filesystem::path source(dir + "/history.csv");
+        if (!std::filesystem::exists(source))
+          source = std::filesystem::absolute(file).parent_path() / "history.csv";
+        std::ifstream in(source);
+        std::string   l;
+        history.str("");
+        history << history_header();
+        for (bool first = true; std::getline(in, l); first = false)
           {
-            if (header || std::stoll(l.substr(0, l.find(','))) <= step)
-              kept += l + "\n";
-            header = false;
+            if (first && l + "\n" == history_header())
+              continue;
+            const auto comma = l.find(',');
+            char      *end   = nullptr;
+            const auto row_step =
+                std::strtoll(l.c_str(), &end, 10); // our own rows: "step,..."
+            if (comma != std::string::npos && end == l.c_str() + comma &&
+                row_step <= step)
+              history << l << "\n";
           }
-        in.close();
-        history.open(dir + "/history.csv", std::ios::trunc);
-        history << kept;
+        save_history();
         out << "demfem tunnel: restarted from " << file << " at step " << step << " ("
             << phase << ")" << std::endl;
       }
@@ -568,29 +598,7 @@ namespace demfem::coupling
       TunnelResult run()
       {
         TunnelResult r;
-        if (!p.restart_file.empty())
-          {
-            // Refuse a foreign checkpoint before anything is written.
-            const auto        md  = dem::read_checkpoint_metadata(p.restart_file);
-            const std::string was = physics_text(meta_get(md, "prm", p.restart_file)),
-                              now = physics_text(p.prm_text);
-            if (was != now)
-              {
-                // Name the first differing line of the two texts.
-                std::istringstream a(was), b(now);
-                std::string        la, lb;
-                while (std::getline(a, la) && std::getline(b, lb) && la == lb)
-                  {
-                  }
-                throw dem::InputError(
-                    "restart: the checkpoint " + p.restart_file +
-                    " was written with different parameters (its stored .prm text, "
-                    "after --set overrides, differs from this run's; only Problem/output "
-                    "directory and Output/checkpoint interval may change): first "
-                    "difference: '" +
-                    lb + "' here, '" + la + "' in the checkpoint");
-              }
-          }
+        check_restart(p); // a foreign checkpoint: refused before anything is written
         std::filesystem::create_directories(dir);
         out << "demfem tunnel: building the DEM region and the continuum" << std::endl;
         m.build(&out);
@@ -603,12 +611,7 @@ namespace demfem::coupling
           restore(p.restart_file);
         else
           {
-            history.open(dir + "/history.csv");
-            history << "step,time,phase,load_factor,unbalanced_ratio,dem_kinetic_energy,"
-                       "dem_strain_energy,continuum_kinetic_energy,cracks,cracks_tensile,"
-                       "cracks_shear,interface_force_imbalance,wall_convergence_mean,"
-                       "ring_force_x,ring_force_y,interface_residual"
-                    << (dim == 3 ? ",ring_force_z\n" : "\n");
+            history << history_header();
             write_frame();
           }
         const int start = phase_index;
@@ -646,7 +649,7 @@ namespace demfem::coupling
           }
         catch (const Interrupted &)
           {
-            history.close();
+            save_history();
             r.interrupted = true;
             r.checkpoint  = last_checkpoint;
             r.steps       = m.dem.step_count();
@@ -665,7 +668,7 @@ namespace demfem::coupling
             if (p.checkpoint_interval > 0) // final state, e.g. to continue
               checkpoint(0, 0);
           }
-        history.close();
+        save_history();
         r.region_stress_before    = stress_before.template topLeftCorner<2, 2>();
         r.region_stress_before_zz = dim == 3 ? stress_before(dim - 1, dim - 1) : 0.0;
         r.checkpoint              = last_checkpoint;
@@ -674,12 +677,12 @@ namespace demfem::coupling
         else
           r.positions_3d = m.dem.particles.x;
 
-        r.n_particles                   = m.dem.particles.size();
-        r.n_contacts                    = m.dem.n_contacts();
-        r.steps                         = m.dem.step_count();
-        r.cracks_total                  = cracks(-1);
-        r.cracks_tensile                = cracks(0);
-        r.cracks_shear                  = cracks(1);
+        r.n_particles    = m.dem.particles.size();
+        r.n_contacts     = m.dem.n_contacts();
+        r.steps          = m.dem.step_count();
+        r.cracks_total   = cracks(-1);
+        r.cracks_tensile = cracks(0);
+        r.cracks_shear   = cracks(1);
         r.damage_zone_depth =
             excavation::damage_zone_depth(m.dem, cracks_before, p.tunnel_radius);
         r.damage_zone_depth_max =
@@ -723,8 +726,8 @@ namespace demfem::coupling
           << ",\n  \"wall_time_s\": " << num(r.wall_time_s)
           << ",\n  \"cracks_total\": " << r.cracks_total
           << ",\n  \"cracks_tensile\": " << r.cracks_tensile
-          << ",\n  \"cracks_shear\": " << r.cracks_shear
-          << ",\n  \"cracks_by_type\": {" << excavation::cracks_by_type_json(m.dem) << "}"
+          << ",\n  \"cracks_shear\": " << r.cracks_shear << ",\n  \"cracks_by_type\": {"
+          << excavation::cracks_by_type_json(m.dem) << "}"
           << ",\n  \"damage_zone_depth\": " << num(r.damage_zone_depth)
           << ",\n  \"damage_zone_depth_max\": " << num(r.damage_zone_depth_max)
           << ",\n  \"cracks_before_excavation\": " << cracks_before
@@ -748,6 +751,30 @@ namespace demfem::coupling
       }
     };
   } // namespace
+
+  void check_restart(const TunnelParams &p)
+  {
+    if (p.restart_file.empty())
+      return;
+    dem::verify_checkpoint(p.restart_file); // checksums: a damaged file is refused
+    const auto        md  = dem::read_checkpoint_metadata(p.restart_file);
+    const std::string was = physics_text(meta_get(md, "prm", p.restart_file)),
+                      now = physics_text(p.prm_text);
+    if (was == now)
+      return;
+    // Name the first differing line of the two texts.
+    std::istringstream a(was), b(now);
+    std::string        la, lb;
+    while (std::getline(a, la) && std::getline(b, lb) && la == lb)
+      {
+      }
+    throw dem::InputError(
+        "restart: the checkpoint " + p.restart_file +
+        " was written with different parameters (its stored .prm text, after --set "
+        "overrides, differs from this run's; only Problem/output directory and "
+        "Output/checkpoint interval may change): first difference: '" +
+        lb + "' here, '" + la + "' in the checkpoint");
+  }
 
   TunnelResult run_tunnel(const TunnelParams &p, std::ostream &progress)
   {

@@ -81,6 +81,12 @@ namespace demfem::coupling
   /// TunnelResult::interrupted.
   extern volatile std::sig_atomic_t tunnel_stop_requested;
 
+  /// Refuses (dem::InputError naming the file) a restart checkpoint written
+  /// with other physics parameters, or damaged; nothing when p.restart_file
+  /// is empty. run_tunnel calls it too; a caller may call it earlier, before
+  /// claiming the output directory.
+  void check_restart(const TunnelParams &p);
+
   /// Runs the workflow; writes into p.output_directory (created here, after
   /// validation). Divergence does not throw: it is reported in the result
   /// (and summary.json) with a diagnosis; no non-finite number is written.

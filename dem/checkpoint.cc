@@ -22,7 +22,9 @@ namespace demfem::dem
     // 2: flat-joint element codes stored as bytes (FlatJointLaw state layout).
     // 3: per-contact property blocks ("props" per group, "props_names") and
     //    the crack type.
-    constexpr int format_version = 3;
+    // 4: Fletcher32 checksums on every dataset, strings stored as checksummed
+    //    bytes, HDF5 1.8+ file format (checksummed metadata).
+    constexpr int format_version = 4;
 
     // ----------------------------------------------------------------------
     // Law parameters. Params are stored as an opaque blob (with its size) and
@@ -639,6 +641,50 @@ namespace demfem::dem
     ModelCheckpoint<dim>::read(model, file, c);
     if (metadata)
       *metadata = std::move(md);
+  }
+
+  void verify_checkpoint(const std::string &path)
+  {
+    QuietHdf5 quiet;
+    const Ctx c{path, true};
+    Handle    file = open_for_reading(c);
+    read_metadata(c, file, nullptr); // the format and version first
+    struct Visit
+    {
+      const Ctx  *c;
+      std::string failure;
+    } visit{&c, ""};
+    const auto each = [](hid_t loc, const char *name, const H5O_info_t *info,
+                         void *data) -> herr_t {
+      auto &v = *static_cast<Visit *>(data);
+      if (info->type != H5O_TYPE_DATASET)
+        return 0;
+      try
+        {
+          Handle set(H5Dopen2(loc, name, H5P_DEFAULT), H5Dclose);
+          if (!set.valid())
+            v.c->fail(std::string("cannot open dataset '/") + name + "'");
+          Handle       type(H5Dget_type(set), H5Tclose);
+          Handle       space(H5Dget_space(set), H5Sclose);
+          const auto   n    = H5Sget_simple_extent_npoints(space);
+          const size_t size = H5Tget_size(type);
+          if (H5Tis_variable_str(type) > 0 || n <= 0)
+            return 0;
+          std::vector<unsigned char> bytes(std::size_t(n) * size);
+          read_checked(*v.c, set, type, name, bytes.data());
+        }
+      catch (const std::exception &e)
+        {
+          v.failure = e.what();
+          return -1;
+        }
+      return 0;
+    };
+    const herr_t r = H5Ovisit(file, H5_INDEX_NAME, H5_ITER_NATIVE, each, &visit);
+    if (!visit.failure.empty())
+      throw InputError(visit.failure);
+    if (r < 0)
+      c.fail("cannot walk its datasets (damaged file?)");
   }
 
   std::map<std::string, std::string> read_checkpoint_metadata(const std::string &path,

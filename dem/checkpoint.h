@@ -12,7 +12,10 @@
 // and their parameters match. Metadata strings (e.g. the .prm text) travel
 // with the checkpoint for the caller to compare.
 //
-// File layout (HDF5, one file): attributes format/version/dim on the root;
+// Every dataset carries a Fletcher32 checksum (format version 4), verified
+// on reading: a damaged file is refused naming the dataset.
+//
+// File layout (HDF5, one file): datasets format/version/dim on the root;
 // /metadata (keys, values); /model (scalars); /particles; /walls;
 // /groups/<g> (law, params, per-contact arrays, state); /cracks. Vector
 // arrays are n x dim datasets.
@@ -41,6 +44,11 @@ namespace demfem::dem
   template <int dim>
   void read_checkpoint(Model<dim> &model, const std::string &path,
                        std::map<std::string, std::string> *metadata);
+
+  /// Reads every dataset of a checkpoint once, so that a damaged file is
+  /// refused before a model is built for it: InputError naming the file and
+  /// the dataset whose Fletcher32 checksum fails (or the damaged structure).
+  void verify_checkpoint(const std::string &path);
 
   /// Only the metadata and the dimension of a checkpoint (e.g. to compare
   /// the input file before building the model).

@@ -5,6 +5,13 @@
 // restart": write a new name, fsync, rename over the old file, keep the
 // previous one). Internal to dem/: it includes
 // hdf5.h (OpenMPI flavour, see dem/CMakeLists.txt).
+//
+// Integrity: every non-empty dataset is chunked with the Fletcher32 checksum
+// filter, strings included (stored as bytes, since a variable-length
+// string's characters live outside the dataset and the filter would not
+// cover them), and the file uses the HDF5 1.8+ format whose object headers
+// and superblock carry checksums too. A damaged byte makes H5Dread (or the
+// open) fail; read_data reports it naming the dataset and the file.
 #include "dem/types.h"
 
 #include <fcntl.h>
@@ -12,6 +19,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
@@ -125,6 +133,67 @@ namespace demfem::dem::hdf5io
     return g;
   }
 
+  /// Dataset creation properties: chunked (the filter needs chunks; about
+  /// 1 MiB each) with the Fletcher32 checksum. An empty dataset has no data
+  /// to protect and keeps the default contiguous layout (a chunk cannot be
+  /// larger than a fixed zero extent).
+  inline Handle checksummed_layout(const Ctx &c, const std::string &name,
+                                   std::size_t value_size, std::size_t rows,
+                                   std::size_t cols)
+  {
+    Handle p(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+    if (!p.valid())
+      c.fail("cannot create the properties of dataset '" + name + "'");
+    if (rows * cols == 0)
+      return p;
+    const std::size_t row_bytes = std::max<std::size_t>(1, cols * value_size);
+    const hsize_t     chunk_rows =
+        std::max<hsize_t>(1, std::min<hsize_t>(rows, (std::size_t(1) << 20) / row_bytes));
+    const hsize_t chunk[2] = {chunk_rows, cols};
+    if (H5Pset_chunk(p, cols == 1 ? 1 : 2, chunk) < 0 || H5Pset_fletcher32(p) < 0)
+      c.fail("cannot set the checksum filter of dataset '" + name + "'");
+    return p;
+  }
+
+  /// Whether the dataset `set` carries the Fletcher32 filter.
+  inline bool has_checksum(hid_t set)
+  {
+    Handle       p(H5Dget_create_plist(set), H5Pclose);
+    unsigned int flags = 0;
+    std::size_t  n     = 0;
+    char         name[16];
+    const int    filters = p.valid() ? H5Pget_nfilters(p) : 0;
+    for (int k = 0; k < filters; ++k)
+      if (H5Pget_filter2(p, unsigned(k), &flags, &n, nullptr, sizeof name, name,
+                         nullptr) == H5Z_FILTER_FLETCHER32)
+        return true;
+    return false;
+  }
+
+  /// Reads the whole dataset; a failure of a checksummed dataset is told
+  /// apart by reading again without checksum verification: if that works,
+  /// the stored bytes no longer match their checksum.
+  inline void read_checked(const Ctx &c, hid_t set, hid_t type,
+                           const std::string &short_name, void *out)
+  {
+    char              path[512] = {};
+    const std::string name =
+        H5Iget_name(set, path, sizeof path) > 0 ? std::string(path) : short_name;
+    if (H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) >= 0)
+      return;
+    if (has_checksum(set))
+      {
+        Handle x(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
+        if (x.valid() && H5Pset_edc_check(x, H5Z_DISABLE_EDC) >= 0 &&
+            H5Dread(set, type, H5S_ALL, H5S_ALL, x, out) >= 0)
+          c.fail("dataset '" + name +
+                 "' fails its Fletcher32 checksum: the file is damaged (use the "
+                 "previous checkpoint, checkpoint.h5.prev, or start again)");
+        c.fail("dataset '" + name + "' cannot be read (damaged file?)");
+      }
+    c.fail("cannot read dataset '" + name + "'");
+  }
+
   /// Writes rows x cols values of T (1D dataset when cols == 1).
   template <class T>
   void write_data(const Ctx &c, hid_t loc, const std::string &name, const void *data,
@@ -132,7 +201,8 @@ namespace demfem::dem::hdf5io
   {
     const hsize_t dims[2] = {rows, cols};
     Handle        space(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), H5Sclose);
-    Handle set(H5Dcreate2(loc, name.c_str(), h5type<T>(), space, H5P_DEFAULT, H5P_DEFAULT,
+    Handle        create = checksummed_layout(c, name, sizeof(T), rows, cols);
+    Handle set(H5Dcreate2(loc, name.c_str(), h5type<T>(), space, H5P_DEFAULT, create,
                           H5P_DEFAULT),
                H5Dclose);
     if (!space.valid() || !set.valid())
@@ -166,9 +236,8 @@ namespace demfem::dem::hdf5io
         c.fail(msg.str());
       }
     out.resize(dims[0] * cols / per);
-    if (!out.empty() &&
-        H5Dread(set, h5type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
-      c.fail("cannot read dataset '" + name + "'");
+    if (!out.empty())
+      read_checked(c, set, h5type<T>(), name, out.data());
     return dims[0];
   }
 
@@ -216,43 +285,64 @@ namespace demfem::dem::hdf5io
     return t;
   }
 
+  /// A list of strings as two checksummed datasets: `name` holds the bytes
+  /// of all strings one after the other, `name_lengths` their lengths.
   inline void write_strings(const Ctx &c, hid_t loc, const std::string &name,
                             const std::vector<std::string> &s)
   {
-    std::vector<const char *> p;
+    std::string               bytes;
+    std::vector<std::int64_t> lengths;
     for (const auto &x : s)
-      p.push_back(x.c_str());
-    const hsize_t n    = s.size();
-    Handle        type = string_type();
-    Handle        space(H5Screate_simple(1, &n, nullptr), H5Sclose);
-    Handle        set(
-               H5Dcreate2(loc, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-               H5Dclose);
-    if (!set.valid() ||
-        (n > 0 && H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, p.data()) < 0))
-      c.fail("cannot write dataset '" + name + "'");
+      bytes += x, lengths.push_back(std::int64_t(x.size()));
+    write_data<char>(c, loc, name, bytes.data(), bytes.size(), 1);
+    write_data<std::int64_t>(c, loc, name + "_lengths", lengths.data(), lengths.size(),
+                             1);
   }
 
   inline std::vector<std::string> read_strings(const Ctx &c, hid_t loc,
                                                const std::string &name)
   {
-    Handle set(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose);
-    if (!set.valid())
-      c.fail("missing dataset '" + name + "'");
-    Handle  type = string_type();
-    Handle  space(H5Dget_space(set), H5Sclose);
-    hsize_t n = 0;
-    if (H5Sget_simple_extent_ndims(space) != 1 ||
-        H5Sget_simple_extent_dims(space, &n, nullptr) < 0)
-      c.fail("dataset '" + name + "' is not a list of strings");
-    std::vector<char *> p(n, nullptr);
-    if (n > 0 && H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, p.data()) < 0)
-      c.fail("cannot read dataset '" + name + "' as strings");
+    {
+      Handle set(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose);
+      if (!set.valid())
+        c.fail("missing dataset '" + name + "'");
+      Handle type(H5Dget_type(set), H5Tclose);
+      if (type.valid() && H5Tis_variable_str(type) > 0)
+        {
+          // Written by a version before the checksums (format <= 3): read
+          // as such, so that the version check names the format.
+          Handle  vtype = string_type();
+          Handle  space(H5Dget_space(set), H5Sclose);
+          hsize_t n = 0;
+          if (H5Sget_simple_extent_ndims(space) != 1 ||
+              H5Sget_simple_extent_dims(space, &n, nullptr) < 0)
+            c.fail("dataset '" + name + "' is not a list of strings");
+          std::vector<char *> p(n, nullptr);
+          if (n > 0 && H5Dread(set, vtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, p.data()) < 0)
+            c.fail("cannot read dataset '" + name + "' as strings");
+          std::vector<std::string> out;
+          for (char *x : p)
+            out.emplace_back(x ? x : "");
+          if (n > 0)
+            H5Dvlen_reclaim(vtype, space, H5P_DEFAULT, p.data());
+          return out;
+        }
+    }
+    std::vector<char>         bytes;
+    std::vector<std::int64_t> lengths;
+    read_data<char>(c, loc, name, bytes, 1);
+    read_data<std::int64_t>(c, loc, name + "_lengths", lengths, 1);
     std::vector<std::string> out;
-    for (char *s : p)
-      out.emplace_back(s ? s : "");
-    if (n > 0)
-      H5Dvlen_reclaim(type, space, H5P_DEFAULT, p.data());
+    std::size_t              at = 0;
+    for (const auto n : lengths)
+      {
+        if (n < 0 || at + std::size_t(n) > bytes.size())
+          c.fail("dataset '" + name + "_lengths' does not match '" + name + "'");
+        out.emplace_back(bytes.data() + at, std::size_t(n));
+        at += std::size_t(n);
+      }
+    if (at != bytes.size())
+      c.fail("dataset '" + name + "_lengths' does not match '" + name + "'");
     return out;
   }
 
@@ -284,8 +374,12 @@ namespace demfem::dem::hdf5io
     try
       {
         QuietHdf5 quiet;
-        Handle    file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
-                       H5Fclose);
+        // The 1.8+ file format: checksummed superblock and object headers.
+        Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+        if (!access.valid() ||
+            H5Pset_libver_bounds(access, H5F_LIBVER_V18, H5F_LIBVER_LATEST) < 0)
+          c.fail("cannot set the file format of " + tmp);
+        Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access), H5Fclose);
         if (!file.valid())
           c.fail("cannot create " + tmp + " (directory missing or not writable?)");
         body(file, c);

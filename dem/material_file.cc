@@ -2,7 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <fstream>
+#include <limits>
 
 namespace demfem::dem
 {
@@ -26,6 +28,23 @@ namespace demfem::dem
           throw InputError(where + ": key '" + key + "' has the wrong type (" +
                            it->dump() + ")");
         }
+    }
+
+    /// j[key] as an integer: JSON integers, or numbers with an integral
+    /// value (10000.0); nlohmann's get<int> would truncate 1.5 to 1 silently.
+    template <class T>
+    T integer(const json &j, const std::string &key, const std::string &where)
+    {
+      const double v = get<double>(j, key, where);
+      if (!(v == std::floor(v)) || v < double(std::numeric_limits<T>::min()) ||
+          v > double(std::numeric_limits<T>::max()))
+        throw InputError(where + ": key '" + key + "' = " + j.at(key).dump() +
+                         " is not an integer");
+      if (j.at(key).is_number_unsigned())
+        return static_cast<T>(j.at(key).get<std::uint64_t>());
+      if (j.at(key).is_number_integer())
+        return static_cast<T>(j.at(key).get<std::int64_t>());
+      return static_cast<T>(v);
     }
 
     /// The object j[key], or InputError naming the file and the key.
@@ -52,23 +71,40 @@ namespace demfem::dem
     }
   } // namespace
 
+  namespace
+  {
+    json parse_file(const std::string &path)
+    {
+      std::ifstream in(path);
+      if (!in)
+        throw InputError("material file '" + path + "' cannot be read");
+      try
+        {
+          return json::parse(in);
+        }
+      catch (const json::exception &e)
+        {
+          throw InputError("material file '" + path + "' is not valid JSON: " + e.what());
+        }
+    }
+  } // namespace
+
+  double read_material_number(const std::string &path, const std::string &key,
+                              bool required)
+  {
+    const json root = parse_file(path);
+    const auto it   = root.find(key);
+    if (!required && (it == root.end() || it->is_null()))
+      return std::numeric_limits<double>::quiet_NaN();
+    return get<double>(root, key, "material file '" + path + "'");
+  }
+
   MaterialFile read_material_file(const std::string &path)
   {
-    std::ifstream in(path);
-    if (!in)
-      throw InputError("material file '" + path + "' cannot be read");
-    json root;
-    try
-      {
-        root = json::parse(in);
-      }
-    catch (const json::exception &e)
-      {
-        throw InputError("material file '" + path + "' is not valid JSON: " + e.what());
-      }
+    const json        root  = parse_file(path);
     const std::string where = "material file '" + path + "'";
     MaterialFile      f;
-    f.dim = get<int>(root, "dim", where);
+    f.dim = integer<int>(root, "dim", where);
     if (f.dim != 2 && f.dim != 3)
       throw InputError(where + ": key 'dim' = " + std::to_string(f.dim) +
                        " is not 2 or 3");
@@ -101,7 +137,7 @@ namespace demfem::dem
     p.density             = get<double>(m, "density_kg_m3", w);
     p.bulk_density        = get_or<double>(m, "bulk_density", w, 0.0) != 0;
     p.local_damping       = get<double>(m, "local_damping", w);
-    p.seed                = static_cast<std::uint64_t>(get<double>(m, "seed", w));
+    p.seed                = integer<std::uint64_t>(m, "seed", w);
     p.lnm_emod            = get<double>(m, "lnm_emod_Pa", w);
     p.lnm_krat            = get<double>(m, "lnm_krat", w);
     p.lnm_fric            = get<double>(m, "lnm_fric", w);
@@ -129,9 +165,9 @@ namespace demfem::dem
         p.fj_B         = get<double>(m, "fj_B", w);
         p.fj_G         = get<double>(m, "fj_G", w);
         p.fj_gap       = distribution(m, "fj_gap", "m", w);
-        p.fj_Nr        = get<int>(m, "fj_Nr", w);
-        p.fj_Nal       = get<int>(m, "fj_Nal", w);
-        p.fj_rmul_code = get<int>(m, "fj_rmul_code", w);
+        p.fj_Nr        = integer<int>(m, "fj_Nr", w);
+        p.fj_Nal       = integer<int>(m, "fj_Nal", w);
+        p.fj_rmul_code = integer<int>(m, "fj_rmul_code", w);
         p.fj_rmul      = get<double>(m, "fj_rmul", w);
         p.fj_ten       = distribution(m, "fj_ten", "Pa", w);
         p.fj_coh       = distribution(m, "fj_coh", "Pa", w);

@@ -20,4 +20,10 @@ namespace demfem::dem
   /// Reads `path`; InputError naming the file and the key for a missing or
   /// ill-typed entry, and the material's own validation (ranges).
   MaterialFile read_material_file(const std::string &path);
+
+  /// A top-level number of a material file (e.g. "E", "nu", "ucs"):
+  /// InputError naming the file and the key when it is missing or not a
+  /// number; a key that is not `required` gives NaN when absent or null.
+  double read_material_number(const std::string &path, const std::string &key,
+                              bool required = true);
 } // namespace demfem::dem
