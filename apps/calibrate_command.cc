@@ -11,6 +11,7 @@
 #include "apps/prm_cli.h"
 #include "dem/lab_tests.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -43,6 +44,7 @@ namespace demfem::apps
     const std::vector<TestSpec> known_tests = {
         {"ucs", dem::TestKind::compression, dem::CompressionType::unconfined},
         {"triaxial", dem::TestKind::compression, dem::CompressionType::confined},
+        {"triaxial series", dem::TestKind::compression, dem::CompressionType::confined},
         {"uniaxial strain", dem::TestKind::compression,
          dem::CompressionType::uniaxial_strain},
         {"brazilian", dem::TestKind::brazilian, dem::CompressionType::unconfined},
@@ -159,33 +161,45 @@ namespace demfem::apps
       prm.enter_subsection("Joint");
       prm.declare_entry("enabled", "false", Patterns::Bool(),
                         "insert a smooth-jointed interface (fistPkg §2.8) after genesis");
-      prm.declare_entry("point", "0, 0, 0", Patterns::List(Patterns::Double(), 2, 3),
-                        "a point of the joint plane [m] (x, y[, z]), relative to the vessel centre");
-      prm.declare_entry("dip", "0", Patterns::Double(0, 360), "dip angle [deg] (seed 001 Eq. 1)");
+      prm.declare_entry(
+          "point", "0, 0, 0", Patterns::List(Patterns::Double(), 2, 3),
+          "a point of the joint plane [m] (x, y[, z]), relative to the vessel centre");
+      prm.declare_entry("dip", "0", Patterns::Double(0, 360),
+                        "dip angle [deg] (seed 001 Eq. 1)");
       prm.declare_entry("dip direction", "0", Patterns::Double(0, 180),
                         "dip direction [deg] (3D)");
       prm.declare_entry("normal stiffness", "1e13", Patterns::Double(0), "sj_kn [Pa/m]");
       prm.declare_entry("shear stiffness", "1e13", Patterns::Double(0), "sj_ks [Pa/m]");
       prm.declare_entry("friction", "0.5", Patterns::Double(0), "sj_fric");
-      prm.declare_entry("dilation angle", "0", Patterns::Double(0, 89.999), "sj_da [deg]");
+      prm.declare_entry("dilation angle", "0", Patterns::Double(0, 89.999),
+                        "sj_da [deg]");
       prm.declare_entry("bonded", "false", Patterns::Bool(), "bond the joint (S_j = 3)");
       prm.declare_entry("tensile strength", "0", Patterns::Double(0), "sj_ten [Pa]");
       prm.declare_entry("cohesion", "0", Patterns::Double(0), "sj_coh [Pa]");
-      prm.declare_entry("friction angle", "0", Patterns::Double(0, 89.999), "sj_fa [deg]");
+      prm.declare_entry("friction angle", "0", Patterns::Double(0, 89.999),
+                        "sj_fa [deg]");
       prm.declare_entry("radius multiplier", "1", Patterns::Double(0), "sj_rmul");
       prm.leave_subsection();
 
       prm.enter_subsection("Tests");
       prm.declare_entry(
           "tests", "ucs, brazilian, direct tension",
-          Patterns::List(Patterns::Selection(
-                             "ucs|triaxial|uniaxial strain|brazilian|direct tension"),
-                         1),
+          Patterns::List(
+              Patterns::Selection(
+                  "ucs|triaxial|triaxial series|uniaxial strain|brazilian|direct "
+                  "tension"),
+              1),
           "Tests to run, each on a fresh specimen");
       prm.declare_entry("strain rate", "0.1", Patterns::Double(),
                         "Axial strain rate [1/s] (> 0)");
       prm.declare_entry("confining pressure", "10e6", Patterns::Double(),
                         "P_c [Pa] of the triaxial / uniaxial-strain tests (>= 0)");
+      prm.declare_entry(
+          "confining pressures", "0, 5e6, 10e6, 20e6, 40e6",
+          Patterns::List(Patterns::Double(), 2),
+          "P_c [Pa] of each test of the triaxial series (>= 0, at least two distinct; "
+          "0 runs an unconfined test); Mohr-Coulomb and Hoek-Brown are fitted to the "
+          "peaks");
       prm.declare_entry(
           "load fraction", "0.7", Patterns::Double(),
           "Test ends when the load falls below this fraction of its peak (0, 1)");
@@ -212,13 +226,12 @@ namespace demfem::apps
                         "ft_eq ratio of seating");
       prm.declare_entry("seating step limit", "20000", Patterns::Integer(0), "");
       prm.declare_entry(
-          "loading rate check", "false", Patterns::Bool(),
-          "Repeat each test at half the strain rate and report the change of peak "
-          "strength (fistPkg §5.4)");
+          "loading rate check", "false", Patterns::Selection("false|true|half|quarter"),
+          "Repeat each test on the same packing at half (true, half) or at half and "
+          "quarter (quarter) the strain rate; a peak moving more than 2 % flags the "
+          "test as not quasi-static (fistPkg §5.4)");
       prm.leave_subsection();
     }
-
-
 
     using Settings = CalibrateSettings;
 
@@ -420,18 +433,18 @@ namespace demfem::apps
         for (std::size_t a = 0; a < pt.size() && a < 3; ++a)
           s.joint_point[a] = Utilities::string_to_double(pt[a]);
       }
-      auto &sj    = s.joint_sj;
-      sj.dip      = prm.get_double("dip");
-      sj.ddir     = prm.get_double("dip direction");
-      sj.sj_kn    = prm.get_double("normal stiffness");
-      sj.sj_ks    = prm.get_double("shear stiffness");
-      sj.sj_fric  = prm.get_double("friction");
-      sj.sj_da    = prm.get_double("dilation angle");
-      sj.bonded   = prm.get_bool("bonded");
-      sj.sj_ten   = prm.get_double("tensile strength");
-      sj.sj_coh   = prm.get_double("cohesion");
-      sj.sj_fa    = prm.get_double("friction angle");
-      sj.sj_rmul  = prm.get_double("radius multiplier");
+      auto &sj   = s.joint_sj;
+      sj.dip     = prm.get_double("dip");
+      sj.ddir    = prm.get_double("dip direction");
+      sj.sj_kn   = prm.get_double("normal stiffness");
+      sj.sj_ks   = prm.get_double("shear stiffness");
+      sj.sj_fric = prm.get_double("friction");
+      sj.sj_da   = prm.get_double("dilation angle");
+      sj.bonded  = prm.get_bool("bonded");
+      sj.sj_ten  = prm.get_double("tensile strength");
+      sj.sj_coh  = prm.get_double("cohesion");
+      sj.sj_fa   = prm.get_double("friction angle");
+      sj.sj_rmul = prm.get_double("radius multiplier");
       if (s.joint)
         sj.validate(where + ", subsection Joint");
       prm.leave_subsection();
@@ -455,10 +468,20 @@ namespace demfem::apps
       l.crack_initiation_fraction = prm.get_double("crack initiation fraction");
       l.ratio_limit               = prm.get_double("seating ratio limit");
       l.seat_step_limit           = prm.get_integer("seating step limit");
-      s.rate_check                = prm.get_bool("loading rate check");
-      const std::string t         = "Tests/";
+      const std::string rate      = prm.get("loading rate check");
+      s.rate_check                = rate == "quarter" ? 2 : (rate == "false" ? 0 : 1);
+      for (const auto &p : Utilities::split_string_list(prm.get("confining pressures")))
+        s.confining_pressures.push_back(Utilities::string_to_double(p));
+      const std::string t = "Tests/";
       check(where, t + "strain rate", l.strain_rate, 0, HUGE_VAL, true);
       check(where, t + "confining pressure", l.Pc, 0, HUGE_VAL);
+      for (double Pc : s.confining_pressures)
+        check(where, t + "confining pressures", Pc, 0, HUGE_VAL);
+      if (std::count_if(s.confining_pressures.begin(), s.confining_pressures.end(),
+                        [&](double Pc) { return Pc != s.confining_pressures[0]; }) == 0)
+        throw std::invalid_argument(where +
+                                    ": Tests/confining pressures: the series needs "
+                                    "at least two distinct pressures");
       check(where, t + "load fraction", l.load_fraction, 0, 1, true, true);
       check(where, t + "strain limit", l.strain_limit, 0, 1, true);
       check(where, t + "grip thickness", l.grip_thickness, 0, 0.5, true, true);
@@ -487,14 +510,14 @@ namespace demfem::apps
         declare_parameters(prm);
         switch (read_parameters(argc, argv, prm, usage, file))
           {
-            case PrmAction::help:
-              std::cout << usage;
-              return 0;
-            case PrmAction::print:
-              prm.print_parameters(std::cout, ParameterHandler::Text);
-              return 0;
-            case PrmAction::run:
-              break;
+          case PrmAction::help:
+            std::cout << usage;
+            return 0;
+          case PrmAction::print:
+            prm.print_parameters(std::cout, ParameterHandler::Text);
+            return 0;
+          case PrmAction::run:
+            break;
           }
         const Settings s = read_settings(prm, file);
         return s.dim == 2 ? run_calibration<2>(s) : run_calibration<3>(s);

@@ -10,30 +10,9 @@ namespace demfem::apps
 {
   namespace
   {
-    std::string quote(const std::string &s)
+    nlohmann::ordered_json number(double v)
     {
-      std::string o = "\"";
-      for (char c : s)
-        {
-          if (c == '"' || c == '\\')
-            o += '\\';
-          if (c == '\n')
-            {
-              o += "\\n";
-              continue;
-            }
-          o += c;
-        }
-      return o + "\"";
-    }
-
-    std::string number(double v)
-    {
-      if (!std::isfinite(v))
-        return "null";
-      std::ostringstream s;
-      s << std::setprecision(17) << v;
-      return s.str();
+      return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
     }
 
     std::string xml(const std::string &s)
@@ -66,50 +45,51 @@ namespace demfem::apps
 
   Json &Json::num(const std::string &key, double v)
   {
-    items_.emplace_back(key, number(v));
-    is_obj_.push_back(false);
+    j_[key] = number(v);
     return *this;
   }
   Json &Json::str(const std::string &key, const std::string &v)
   {
-    items_.emplace_back(key, quote(v));
-    is_obj_.push_back(false);
+    j_[key] = v;
     return *this;
   }
   Json &Json::obj(const std::string &key, const Json &v)
   {
-    items_.emplace_back(key, std::to_string(objs_.size()));
-    is_obj_.push_back(true);
-    objs_.push_back(v);
+    j_[key] = v.j_;
     return *this;
   }
-  std::string Json::text(int indent) const
+  Json &Json::nums(const std::string &key, const std::vector<double> &v)
   {
-    const std::string pad(indent + 2, ' ');
-    std::string       o = "{\n";
-    for (std::size_t i = 0; i < items_.size(); ++i)
-      {
-        o += pad + quote(items_[i].first) + ": ";
-        o += is_obj_[i] ? objs_[std::stoul(items_[i].second)].text(indent + 2)
-                        : items_[i].second;
-        o += i + 1 < items_.size() ? ",\n" : "\n";
-      }
-    return o + std::string(indent, ' ') + "}";
+    auto a = nlohmann::ordered_json::array();
+    for (double x : v)
+      a.push_back(number(x));
+    j_[key] = a;
+    return *this;
   }
+  Json &Json::objs(const std::string &key, const std::vector<Json> &v)
+  {
+    auto a = nlohmann::ordered_json::array();
+    for (const auto &x : v)
+      a.push_back(x.j_);
+    j_[key] = a;
+    return *this;
+  }
+  std::string Json::text() const { return j_.dump(2); }
 
   std::string history_csv(const std::vector<dem::HistoryRow> &h)
   {
     std::ostringstream s;
     s << "step,time_s,axial_strain,lateral_strain,gauge_axial_strain,volumetric_strain,"
          "axial_stress_Pa,region_axial_stress_Pa,region_lateral_stress_Pa,axial_force_N,"
-         "load,cracks_tension,cracks_shear\n";
+         "load,cracks_tension,cracks_shear,lateral_wall_stress_Pa\n";
     s << std::setprecision(10);
     for (const auto &r : h)
       s << r.step << ',' << r.time << ',' << r.axial_strain << ',' << r.lateral_strain
         << ',' << r.gauge_axial_strain << ',' << r.volumetric_strain << ','
         << r.axial_stress << ',' << r.region_axial_stress << ','
         << r.region_lateral_stress << ',' << r.axial_force << ',' << r.load << ','
-        << r.cracks_tension << ',' << r.cracks_shear << '\n';
+        << r.cracks_tension << ',' << r.cracks_shear << ',' << r.lateral_wall_stress
+        << '\n';
     return s.str();
   }
 
@@ -117,12 +97,19 @@ namespace demfem::apps
                        const std::string &ylabel, const std::vector<double> &x,
                        const std::vector<double> &y)
   {
+    return svg_plot(title, xlabel, ylabel, {PlotSeries{"", x, y}});
+  }
+
+  std::string svg_plot(const std::string &title, const std::string &xlabel,
+                       const std::string &ylabel, const std::vector<PlotSeries> &series)
+  {
     const double W = 640, Hh = 440, l = 80, r = 20, t = 40, b = 60;
     double       x0 = 0, x1 = 0, y0 = 0, y1 = 0;
-    for (std::size_t i = 0; i < x.size() && i < y.size(); ++i)
-      if (std::isfinite(x[i]) && std::isfinite(y[i]))
-        x0 = std::min(x0, x[i]), x1 = std::max(x1, x[i]), y0 = std::min(y0, y[i]),
-        y1 = std::max(y1, y[i]);
+    for (const auto &d : series)
+      for (std::size_t i = 0; i < d.x.size() && i < d.y.size(); ++i)
+        if (std::isfinite(d.x[i]) && std::isfinite(d.y[i]))
+          x0 = std::min(x0, d.x[i]), x1 = std::max(x1, d.x[i]), y0 = std::min(y0, d.y[i]),
+          y1 = std::max(y1, d.y[i]);
     const double dx = tick_step(x1 - x0, 6), dy = tick_step(y1 - y0, 6);
     x0 = std::floor(x0 / dx) * dx, x1 = std::ceil(x1 / dx) * dx;
     y0 = std::floor(y0 / dy) * dy, y1 = std::ceil(y1 / dy) * dy;
@@ -151,11 +138,39 @@ namespace demfem::apps
         << "</text>\n";
     s << "<rect x=\"" << l << "\" y=\"" << t << "\" width=\"" << W - l - r
       << "\" height=\"" << Hh - t - b << "\" fill=\"none\" stroke=\"black\"/>\n";
-    s << "<polyline fill=\"none\" stroke=\"#c00\" stroke-width=\"1.5\" points=\"";
-    for (std::size_t i = 0; i < x.size() && i < y.size(); ++i)
-      if (std::isfinite(x[i]) && std::isfinite(y[i]))
-        s << X(x[i]) << ',' << Y(y[i]) << ' ';
-    s << "\"/>\n<text x=\"" << (l + W - r) / 2 << "\" y=\"" << Hh - 18
+    int legend = 0;
+    for (const auto &d : series)
+      {
+        if (d.markers)
+          {
+            for (std::size_t i = 0; i < d.x.size() && i < d.y.size(); ++i)
+              if (std::isfinite(d.x[i]) && std::isfinite(d.y[i]))
+                s << "<circle cx=\"" << X(d.x[i]) << "\" cy=\"" << Y(d.y[i])
+                  << "\" r=\"4\" fill=\"" << d.colour << "\"/>\n";
+          }
+        else
+          {
+            s << "<polyline fill=\"none\" stroke=\"" << d.colour
+              << "\" stroke-width=\"1.5\" points=\"";
+            for (std::size_t i = 0; i < d.x.size() && i < d.y.size(); ++i)
+              if (std::isfinite(d.x[i]) && std::isfinite(d.y[i]))
+                s << X(d.x[i]) << ',' << Y(d.y[i]) << ' ';
+            s << "\"/>\n";
+          }
+        if (d.label.empty())
+          continue;
+        const double ly = t + 16 + 16 * legend++;
+        if (d.markers)
+          s << "<circle cx=\"" << l + 16 << "\" cy=\"" << ly - 4 << "\" r=\"4\" fill=\""
+            << d.colour << "\"/>\n";
+        else
+          s << "<line x1=\"" << l + 8 << "\" y1=\"" << ly - 4 << "\" x2=\"" << l + 24
+            << "\" y2=\"" << ly - 4 << "\" stroke=\"" << d.colour
+            << "\" stroke-width=\"1.5\"/>\n";
+        s << "<text x=\"" << l + 30 << "\" y=\"" << ly << "\">" << xml(d.label)
+          << "</text>\n";
+      }
+    s << "<text x=\"" << (l + W - r) / 2 << "\" y=\"" << Hh - 18
       << "\" text-anchor=\"middle\">" << xml(xlabel) << "</text>\n"
       << "<text transform=\"translate(20," << (t + Hh - b) / 2
       << ") rotate(-90)\" text-anchor=\"middle\">" << xml(ylabel) << "</text>\n</svg>\n";

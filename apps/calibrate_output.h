@@ -1,8 +1,10 @@
 #pragma once
-// Output helpers of `demfem calibrate`: a small JSON writer (numbers stay
-// numbers, full precision), the history CSV and a dependency-free SVG plot
-// of a stress-strain curve.
+// Output helpers of `demfem calibrate`: JSON objects built in order
+// (nlohmann-json underneath; non-finite numbers become null), the history
+// CSV and dependency-free SVG plots (stress-strain curve, strength envelope).
 #include "dem/lab_tests.h"
+
+#include <nlohmann/json.hpp>
 
 #include <string>
 #include <utility>
@@ -14,19 +16,33 @@ namespace demfem::apps
   class Json
   {
   public:
-    Json       &num(const std::string &key, double v); ///< null if not finite
-    Json       &str(const std::string &key, const std::string &v);
-    Json       &obj(const std::string &key, const Json &v);
-    std::string text(int indent = 0) const;
+    Json &num(const std::string &key, double v); ///< null if not finite
+    Json &str(const std::string &key, const std::string &v);
+    Json &obj(const std::string &key, const Json &v);
+    /// Array of numbers (non-finite ones null) or of objects.
+    Json       &nums(const std::string &key, const std::vector<double> &v);
+    Json       &objs(const std::string &key, const std::vector<Json> &v);
+    std::string text() const; ///< indented by two spaces
 
   private:
-    std::vector<std::pair<std::string, std::string>> items_; // key, encoded value
-    std::vector<bool>                                is_obj_;
-    std::vector<Json>                                objs_;
+    nlohmann::ordered_json j_ = nlohmann::ordered_json::object();
   };
 
   /// history_<test>.csv: one row per recorded step (header names with units).
   std::string history_csv(const std::vector<dem::HistoryRow> &h);
+
+  /// One data set of an SVG plot: a line, or markers only.
+  struct PlotSeries
+  {
+    std::string         label; ///< legend entry (none if empty)
+    std::vector<double> x, y;
+    std::string         colour  = "#c00";
+    bool                markers = false; ///< circles at the points, no line
+  };
+
+  /// SVG plot of several series with axes, ticks, labels and a legend.
+  std::string svg_plot(const std::string &title, const std::string &xlabel,
+                       const std::string &ylabel, const std::vector<PlotSeries> &series);
 
   /// SVG line plot of y(x) with axes, ticks and labels.
   std::string svg_plot(const std::string &title, const std::string &xlabel,

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 namespace demfem::dem
 {
@@ -107,11 +108,14 @@ namespace demfem::dem
       std::size_t                           n_ten_ = 0, n_shear_ = 0;
       std::array<std::size_t, n_bond_types> n_type_{}; // by BondType
       double                                far_ = 0;
-      std::vector<std::uint32_t>            gauge_, grip_top_, grip_bottom_;
-      double       L0_    = 0; // loading length (platen gap / grip distance)
-      double       v_     = 0; // speed of each platen / grip
-      std::int64_t step0_ = 0;
-      double       time0_ = 0;
+      // Confined compression: the servo of the seating keeps the lateral
+      // walls at Pc through the loading phase.
+      std::unique_ptr<Servo<dim>> servo_;
+      std::vector<std::uint32_t>  gauge_, grip_top_, grip_bottom_;
+      double                      L0_ = 0; // loading length (platen gap / grip distance)
+      double                      v_  = 0; // speed of each platen / grip
+      std::int64_t                step0_ = 0;
+      double                      time0_ = 0;
 
       void count_cracks()
       {
@@ -201,13 +205,14 @@ namespace demfem::dem
         m_.reset_energy_baseline();
         if (p_.Pc > 0 || p_.ctype == CompressionType::confined)
           {
-            Servo<dim> servo(s_.vessel, servo_params(H));
+            // Seating: every wall present (unconfined: the platens only)
+            // servo-controlled to Pc, an isotropic start for the confined
+            // and the uniaxial-strain tests.
+            servo_ = std::make_unique<Servo<dim>>(s_.vessel, servo_params(H));
             for (int a = 0; a < dim; ++a)
-              if (a == ax || p_.ctype == CompressionType::confined)
-                servo.set_pressure(a, p_.Pc);
-              else
-                servo.set_velocity(a, 0);
-            equilibrate(&servo);
+              if (a == ax || p_.ctype != CompressionType::unconfined)
+                servo_->set_pressure(a, p_.Pc);
+            equilibrate(servo_.get());
           }
         else
           equilibrate(nullptr);
@@ -215,6 +220,27 @@ namespace demfem::dem
         v_  = 0.5 * p_.strain_rate * L0_; // Table 10: v = eps_rate h / 2
         start_loading();
         s_.vessel.set_velocity(m_.walls, ax, -v_);
+        if (servo_holds_confinement())
+          servo_->set_velocity(ax, -v_); // the lateral walls stay on Pc
+        else
+          servo_.reset(); // lateral walls fixed (uniaxial strain) or removed
+      }
+
+      bool servo_holds_confinement() const
+      {
+        return p_.kind == TestKind::compression &&
+               p_.ctype == CompressionType::confined && servo_;
+      }
+
+      // Largest |P_a - Pc| / Pc over the servo-controlled lateral walls (the
+      // cylinder's one wall is axis 0).
+      double confining_deviation() const
+      {
+        double    d     = 0;
+        const int n_lat = s_.vessel.cylinder() ? 1 : dim - 1;
+        for (int a = 0; a < n_lat; ++a)
+          d = std::max(d, std::abs(servo_->pressure(m_, a) - p_.Pc) / p_.Pc);
+        return d;
       }
 
       void setup_brazilian()
@@ -417,7 +443,8 @@ namespace demfem::dem
                   lateral += s_.vessel.wall_stress(W, a);
                 lateral /= dim - 1;
               }
-            h.load = lateral - h.axial_stress;
+            h.lateral_wall_stress = lateral;
+            h.load                = lateral - h.axial_stress;
           }
         else if (p_.kind == TestKind::brazilian)
           {
@@ -452,19 +479,29 @@ namespace demfem::dem
         r_.ended_by                = "step limit";
         double      peak           = -HUGE_VAL;
         std::size_t cracks_at_peak = 0;
+        const bool  track_pc       = servo_holds_confinement() && p_.Pc > 0;
+        if (track_pc)
+          r_.confining_deviation = r_.confining_deviation_to_peak = 0;
         for (std::int64_t n = 1; n <= nmax; ++n)
           {
+            if (servo_holds_confinement())
+              servo_->update(m_);
             m_.step();
             if (n % p_.history_interval != 0 && n != nmax)
               continue;
             const HistoryRow h = record();
             r_.history.push_back(h);
             const std::size_t cracks = h.cracks_tension + h.cracks_shear;
+            if (track_pc)
+              r_.confining_deviation =
+                  std::max(r_.confining_deviation, confining_deviation());
             if (h.load > peak)
               {
                 peak           = h.load;
                 cracks_at_peak = cracks;
                 r_.peak_row    = r_.history.size() - 1;
+                if (track_pc)
+                  r_.confining_deviation_to_peak = r_.confining_deviation;
                 if (cb_.snapshot)
                   cb_.snapshot(s_, "peak");
               }
@@ -504,6 +541,8 @@ namespace demfem::dem
                 break;
               }
           }
+        if (servo_)
+          servo_->stop(m_);
         for (int a = 0; a < dim; ++a)
           s_.vessel.set_velocity(m_.walls, a, 0);
         for (auto i : grip_top_)
@@ -511,6 +550,21 @@ namespace demfem::dem
         for (auto i : grip_bottom_)
           m_.particles.v[i].setZero();
         r_.loading_steps = m_.step_count() - step0_;
+      }
+
+      // Crack-damage stress: axial stress at the most compacted state
+      // (smallest gauge volumetric strain, tension positive) before the
+      // peak; from there on dilatancy outruns the elastic compaction. NaN
+      // when the volume is smallest at the peak row itself (no reversal).
+      double volumetric_reversal_stress() const
+      {
+        const auto &H   = r_.history;
+        std::size_t min = 0;
+        for (std::size_t i = 1; i <= r_.peak_row; ++i)
+          if (H[i].volumetric_strain < H[min].volumetric_strain)
+            min = i;
+        return min < r_.peak_row ? std::abs(H[min].axial_stress)
+                                 : std::numeric_limits<double>::quiet_NaN();
       }
 
       void extract()
@@ -543,8 +597,16 @@ namespace demfem::dem
               r_.crack_initiation_load = H[i].load;
               break;
             }
+        if (p_.kind == TestKind::direct_tension)
+          {
+            r_.peak_region = -HUGE_VAL;
+            for (const auto &h : H)
+              r_.peak_region = std::max(r_.peak_region, h.region_axial_stress);
+          }
         if (p_.kind != TestKind::compression)
           return;
+        r_.peak_region  = std::abs(pk.region_axial_stress);
+        r_.crack_damage = volumetric_reversal_stress();
         // Elastic constants from the loading branch between fit_lo and
         // fit_hi of the peak deviator (fistPkg §5.2): strains gauge based
         // (the specimen itself, free of the grain-platen compliance), axial

@@ -5,13 +5,14 @@
 // Eq. 22-24) and direct tension with grip grains (§5.7, Table 12), each a
 // single loading stage that ends when the stress falls below a fraction of
 // its peak or at a strain limit; and the properties of §5.2 (Eq. 18-20,
-// docs/architecture.md, "Plane-stress and plane-strain constants"). Sign convention: tension positive in the history; reported
-// strengths are magnitudes.
+// docs/architecture.md, "Plane-stress and plane-strain constants"). Sign convention:
+// tension positive in the history; reported strengths are magnitudes.
 #include "dem/genesis.h"
 #include "dem/servo.h"
 
 #include <array>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -23,11 +24,14 @@ namespace demfem::dem
     brazilian,
     direct_tension
   };
+  /// Lateral boundary of a compression test (fistPkg §5.5, Table 10). All
+  /// are seated by the servo at Pc (unconfined: axially only, the lateral
+  /// walls removed); during loading the lateral walls are
   enum class CompressionType
   {
-    confined,
-    unconfined,
-    uniaxial_strain
+    confined,       ///< servo-controlled at Pc (triaxial: sigma_3 = Pc held)
+    unconfined,     ///< removed
+    uniaxial_strain ///< fixed (oedometric: lateral strain held at zero)
   };
 
   /// One recorded step (tension positive, SI units).
@@ -42,8 +46,11 @@ namespace demfem::dem
     double       axial_stress       = 0;    ///< wall (platen/grip) based [Pa]
     double       region_axial_stress   = 0; ///< measurement-region based [Pa]
     double       region_lateral_stress = 0; ///< measurement-region based [Pa]
-    double       axial_force           = 0; ///< Brazilian: Eq. 22 (tension positive) [N]
-    std::size_t  cracks_tension = 0, cracks_shear = 0;
+    /// Compression with lateral walls: mean wall-based stress of the lateral
+    /// walls (tension positive) [Pa]; 0 for the unconfined test.
+    double      lateral_wall_stress = 0;
+    double      axial_force         = 0; ///< Brazilian: Eq. 22 (tension positive) [N]
+    std::size_t cracks_tension = 0, cracks_shear = 0;
     /// The loading measure the test ends on (compression: deviator
     /// magnitude; Brazilian: |F_a|; tension: axial stress) [Pa or N].
     double load = 0;
@@ -115,6 +122,21 @@ namespace demfem::dem
     /// end: material cracks (contact / parallel bond, flat joint) apart
     /// from joint cracks (smooth joint).
     std::array<std::size_t, n_bond_types> cracks_by_type{};
+    /// Confined compression (Pc > 0): largest relative deviation
+    /// |P_a - Pc| / Pc of the servo-controlled lateral wall pressures P_a
+    /// over the history rows of the loading phase (to the end, past the
+    /// peak) and up to the peak row; NaN for the other tests.
+    double confining_deviation         = std::numeric_limits<double>::quiet_NaN();
+    double confining_deviation_to_peak = std::numeric_limits<double>::quiet_NaN();
+    /// Crack-damage stress (Martin & Chandler): axial-stress magnitude at the
+    /// reversal of the volumetric strain (gauge based), i.e. at the most
+    /// compacted state before the peak; NaN if the volume only grows.
+    double crack_damage = std::numeric_limits<double>::quiet_NaN();
+    /// Peak stress in the measurement regions (fistPkg §5.7), magnitude:
+    /// direct tension: largest region-averaged axial tension over the
+    /// loading; compression: region axial stress at the peak row; NaN for
+    /// the Brazilian test (its stress field is not uniform).
+    double peak_region = std::numeric_limits<double>::quiet_NaN();
     double R = 0, t = 0; ///< Brazilian disk radius and thickness [m]
     double area = 0;     ///< cross-section used for the axial stress [m^2]
   };
@@ -134,7 +156,8 @@ namespace demfem::dem
                              const LabCallbacks<dim> &cb = {});
 
   /// Plane-stress (Eq. 19) to plane-strain constants for the continuum
-  /// (docs/architecture.md, "Plane-stress and plane-strain constants"): nu = nu'/(1 + nu'), E = E' (1 - nu^2).
+  /// (docs/architecture.md, "Plane-stress and plane-strain constants"): nu = nu'/(1 +
+  /// nu'), E = E' (1 - nu^2).
   inline void plane_stress_to_plane_strain(double E_ps, double nu_ps, double &E,
                                            double &nu)
   {
