@@ -8,6 +8,7 @@
 #include "dem/smooth_joint_law.h"
 
 #include <cstring>
+#include <fstream>
 #include <sstream>
 #include <type_traits>
 #include <utility>
@@ -608,12 +609,75 @@ namespace demfem::dem
       return md;
     }
 
+    /// Reads every dataset once: InputError naming the first whose
+    /// Fletcher32 checksum fails.
+    void verify_datasets(const Ctx &c, hid_t file)
+    {
+      struct Visit
+      {
+        const Ctx  *c;
+        std::string failure;
+      } visit{&c, ""};
+      const auto each = [](hid_t loc, const char *name, const H5O_info_t *info,
+                           void *data) -> herr_t {
+        auto &v = *static_cast<Visit *>(data);
+        if (info->type != H5O_TYPE_DATASET)
+          return 0;
+        try
+          {
+            Handle set(H5Dopen2(loc, name, H5P_DEFAULT), H5Dclose);
+            if (!set.valid())
+              v.c->fail(std::string("cannot open dataset '/") + name + "'");
+            Handle       type(H5Dget_type(set), H5Tclose);
+            Handle       space(H5Dget_space(set), H5Sclose);
+            const auto   n    = H5Sget_simple_extent_npoints(space);
+            const size_t size = H5Tget_size(type);
+            if (H5Tis_variable_str(type) > 0 || n <= 0)
+              return 0;
+            std::vector<unsigned char> bytes(std::size_t(n) * size);
+            read_checked(*v.c, set, type, name, bytes.data());
+          }
+        catch (const std::exception &e)
+          {
+            v.failure = e.what();
+            return -1;
+          }
+        return 0;
+      };
+      const herr_t r = H5Ovisit(file, H5_INDEX_NAME, H5_ITER_NATIVE, each, &visit);
+      if (!visit.failure.empty())
+        throw InputError(visit.failure);
+      if (r < 0)
+        c.fail("cannot walk its datasets (damaged file?)");
+    }
+
     Handle open_for_reading(const Ctx &c)
     {
       struct stat st;
       if (::stat(c.file.c_str(), &st) != 0)
         c.fail(std::string("cannot open: ") + std::strerror(errno));
-      Handle f(H5Fopen(c.file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+      const int checksum = compare_checksum(c);
+      Handle    f(H5Fopen(c.file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+      if (checksum == 0)
+        {
+          // Damaged: name the dataset if the damage lies in one.
+          if (f.valid())
+            verify_datasets(c, f);
+          c.fail("its checksum does not match its contents: the file is damaged (use the "
+                 "previous checkpoint, checkpoint.h5.prev, or start again)");
+        }
+      if (checksum < 0)
+        {
+          // No checksum: a file of format version <= 3 starts with HDF5's
+          // signature (its version check then refuses it); otherwise the
+          // checksum block itself is damaged.
+          char          head[8] = {};
+          std::ifstream in(c.file, std::ios::binary);
+          in.read(head, sizeof head);
+          if (std::string(head, 4) != "\x89HDF")
+            c.fail("its checksum block is damaged: the file is damaged (use the previous "
+                   "checkpoint, checkpoint.h5.prev, or start again)");
+        }
       if (!f.valid())
         c.fail("not an HDF5 file or damaged");
       return f;
@@ -649,42 +713,7 @@ namespace demfem::dem
     const Ctx c{path, true};
     Handle    file = open_for_reading(c);
     read_metadata(c, file, nullptr); // the format and version first
-    struct Visit
-    {
-      const Ctx  *c;
-      std::string failure;
-    } visit{&c, ""};
-    const auto each = [](hid_t loc, const char *name, const H5O_info_t *info,
-                         void *data) -> herr_t {
-      auto &v = *static_cast<Visit *>(data);
-      if (info->type != H5O_TYPE_DATASET)
-        return 0;
-      try
-        {
-          Handle set(H5Dopen2(loc, name, H5P_DEFAULT), H5Dclose);
-          if (!set.valid())
-            v.c->fail(std::string("cannot open dataset '/") + name + "'");
-          Handle       type(H5Dget_type(set), H5Tclose);
-          Handle       space(H5Dget_space(set), H5Sclose);
-          const auto   n    = H5Sget_simple_extent_npoints(space);
-          const size_t size = H5Tget_size(type);
-          if (H5Tis_variable_str(type) > 0 || n <= 0)
-            return 0;
-          std::vector<unsigned char> bytes(std::size_t(n) * size);
-          read_checked(*v.c, set, type, name, bytes.data());
-        }
-      catch (const std::exception &e)
-        {
-          v.failure = e.what();
-          return -1;
-        }
-      return 0;
-    };
-    const herr_t r = H5Ovisit(file, H5_INDEX_NAME, H5_ITER_NATIVE, each, &visit);
-    if (!visit.failure.empty())
-      throw InputError(visit.failure);
-    if (r < 0)
-      c.fail("cannot walk its datasets (damaged file?)");
+    verify_datasets(c, file);
   }
 
   std::map<std::string, std::string> read_checkpoint_metadata(const std::string &path,

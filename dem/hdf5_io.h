@@ -366,6 +366,86 @@ namespace demfem::dem::hdf5io
     return slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
   }
 
+  // ----------------------------------------------------------------------
+  // Whole-file checksum. The dataset checksums do not cover HDF5's own
+  // structures between them (chunk indexes, heaps, free space of its block
+  // aggregation: about half of a small checkpoint, measured), so the file
+  // also carries a checksum of all its bytes in its user block, 512 bytes at
+  // its start that HDF5 reserves and never reads.
+
+  constexpr std::size_t user_block_size = 512;
+  constexpr const char *checksum_magic  = "demfem checkpoint checksum fnv1a64 ";
+
+  /// FNV-1a (64 bit) of the file's bytes after the user block, and their count.
+  inline std::uint64_t file_checksum(const Ctx &c, std::size_t &n_bytes)
+  {
+    const int fd = ::open(c.file.c_str(), O_RDONLY);
+    if (fd < 0)
+      c.fail(std::string("cannot open: ") + std::strerror(errno));
+    std::uint64_t     h = 1469598103934665603ull;
+    std::vector<char> buf(1 << 16);
+    n_bytes = 0;
+    for (off_t at = off_t(user_block_size);;)
+      {
+        const ssize_t got = ::pread(fd, buf.data(), buf.size(), at);
+        if (got < 0)
+          {
+            ::close(fd);
+            c.fail(std::string("cannot read: ") + std::strerror(errno));
+          }
+        if (got == 0)
+          break;
+        for (ssize_t k = 0; k < got; ++k)
+          h = (h ^ static_cast<unsigned char>(buf[std::size_t(k)])) * 1099511628211ull;
+        at += got;
+        n_bytes += std::size_t(got);
+      }
+    ::close(fd);
+    return h;
+  }
+
+  /// Writes the checksum of the closed file into its user block.
+  inline void stamp_checksum(const Ctx &c)
+  {
+    std::size_t         n = 0;
+    const std::uint64_t h = file_checksum(c, n);
+    std::ostringstream  s;
+    s << checksum_magic << std::hex << h << std::dec << " " << n << "\n";
+    std::string block = s.str();
+    block.resize(user_block_size, '\0');
+    const int fd = ::open(c.file.c_str(), O_WRONLY);
+    if (fd < 0 || ::pwrite(fd, block.data(), block.size(), 0) != ssize_t(block.size()))
+      {
+        if (fd >= 0)
+          ::close(fd);
+        c.fail("cannot write the checksum into " + c.file);
+      }
+    ::close(fd);
+  }
+
+  /// Compares the file with the checksum in its user block: 1 equal, 0 it
+  /// differs (damaged), -1 no checksum (a file of format version <= 3, or
+  /// its user block is damaged).
+  inline int compare_checksum(const Ctx &c)
+  {
+    char      head[user_block_size] = {};
+    const int fd                    = ::open(c.file.c_str(), O_RDONLY);
+    if (fd < 0)
+      c.fail(std::string("cannot open: ") + std::strerror(errno));
+    const ssize_t got = ::pread(fd, head, sizeof head, 0);
+    ::close(fd);
+    const std::string magic = checksum_magic;
+    if (got != ssize_t(sizeof head) || std::string(head, magic.size()) != magic)
+      return -1;
+    std::istringstream in(std::string(head + magic.size(), sizeof head - magic.size()));
+    std::uint64_t      stored   = 0;
+    std::size_t        stored_n = 0, n = 0;
+    if (!(in >> std::hex >> stored >> std::dec >> stored_n))
+      return -1;
+    const std::uint64_t h = file_checksum(c, n);
+    return h == stored && n == stored_n ? 1 : 0;
+  }
+
   inline void write_atomically(const std::string                             &path,
                                const std::function<void(hid_t, const Ctx &)> &body)
   {
@@ -379,12 +459,16 @@ namespace demfem::dem::hdf5io
         if (!access.valid() ||
             H5Pset_libver_bounds(access, H5F_LIBVER_V18, H5F_LIBVER_LATEST) < 0)
           c.fail("cannot set the file format of " + tmp);
-        Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access), H5Fclose);
+        Handle create(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+        if (!create.valid() || H5Pset_userblock(create, user_block_size) < 0)
+          c.fail("cannot reserve the checksum block of " + tmp);
+        Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, create, access), H5Fclose);
         if (!file.valid())
           c.fail("cannot create " + tmp + " (directory missing or not writable?)");
         body(file, c);
         if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0 || file.close() < 0)
           c.fail("cannot flush and close " + tmp);
+        stamp_checksum(Ctx{tmp, false});
         fsync_path(tmp, false, c);
       }
     catch (...)

@@ -1,0 +1,98 @@
+#!/usr/bin/env bash
+# Fault-injection probes of run ownership and checkpoint integrity
+# (docs/tunnel.md, "Output directory: lock, manifest, --overwrite" and
+# "Checkpoints and restart"), replayed on the built executable:
+#   1. two concurrent runs into one directory: the second is refused, naming
+#      the holder; the first finishes;
+#   2. a re-run into a used directory without --overwrite is refused, with
+#      --overwrite it runs;
+#   3. a checkpoint with corrupted bytes is refused naming the checksum
+#      failure and the file.
+# Usage: fault_injection.sh DEMFEM_EXE SOURCE_DIR
+set -u
+exe="$1"
+src="$2"
+work="$(mktemp -d "${TMPDIR:-/tmp}/demfem_fault_XXXXXX")"
+trap 'rm -rf "$work"' EXIT
+failed=0
+check() { # check NAME CONDITION...
+  local name="$1"; shift
+  if "$@"; then echo "ok: $name"; else echo "FAILED: $name"; failed=$((failed + 1)); fi
+}
+
+small=(--set "DEM region/radius=1.0" --set "Tunnel/radius=0.4"
+       --set "DEM region/grain diameter min=0.08" --set "DEM region/grain diameter max=0.12"
+       --set "Continuum/outer radius=10" --set "Output/interval=0"
+       --set "Coupling/step limit=300" --set "Coupling/ramp steps=300"
+       --set "Output/checkpoint interval=200")
+prm="$src/apps/examples/tunnel_2d.prm"
+out="$work/run"
+
+# 1. Two concurrent runs. The first never reaches equilibrium (ratio 1e-12),
+# so it is still running when the second starts; SIGTERM then stops it with
+# a checkpoint, and its lock is released.
+"$exe" tunnel "$prm" "${small[@]}" --set "Problem/output directory=$out" \
+  --set "Coupling/equilibrium ratio=1e-12" --set "Coupling/step limit=1000000" \
+  > "$work/first.log" 2>&1 &
+first=$!
+for _ in $(seq 1 600); do [ -f "$out/demfem.lock" ] && break; sleep 0.05; done
+"$exe" tunnel "$prm" "${small[@]}" --set "Problem/output directory=$out" \
+  > "$work/second.log" 2>&1
+second_rc=$?
+kill -TERM "$first"
+wait "$first"
+first_rc=$?
+check "concurrent: second run refused (exit $second_rc)" [ "$second_rc" -eq 1 ]
+check "concurrent: message names the holder" \
+  grep -q "in use by another demfem run: pid $first on host" "$work/second.log"
+check "concurrent: first run stopped by SIGTERM (exit $first_rc)" [ "$first_rc" -eq 143 ]
+check "concurrent: manifest status interrupted" \
+  grep -q '"status": "interrupted"' "$out/manifest.json"
+check "concurrent: lock released" [ ! -e "$out/demfem.lock" ]
+
+# 2. Re-run without --overwrite refused; with it, runs.
+"$exe" tunnel "$prm" "${small[@]}" --set "Problem/output directory=$out" \
+  > "$work/rerun.log" 2>&1
+rc=$?
+check "re-run: refused without --overwrite (exit $rc)" [ "$rc" -ne 0 ]
+check "re-run: message names --overwrite" grep -q -- "--overwrite" "$work/rerun.log"
+"$exe" tunnel "$prm" "${small[@]}" --set "Problem/output directory=$out" --overwrite \
+  > "$work/overwrite.log" 2>&1
+rc=$?
+check "re-run: --overwrite runs (exit $rc)" [ "$rc" -eq 0 ]
+check "re-run: manifest status ok" grep -q '"status": "ok"' "$out/manifest.json"
+
+# 3. Corrupted checkpoint: 16 bytes in the middle of the file and, apart,
+# one byte of the stored .prm text.
+ck="$out/checkpoint.h5"
+check "checkpoint written" [ -f "$ck" ]
+cp "$ck" "$work/mid.h5"
+size=$(stat -c %s "$work/mid.h5")
+printf '\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff' |
+  dd of="$work/mid.h5" bs=1 seek=$((size / 2)) conv=notrunc status=none
+"$exe" tunnel "$prm" "${small[@]}" --set "Problem/output directory=$work/from_mid" \
+  --restart "$work/mid.h5" > "$work/mid.log" 2>&1
+rc=$?
+check "corrupt (middle): refused (exit $rc)" [ "$rc" -eq 1 ]
+check "corrupt (middle): names the file" grep -q "$work/mid.h5" "$work/mid.log"
+check "corrupt (middle): nothing written" [ ! -e "$work/from_mid" ]
+
+cp "$ck" "$work/text.h5"
+/usr/bin/python3 - "$work/text.h5" <<'PY'
+import sys
+p = sys.argv[1]
+b = bytearray(open(p, 'rb').read())
+k = b.find(b'slaved-layer')
+assert k >= 0
+b[k] ^= 0x20
+open(p, 'wb').write(b)
+PY
+"$exe" tunnel "$prm" "${small[@]}" --set "Problem/output directory=$work/from_text" \
+  --restart "$work/text.h5" > "$work/text.log" 2>&1
+rc=$?
+check "corrupt (prm text): refused (exit $rc)" [ "$rc" -eq 1 ]
+check "corrupt (prm text): Fletcher32 named" grep -q "Fletcher32" "$work/text.log"
+
+for f in "$work"/*.log; do echo "--- $f"; tail -n 3 "$f"; done
+echo "$((15 - failed)) passed, $failed failed"
+[ "$failed" -eq 0 ]
