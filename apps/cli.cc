@@ -31,20 +31,28 @@ namespace demfem::apps
       return s.str();
     }
 
-    bool blank(char c) { return c == ' ' || c == '\t'; }
+    /// `text` without surrounding blanks (as ParameterHandler stores values
+    /// read from a file; a --set value may carry them).
+    std::string trimmed(const std::string &text)
+    {
+      const auto b = text.find_first_not_of(" \t");
+      return b == std::string::npos
+                 ? std::string()
+                 : text.substr(b, text.find_last_not_of(" \t") - b + 1);
+    }
   } // namespace
 
   double parse_number(const std::string &what, const std::string &text, double lo,
                       double hi, const std::string &unit)
   {
-    const char *begin = text.c_str();
-    char       *end   = nullptr;
-    errno             = 0;
-    const double v    = std::strtod(begin, &end);
-    // strtod skips leading blanks and stops at the first foreign character:
-    // both must be refused, else "0.125x" silently reads as 0.125.
-    const bool whole =
-        !text.empty() && !blank(text.front()) && end != begin && *end == '\0';
+    const std::string t     = trimmed(text);
+    const char       *begin = t.c_str();
+    char             *end   = nullptr;
+    errno                   = 0;
+    const double v          = std::strtod(begin, &end);
+    // strtod stops at the first foreign character: it must be the end, else
+    // "0.125x" silently reads as 0.125.
+    const bool whole = !t.empty() && end != begin && *end == '\0';
     if (!whole || errno == ERANGE || !std::isfinite(v))
       throw UsageError(what + " = '" + text +
                        "' is not a number (allowed: " + range_text(lo, hi, unit) + ")");
@@ -57,12 +65,12 @@ namespace demfem::apps
   long long parse_integer(const std::string &what, const std::string &text, long long lo,
                           long long hi)
   {
-    const char *begin = text.c_str();
-    char       *end   = nullptr;
-    errno             = 0;
-    const long long v = std::strtoll(begin, &end, 10);
-    const bool      whole =
-        !text.empty() && !blank(text.front()) && end != begin && *end == '\0';
+    const std::string t     = trimmed(text);
+    const char       *begin = t.c_str();
+    char             *end   = nullptr;
+    errno                   = 0;
+    const long long v       = std::strtoll(begin, &end, 10);
+    const bool      whole   = !t.empty() && end != begin && *end == '\0';
     if (!whole || errno == ERANGE || v < lo || v > hi)
       throw UsageError(what + " = '" + text + "' is not an integer in [" +
                        std::to_string(lo) + ", " + std::to_string(hi) + "]");

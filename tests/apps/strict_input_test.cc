@@ -67,8 +67,8 @@ TEST_CASE("strict input: trailing characters are refused, naming the key",
                  {"DEM region/grain diameter", "'0.125x'", "--set", "[m]"});
   expect_refused("tunnel", tunnel, "--set \"DEM region/radius=3.5m\"",
                  {"DEM region/radius", "'3.5m'", "auto"});
-  expect_refused("tunnel", tunnel, "--set \"DEM region/grain diameter= 0.12\"",
-                 {"DEM region/grain diameter"});
+  expect_refused("tunnel", tunnel, "--set \"DEM region/grain diameter=0.1 2\"",
+                 {"DEM region/grain diameter", "'0.1 2'"});
   // In a file: the message names the file.
   const fs::path prm = work_dir() / "trailing.prm";
   std::ofstream(prm) << "subsection DEM region\n  set grain diameter = 0.125x\nend\n";
