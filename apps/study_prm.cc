@@ -158,7 +158,9 @@ namespace demfem::apps::study
     prm.declare_entry("subcycles", "1", Patterns::Integer(1, 1000),
                       "DEM steps per continuum step");
     prm.declare_entry("timestep safety", "0.8", Patterns::Double(),
-                      "dt = safety x min(DEM critical, continuum critical / subcycles)");
+                      "dt = safety x min(DEM critical, continuum critical / subcycles), "
+                      "in (0, 1] (beyond 1 the explicit integration is unstable; "
+                      "Study/timestep safety factors may exceed 1 to map that limit)");
     prm.declare_entry("relaxation", "0.3", Patterns::Double(),
                       "quasi-static: relaxation omega of the interface displacement, in "
                       "(0, 2); 0.3 with subcycles = 200 (docs/tunnel.md; unused by "
@@ -299,9 +301,19 @@ namespace demfem::apps::study
     s.coupling.overlap_grains = prm.get_double("overlap grains");
     s.coupling.subcycles      = prm.get_integer("subcycles");
     s.coupling.safety         = prm.get_double("timestep safety");
-    s.ratio_tolerance         = prm.get_double("equilibrium ratio");
-    s.ramp_steps              = prm.get_integer("ramp steps");
-    s.phase_step_limit        = prm.get_integer("step limit");
+    // Checked here, where the key enters, before anything runs: the library
+    // accepts a safety above 1 so that the study can show divergence
+    // (Study/timestep safety factors), a user's run never wants one.
+    AssertThrow(s.coupling.safety > 0 && s.coupling.safety <= 1,
+                ExcMessage(key_name("Coupling/timestep safety") + " = " +
+                           prm.get("timestep safety") +
+                           " is outside (0, 1]: above 1 the time step exceeds the "
+                           "critical one and the explicit integration diverges "
+                           "(Study/timestep safety factors may exceed 1 to map that "
+                           "limit)"));
+    s.ratio_tolerance  = prm.get_double("equilibrium ratio");
+    s.ramp_steps       = prm.get_integer("ramp steps");
+    s.phase_step_limit = prm.get_integer("step limit");
     AssertThrow(s.ratio_tolerance > 0,
                 ExcMessage("Coupling/equilibrium ratio must be > 0"));
     prm.leave_subsection();
