@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstring>
 #include <ctime>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -77,11 +78,9 @@ namespace demfem::apps
   {
     // What the tunnel, study, fem and calibrate commands write (docs/tunnel.md).
     static const std::regex files(
-        "manifest\\.json|summary\\.json|history\\.csv|wall_displacement\\.csv|"
-        "wall_stress\\.csv|cracks\\.csv|log\\.txt|material\\.json|"
-        "study(_speedup)?\\.csv|study\\.md|study_pareto\\.svg|"
-        "checkpoint\\.h5(\\.prev|\\.tmp)?|.*\\.(pvd|vtu|vtp|pvtu)(\\.tmp)?");
-    static const std::regex dirs("run_[0-9]+|reference_[0-9]+");
+        "(manifest|summary|material|fit)\\.json|log\\.txt|study\\.md|"
+        ".*\\.(csv|svg|pvd|vtu|vtp|pvtu|h5)(\\.prev|\\.tmp)?");
+    static const std::regex dirs("run_[0-9]+|reference_[0-9]+|vtk");
     return std::regex_match(name, directory ? dirs : files);
   }
 
@@ -221,10 +220,20 @@ namespace demfem::apps
 
   RunDirectory::~RunDirectory()
   {
+    // Without finish(): an exception left the command ("aborted"), or the
+    // command does not report its status (then its end is all we know).
     if (!finished_)
       try
         {
-          finish("aborted", 1);
+          if (std::uncaught_exceptions() > 0)
+            finish("aborted", 1);
+          else
+            {
+              finished_             = true;
+              manifest_["status"]   = "ended";
+              manifest_["end_time"] = utc_now();
+              write_manifest();
+            }
         }
       catch (...)
         {
@@ -234,7 +243,8 @@ namespace demfem::apps
     if (read_text(lock_file_) != lock_text_)
       return;
     ::unlink(lock_file_.c_str());
-    if (created_ && manifest_.value("exit_code", 0) != 0)
+    const json &code = manifest_["exit_code"];
+    if (created_ && code.is_number_integer() && code.get<int>() != 0)
       {
         std::error_code ec;
         for (const auto &e : fs::directory_iterator(directory_, ec))

@@ -33,7 +33,8 @@ namespace demfem::apps
     RunDirectory(const std::string &directory, const dealii::ParameterHandler &prm,
                  bool continuing = false);
     /// Releases the lock; a run that did not call finish() is recorded as
-    /// "aborted" (an exception left the command). A failed run that wrote
+    /// "aborted" when an exception left the command, else as "ended" (a
+    /// command that does not report its status). A failed run that wrote
     /// nothing into a directory it created removes that directory again, so
     /// that bad input leaves nothing behind.
     ~RunDirectory();
