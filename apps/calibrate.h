@@ -1,10 +1,12 @@
 #pragma once
 // Settings shared by the parts of `demfem calibrate` (calibrate_command.cc
 // reads and validates them; calibrate_run.cc runs the genesis and the tests).
+#include "dem/genesis.h"
 #include "dem/lab_tests.h"
 #include "dem/smooth_joint_law.h"
-#include <array>
 
+#include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,35 @@ namespace demfem::apps
     std::string          name;
     dem::TestKind        kind;
     dem::CompressionType ctype;
+  };
+
+  /// A target of the automatic fit (subsection Fit/Targets): the measured
+  /// seed mean should lie within `tolerance` (relative) of `value`.
+  struct FitTarget
+  {
+    std::string name; ///< E, nu, ucs, bts, direct tension, crack initiation ratio, mi
+    double      value = 0, weight = 1, tolerance = 0.05;
+  };
+
+  /// A searched microparameter (Fit/parameters) and its bounds.
+  struct FitParameter
+  {
+    std::string name; ///< a Material key, e.g. "effective modulus"
+    double      lo = 0, hi = 0;
+  };
+
+  /// `demfem calibrate FILE.prm --fit`: searches the parameters with a
+  /// derivative-free optimizer (NLopt) for the targets (docs/calibrate.md,
+  /// "Automatic calibration").
+  struct FitSettings
+  {
+    bool                      enabled = false;
+    std::vector<FitTarget>    targets;
+    std::vector<FitParameter> parameters;
+    int                       seeds       = 3;  ///< packings averaged per evaluation
+    int                       evaluations = 60; ///< budget per stage
+    std::string               algorithm   = "bobyqa";
+    double elastic_strain                 = 3e-4; ///< axial strain of the elastic stage
   };
 
   struct CalibrateSettings
@@ -39,7 +70,25 @@ namespace demfem::apps
     bool                           joint = false;
     std::array<double, 3>          joint_point{{0, 0, 0}};
     dem::SmoothJointLaw<3>::Params joint_sj;
+    FitSettings                    fit;
   };
+
+  /// A copy of a specimen whose model state is in `checkpoint` (written by
+  /// dem::write_checkpoint from `s`): the same law groups, the state bit for
+  /// bit, so every test starts from the same packing without repeating it.
+  template <int dim>
+  std::unique_ptr<dem::Specimen<dim>> clone_specimen(const dem::Specimen<dim> &s,
+                                                     const std::string &checkpoint);
+
+  /// The member of `m` a Fit/parameters name searches; std::invalid_argument
+  /// naming `where` and the allowed names for an unknown one.
+  double &fit_parameter(dem::MaterialParams &m, const std::string &name,
+                        const std::string &where);
+
+  /// Runs the automatic fit, then the calibration of the best material
+  /// (run_calibration); returns the exit code (3: targets not reached).
+  template <int dim>
+  int run_fit(const CalibrateSettings &s);
 
   /// Runs the calibration (creates the output directory); returns the exit code.
   template <int dim>

@@ -7,6 +7,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include "apps/calibrate.h"
+#include "apps/cli.h"
 #include "apps/commands.h"
 #include "apps/prm_cli.h"
 #include "dem/lab_tests.h"
@@ -17,6 +18,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -29,7 +31,7 @@ namespace demfem::apps
     namespace fs = std::filesystem;
 
     const char *usage =
-        "usage: demfem calibrate FILE.prm [--set \"Section/key=value\"]... "
+        "usage: demfem calibrate FILE.prm [--fit] [--set \"Section/key=value\"]... "
         "[--print-parameters] [--help]\n"
         "\n"
         "Builds a bonded-particle material (fistPkg §4: packing, finalization), runs\n"
@@ -38,7 +40,15 @@ namespace demfem::apps
         "writes to Problem/output directory: material.json (microparameters and\n"
         "measured properties with units; E, nu are the continuum's pair: 3D, or 2D\n"
         "plane strain), summary.json, history_<test>.csv, <test>_stress_strain.svg,\n"
-        "VTK of the specimen and of each test at peak and at the end (.pvd).\n";
+        "VTK of the specimen and of each test at peak and at the end (.pvd).\n"
+        "\n"
+        "--fit  automatic calibration: searches the microparameters of Fit/parameters\n"
+        "       for the targets of Fit/Targets (E, nu, ucs, bts, direct tension, crack\n"
+        "       initiation ratio, mi) with an NLopt optimizer, Fit/seeds packings per\n"
+        "       evaluation, elastic stage first; writes fit.csv (every evaluation),\n"
+        "       fit.json, fit_convergence.svg, then calibrates the best material.\n"
+        "       Exit 3 (status targets_not_reached) when a target stays outside its\n"
+        "       tolerance.\n";
 
     // Test names of Tests/tests and what they run.
     const std::vector<TestSpec> known_tests = {
@@ -231,6 +241,32 @@ namespace demfem::apps
           "quarter (quarter) the strain rate; a peak moving more than 2 % flags the "
           "test as not quasi-static (fistPkg §5.4)");
       prm.leave_subsection();
+
+      prm.enter_subsection("Fit");
+      prm.declare_entry(
+          "parameters", "", Patterns::Anything(),
+          "Microparameters searched by --fit, 'name lo hi' separated by ';', e.g. "
+          "'effective modulus 20e9 120e9; tensile strength mean 2e6 40e6' (names: see "
+          "docs/calibrate.md)");
+      prm.declare_entry(
+          "seeds", "3", Patterns::Anything(),
+          "Packings (seeds seed, seed+1, ...) averaged per evaluation (>= 1)");
+      prm.declare_entry("evaluations", "60", Patterns::Anything(),
+                        "Evaluation budget of each stage (>= 1)");
+      prm.declare_entry("algorithm", "bobyqa",
+                        Patterns::Selection("bobyqa|subplex|nelder-mead|cobyla"),
+                        "NLopt derivative-free optimizer");
+      prm.declare_entry(
+          "elastic strain", "3e-4", Patterns::Anything(),
+          "Axial strain of the elastic stage's small-strain test (0, 0.01]");
+      prm.enter_subsection("Targets");
+      for (const char *t :
+           {"E", "nu", "ucs", "bts", "direct tension", "crack initiation ratio", "mi"})
+        prm.declare_entry(t, "", Patterns::Anything(),
+                          "'value[, weight[, relative tolerance]]' (defaults 1, 0.05); "
+                          "empty: not a target");
+      prm.leave_subsection();
+      prm.leave_subsection();
     }
 
     using Settings = CalibrateSettings;
@@ -250,6 +286,98 @@ namespace demfem::apps
       check(where, section + name + " mean", d.mean, 0, HUGE_VAL);
       check(where, section + name + " sd", d.sd, 0, HUGE_VAL);
       return d;
+    }
+
+    // Subsection Fit (`--fit`): targets and searched parameters, each value
+    // checked once here, naming the key (docs/calibrate.md, "Automatic
+    // calibration").
+    void read_fit(ParameterHandler &prm, const std::string &where, CalibrateSettings &s)
+    {
+      auto      &f   = s.fit;
+      const auto key = [&](const std::string &k) { return where + ": Fit/" + k; };
+      f.seeds        = int(parse_integer(key("seeds"), prm.get("seeds"), 1, 100));
+      f.evaluations =
+          int(parse_integer(key("evaluations"), prm.get("evaluations"), 1, 100000));
+      f.algorithm = prm.get("algorithm");
+      f.elastic_strain =
+          parse_number(key("elastic strain"), prm.get("elastic strain"), 1e-6, 0.01);
+      std::stringstream all(prm.get("parameters"));
+      for (std::string item; std::getline(all, item, ';');)
+        {
+          std::stringstream        w(item);
+          std::vector<std::string> words;
+          for (std::string x; w >> x;)
+            words.push_back(x);
+          if (words.empty())
+            continue;
+          if (words.size() < 3)
+            throw std::invalid_argument(key("parameters") + ": '" + item +
+                                        "' is not 'name lo hi'");
+          FitParameter p;
+          for (std::size_t i = 0; i + 2 < words.size(); ++i)
+            p.name += (i ? " " : "") + words[i];
+          const std::string what = key("parameters") + " (" + p.name + ")";
+          p.lo = parse_number(what + " lower bound", words[words.size() - 2], 0);
+          p.hi = parse_number(what + " upper bound", words.back(), 0);
+          dem::MaterialParams probe = s.mat;
+          fit_parameter(probe, p.name, where); // a known name for this material type
+          if (!(p.hi > p.lo))
+            throw std::invalid_argument(what + ": empty search space, the upper bound " +
+                                        words.back() + " must exceed the lower bound " +
+                                        words[words.size() - 2]);
+          const bool fraction =
+              p.name == "bonded fraction" || p.name == "gapped fraction";
+          if (fraction && p.hi > 1)
+            throw std::invalid_argument(what + ": a fraction lies in [0, 1]");
+          f.parameters.push_back(p);
+        }
+      prm.enter_subsection("Targets");
+      for (const char *name :
+           {"E", "nu", "ucs", "bts", "direct tension", "crack initiation ratio", "mi"})
+        {
+          const std::string text = prm.get(name);
+          if (text.find_first_not_of(" \t") == std::string::npos)
+            continue;
+          const std::string what = key(std::string("Targets/") + name);
+          const auto        v    = split_list(what, text);
+          if (v.size() > 3)
+            throw std::invalid_argument(what +
+                                        ": 'value[, weight[, tolerance]]' expected");
+          FitTarget t;
+          t.name        = name;
+          const bool nu = t.name == "nu", ratio = t.name == "crack initiation ratio";
+          t.value = parse_number(what, v[0], nu ? 0.0 : std::nextafter(0.0, 1.0),
+                                 nu ? std::nextafter(0.5, 0.0)
+                                    : (ratio ? 1.0 : std::numeric_limits<double>::max()));
+          if (nu && !(t.value > 0))
+            throw std::invalid_argument(what + ": Poisson's ratio must lie in (0, 0.5)");
+          if (v.size() > 1)
+            t.weight = parse_number(what + " weight", v[1], 0);
+          if (v.size() > 2)
+            t.tolerance = parse_number(what + " tolerance", v[2], 1e-6, 1);
+          if (!(t.weight > 0))
+            throw std::invalid_argument(what + " weight: must be > 0");
+          f.targets.push_back(t);
+        }
+      prm.leave_subsection();
+      auto target = [&](const std::string &n) -> const FitTarget * {
+        for (const auto &t : f.targets)
+          if (t.name == n)
+            return &t;
+        return nullptr;
+      };
+      if (target("direct tension") && target("ucs") &&
+          target("direct tension")->value >= target("ucs")->value)
+        throw std::invalid_argument(key("Targets/direct tension") +
+                                    ": a direct tensile strength at or above the UCS is "
+                                    "not a rock (allowed: below Fit/Targets/ucs)");
+      if (!f.enabled)
+        return;
+      if (f.targets.empty())
+        throw std::invalid_argument(key("Targets") + ": --fit needs at least one target");
+      if (f.parameters.empty())
+        throw std::invalid_argument(key("parameters") +
+                                    ": --fit needs at least one parameter to search");
     }
 
     std::vector<dem::SizePiece> parse_sizes(const std::string &text,
@@ -313,10 +441,11 @@ namespace demfem::apps
       return pieces;
     }
 
-    Settings read_settings(ParameterHandler &prm, const std::string &where)
+    Settings read_settings(ParameterHandler &prm, const std::string &where, bool fit)
     {
       Settings s;
-      s.where = where;
+      s.where       = where;
+      s.fit.enabled = fit;
       prm.enter_subsection("Problem");
       s.dim = prm.get_integer("dimension");
       s.out = prm.get("output directory");
@@ -493,6 +622,10 @@ namespace demfem::apps
       check(where, t + "seating ratio limit", l.ratio_limit, 0, 1, true);
       prm.leave_subsection();
 
+      prm.enter_subsection("Fit");
+      read_fit(prm, where, s);
+      prm.leave_subsection();
+
       // The library's own checks (same ranges; any remaining combination).
       m.validate(where, s.dim);
       v.validate(where, s.dim);
@@ -505,10 +638,19 @@ namespace demfem::apps
   {
     try
       {
+        // --fit is this command's own flag: taken out before the common
+        // command line is read.
+        std::vector<char *> args;
+        bool                fit = false;
+        for (int i = 0; i < argc; ++i)
+          if (std::string(argv[i]) == "--fit")
+            fit = true;
+          else
+            args.push_back(argv[i]);
         std::string      file;
         ParameterHandler prm;
         declare_parameters(prm);
-        switch (read_parameters(argc, argv, prm, usage, file))
+        switch (read_parameters(int(args.size()), args.data(), prm, usage, file))
           {
           case PrmAction::help:
             std::cout << usage;
@@ -519,7 +661,9 @@ namespace demfem::apps
           case PrmAction::run:
             break;
           }
-        const Settings s = read_settings(prm, file);
+        const Settings s = read_settings(prm, file, fit);
+        if (s.fit.enabled)
+          return s.dim == 2 ? run_fit<2>(s) : run_fit<3>(s);
         return s.dim == 2 ? run_calibration<2>(s) : run_calibration<3>(s);
       }
     catch (const std::exception &e)

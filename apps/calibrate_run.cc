@@ -160,59 +160,6 @@ namespace demfem::apps
       return j;
     }
 
-    template <int dim, class Law>
-    bool clone_group(const dem::ContactGroupBase<dim> &g, dem::Model<dim> &m)
-    {
-      const auto *c = dynamic_cast<const dem::ContactGroup<dim, Law> *>(&g);
-      if (c)
-        m.template add_law<Law>(c->params, "copy of the specimen", c->rule);
-      return c != nullptr;
-    }
-
-    // A fresh copy of the specimen right after genesis, so that every test
-    // starts from the same material without repeating the packing: the
-    // same law groups are created and the state comes from an HDF5
-    // checkpoint (dem/checkpoint.h restores it bit for bit).
-    template <int dim>
-    std::unique_ptr<dem::Specimen<dim>> clone(const dem::Specimen<dim> &s,
-                                              const std::string        &checkpoint)
-    {
-      auto c                     = std::make_unique<dem::Specimen<dim>>();
-      c->vessel                  = s.vessel;
-      c->material                = s.material;
-      c->linear_group            = s.linear_group;
-      c->wall_group              = s.wall_group;
-      c->bond_group              = s.bond_group;
-      c->packing_pressure        = s.packing_pressure;
-      c->packing_region_pressure = s.packing_region_pressure;
-      c->packing_max_force       = s.packing_max_force;
-      c->packing_ratio           = s.packing_ratio;
-      c->packing_steps           = s.packing_steps;
-      c->fj_rmul_min             = s.fj_rmul_min;
-      c->fj_rmul_max             = s.fj_rmul_max;
-      auto &m                    = c->model;
-      m.local_damping            = s.model.local_damping;
-      m.skin                     = s.model.skin;
-      m.safety_factor            = s.model.safety_factor;
-      m.gravity                  = s.model.gravity;
-      m.check_timestep           = s.model.check_timestep;
-      for (int g = 0; g < s.model.n_groups(); ++g)
-        {
-          const auto &grp = s.model.group(g);
-          if (!(clone_group<dim, dem::LinearLaw<dim>>(grp, m) ||
-                clone_group<dim, dem::FlatJointLaw<dim>>(grp, m) ||
-                clone_group<dim, dem::ParallelBondLaw<dim>>(grp, m) ||
-                clone_group<dim, dem::ContactBondLaw<dim>>(grp, m) ||
-                clone_group<dim, dem::SmoothJointLaw<dim>>(grp, m)))
-            throw std::runtime_error(std::string("calibrate: cannot copy law group ") +
-                                     grp.law_name());
-        }
-      dem::read_checkpoint(m, checkpoint, nullptr);
-      m.set_default_law(s.linear_group, s.wall_group);
-      m.new_contact_law = s.model.new_contact_law; // e.g. the smooth-joint rule
-      return c;
-    }
-
     template <int dim>
     void write_snapshot(const std::string &dir, const std::string &base,
                         const dem::Specimen<dim> &sp, bool contacts)
@@ -222,6 +169,15 @@ namespace demfem::apps
                                 sp.model.current_cracks());
       if (contacts)
         dem::vtkout::write_contacts(dir + "/" + base + "_contacts.vtp", sp.model);
+    }
+
+    template <int dim, class Law>
+    bool clone_group(const dem::ContactGroupBase<dim> &g, dem::Model<dim> &m)
+    {
+      const auto *c = dynamic_cast<const dem::ContactGroup<dim, Law> *>(&g);
+      if (c)
+        m.template add_law<Law>(c->params, "copy of the specimen", c->rule);
+      return c != nullptr;
     }
 
     Json result_json(const dem::LabTestResult &r, int dim)
@@ -333,6 +289,55 @@ namespace demfem::apps
     };
   } // namespace
 
+  // A fresh copy of the specimen right after genesis, so that every test
+  // starts from the same material without repeating the packing: the
+  // same law groups are created and the state comes from an HDF5
+  // checkpoint (dem/checkpoint.h restores it bit for bit).
+  template <int dim>
+  std::unique_ptr<dem::Specimen<dim>> clone_specimen(const dem::Specimen<dim> &s,
+                                                     const std::string        &checkpoint)
+  {
+    auto c                     = std::make_unique<dem::Specimen<dim>>();
+    c->vessel                  = s.vessel;
+    c->material                = s.material;
+    c->linear_group            = s.linear_group;
+    c->wall_group              = s.wall_group;
+    c->bond_group              = s.bond_group;
+    c->packing_pressure        = s.packing_pressure;
+    c->packing_region_pressure = s.packing_region_pressure;
+    c->packing_max_force       = s.packing_max_force;
+    c->packing_ratio           = s.packing_ratio;
+    c->packing_steps           = s.packing_steps;
+    c->fj_rmul_min             = s.fj_rmul_min;
+    c->fj_rmul_max             = s.fj_rmul_max;
+    auto &m                    = c->model;
+    m.local_damping            = s.model.local_damping;
+    m.skin                     = s.model.skin;
+    m.safety_factor            = s.model.safety_factor;
+    m.gravity                  = s.model.gravity;
+    m.check_timestep           = s.model.check_timestep;
+    for (int g = 0; g < s.model.n_groups(); ++g)
+      {
+        const auto &grp = s.model.group(g);
+        if (!(clone_group<dim, dem::LinearLaw<dim>>(grp, m) ||
+              clone_group<dim, dem::FlatJointLaw<dim>>(grp, m) ||
+              clone_group<dim, dem::ParallelBondLaw<dim>>(grp, m) ||
+              clone_group<dim, dem::ContactBondLaw<dim>>(grp, m) ||
+              clone_group<dim, dem::SmoothJointLaw<dim>>(grp, m)))
+          throw std::runtime_error(std::string("calibrate: cannot copy law group ") +
+                                   grp.law_name());
+      }
+    dem::read_checkpoint(m, checkpoint, nullptr);
+    m.set_default_law(s.linear_group, s.wall_group);
+    m.new_contact_law = s.model.new_contact_law; // e.g. the smooth-joint rule
+    return c;
+  }
+
+  template std::unique_ptr<dem::Specimen<2>> clone_specimen(const dem::Specimen<2> &,
+                                                            const std::string &);
+  template std::unique_ptr<dem::Specimen<3>> clone_specimen(const dem::Specimen<3> &,
+                                                            const std::string &);
+
   template <int dim>
   int run_calibration(const CalibrateSettings &s0)
   {
@@ -384,7 +389,7 @@ namespace demfem::apps
       write_snapshot(vtk_dir, "specimen", *first, true);
     const std::string ckpt = s.out + "/specimen.h5";
     dem::write_checkpoint(first->model, ckpt, {{"parameter_file", s.where}});
-    auto fresh = [&]() { return clone(*first, ckpt); };
+    auto fresh = [&]() { return clone_specimen(*first, ckpt); };
     std::cerr << "demfem calibrate: " << n_grains << " grains, porosity " << porosity
               << " (measurement regions " << porosity_m << ")"
               << ", genesis " << genesis_s << " s\n";
