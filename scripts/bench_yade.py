@@ -2,6 +2,17 @@
 #
 # Usage (Debian package `yade`, not a project dependency):
 #   yade -j T -n -x scripts/bench_yade.py --dim 3 --n N --steps S [--json]
+#   yade -j T -n -x scripts/bench_yade.py --material FILE --n N --steps S [--json]
+#
+# With --material (a material.json of `demfem calibrate`, as `demfem bench dem
+# --material`): radii from the file's size-distribution pieces (uniform or
+# clipped Gaussian diameters, times the diameter multiplier, pieces by
+# volume fraction), lattice spacing 2 x the mean radius, young = E*,
+# poisson = 1/kappa* (Yade's ks/kn), friction, density; the bond strengths
+# vary as in the material: Yade takes a contact's cohesion from its two
+# bodies' materials, so 64 materials with normalCohesion drawn from the
+# tensile-strength distribution (and shearCohesion the cohesion mean) are
+# assigned to the bodies at random. The dimension is the file's.
 #
 # Same scene as apps/bench_command.cc: N spheres of radii uniform in
 # [0.8, 1.2] r0 (r0 = 1 mm, density 2650) on a jittered lattice of spacing
@@ -28,12 +39,15 @@ from yade.wrapper import (Bo1_Sphere_Aabb, CohFrictMat, ForceResetter,
 
 
 def parse(argv):
-    opts = {"dim": 3, "n": 10000, "steps": 200, "json": False}
+    opts = {"dim": 3, "n": 10000, "steps": 200, "json": False, "material": None}
     a = 0
     while a < len(argv):
         k = argv[a]
         if k == "--json":
             opts["json"] = True
+        elif k == "--material" and a + 1 < len(argv):
+            opts["material"] = argv[a + 1]
+            a += 1
         elif k in ("--dim", "--n", "--steps") and a + 1 < len(argv):
             try:
                 opts[k[2:]] = int(argv[a + 1])
@@ -41,8 +55,18 @@ def parse(argv):
                 sys.exit("bench_yade: invalid value for %s: %s" % (k, argv[a + 1]))
             a += 1
         elif k != "dem":
-            sys.exit("bench_yade: unknown option %s (allowed: --dim 2|3 --n N --steps S --json)" % k)
+            sys.exit("bench_yade: unknown option %s (allowed: --dim 2|3 --material FILE "
+                     "--n N --steps S --json)" % k)
         a += 1
+    if opts["material"]:
+        try:
+            with open(opts["material"]) as f:
+                opts["mat"] = json.load(f)
+            opts["dim"] = int(opts["mat"]["dim"])
+            opts["mat"]["microparameters"]["size_distribution"]
+        except (OSError, ValueError, KeyError) as e:
+            sys.exit("bench_yade: --material %s: not a readable material file (%s)"
+                     % (opts["material"], e))
     if opts["dim"] not in (2, 3):
         sys.exit("bench_yade: --dim must be 2 or 3")
     if opts["n"] < 8 or opts["steps"] < 1:
@@ -79,6 +103,37 @@ def lattice(dim, n, a):
     return x
 
 
+def material_radii(m, n, rng):
+    """n radii of the material's size distribution (pieces by volume)."""
+    pieces = list(m["size_distribution"].values())
+    mult = m.get("diameter_multiplier", 1.0)
+    radii = []
+    for p in pieces:
+        k = max(1, int(round(n * p["volume_fraction"])))
+        for _ in range(k):
+            if p["kind"] == "gaussian":
+                d = min(max(rng.gauss(p["mean_m"], p["sd_m"]), p["D_lo_m"]), p["D_hi_m"])
+            else:
+                d = rng.uniform(p["D_lo_m"], p["D_hi_m"])
+            radii.append(0.5 * d * mult)
+    rng.shuffle(radii)
+    while len(radii) < n:
+        radii.append(radii[rng.randrange(len(radii))])
+    return radii[:n]
+
+
+def scene_materials(m, rng):
+    """Yade materials of a calibrated flat-jointed material (see the header)."""
+    mats = []
+    for _ in range(64):
+        ten = max(0.0, rng.gauss(m["fj_ten_mean_Pa"], m["fj_ten_sd_Pa"]))
+        mats.append(O.materials.append(CohFrictMat(
+            young=m["emod_Pa"], poisson=1.0 / m["krat"], density=m["density_kg_m3"],
+            frictionAngle=math.atan(m["fric"]), isCohesive=True, normalCohesion=ten,
+            shearCohesion=m["fj_coh_mean_Pa"], momentRotationLaw=True)))
+    return mats
+
+
 def main():
     o = parse(sys.argv[1:])
     dim, n, steps = o["dim"], o["n"], o["steps"]
@@ -86,14 +141,21 @@ def main():
     t0 = time.perf_counter()
     rng = random.Random(12345)
     # ks/kn = poisson in Yade's CohFrictPhys: kappa* = 2 -> 0.5 (as demfem).
-    mat = O.materials.append(CohFrictMat(young=50e9, poisson=0.5, density=2650,
-                                         frictionAngle=math.atan(0.5), isCohesive=True,
-                                         normalCohesion=1e20, shearCohesion=1e20,
-                                         momentRotationLaw=True))
+    micro = o["mat"]["microparameters"] if o["material"] else None
+    if micro:
+        mats = scene_materials(micro, rng)
+        radii = material_radii(micro, n, rng)
+        r0 = sum(radii) / n
+    else:
+        mats = [O.materials.append(CohFrictMat(young=50e9, poisson=0.5, density=2650,
+                                               frictionAngle=math.atan(0.5), isCohesive=True,
+                                               normalCohesion=1e20, shearCohesion=1e20,
+                                               momentRotationLaw=True))]
+        radii = [rng.uniform(0.8, 1.2) * r0 for _ in range(n)]
     bodies = []
-    for site in lattice(dim, n, 2 * r0):
+    for k, site in enumerate(lattice(dim, n, 2 * r0)):
         p = [site[d] + (rng.uniform(-1e-3, 1e-3) * r0 if d < dim else 0.0) for d in range(3)]
-        bodies.append(utils.sphere(p, rng.uniform(0.8, 1.2) * r0, material=mat))
+        bodies.append(utils.sphere(p, radii[k], material=mats[rng.randrange(len(mats))]))
     ids = O.bodies.append(bodies)
     up = dim - 1  # y in 2D, z in 3D
     lo = min(O.bodies[i].state.pos[up] for i in ids)
@@ -143,6 +205,7 @@ def main():
         "contact_updates_per_s": contacts * steps / wall,
         "particle_steps_per_s_per_thread": len(ids) * steps / wall / threads,
         "scene": "3D spheres" if dim == 3 else "monolayer of spheres (planar motion)",
+        "material": o["material"] or "single-group scene",
     }
     if o["json"]:
         print(json.dumps(res))
