@@ -1,5 +1,6 @@
 // Output helpers of `demfem calibrate` (see calibrate_output.h).
 #include "apps/calibrate_output.h"
+#include "dem/json_number.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,11 +11,6 @@ namespace demfem::apps
 {
   namespace
   {
-    nlohmann::ordered_json number(double v)
-    {
-      return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
-    }
-
     std::string xml(const std::string &s)
     {
       std::string o;
@@ -45,7 +41,7 @@ namespace demfem::apps
 
   Json &Json::num(const std::string &key, double v)
   {
-    j_[key] = number(v);
+    j_[key] = dem::json_number(v);
     return *this;
   }
   Json &Json::str(const std::string &key, const std::string &v)
@@ -62,7 +58,7 @@ namespace demfem::apps
   {
     auto a = nlohmann::ordered_json::array();
     for (double x : v)
-      a.push_back(number(x));
+      a.push_back(dem::json_number(x));
     j_[key] = a;
     return *this;
   }

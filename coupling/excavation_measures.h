@@ -19,11 +19,14 @@
 //   the wall.
 #include "dem/model.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <string>
+
 #include <vector>
 
 namespace demfem::coupling::excavation
@@ -92,21 +95,27 @@ namespace demfem::coupling::excavation
     return n;
   }
 
-  /// Cracks since the start by what broke, as a JSON object body
-  /// `"flat_joint": n, ...` (every bond type, zeros included).
+  /// Cracks since the start by what broke, as a JSON object
+  /// `{"flat_joint": n, ...}` (every bond type, zeros included).
   template <int dim>
-  std::string cracks_by_type_json(const dem::Model<dim> &m)
+  nlohmann::ordered_json cracks_by_type(const dem::Model<dim> &m)
   {
     std::array<std::size_t, dem::n_bond_types> n{};
     for (const auto &c : m.cracks)
       if (c.type != dem::BondType::none)
         ++n[static_cast<int>(c.type)];
-    std::string s;
+    nlohmann::ordered_json j = nlohmann::ordered_json::object();
     for (int t = 0; t < dem::n_bond_types; ++t)
-      s += std::string(t ? ", " : "") + "\"" +
-           dem::bond_type_name(static_cast<dem::BondType>(t)) +
-           "\": " + std::to_string(n[t]);
-    return s;
+      j[dem::bond_type_name(static_cast<dem::BondType>(t))] = n[t];
+    return j;
+  }
+
+  /// The members of cracks_by_type() as a JSON fragment (without braces).
+  template <int dim>
+  std::string cracks_by_type_json(const dem::Model<dim> &m)
+  {
+    const std::string s = cracks_by_type(m).dump();
+    return s.substr(1, s.size() - 2);
   }
 
   /// Percentile of the crack distances that is the damage-zone depth.

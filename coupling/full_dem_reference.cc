@@ -1,6 +1,7 @@
 #include "coupling/full_dem_reference.h"
 
 #include "coupling/excavation_measures.h"
+#include "dem/json_number.h"
 #include "dem/vtk_output.h"
 
 #include <algorithm>
@@ -429,47 +430,46 @@ namespace demfem::coupling
             }
           dem::vtkout::write_text_atomically(dir + "/cracks.csv", c.str());
         }
-        std::string diag;
-        for (char c : r.diagnosis)
-          diag += (c == '"' || c == '\\') ? '\'' : c;
-        std::ostringstream s;
-        s << "{\n  \"status\": \"" << (r.diverged ? "diverged" : "ok") << "\",\n"
-          << "  \"model\": \"full-DEM reference (servo-controlled membrane)\",\n"
-          << "  \"diagnosis\": \"" << diag << "\",\n"
-          << "  \"reference_radius_m\": " << num(p.region.radius)
-          << ",\n  \"tunnel_radius_m\": " << num(a)
-          << ",\n  \"n_particles\": " << r.n_particles
-          << ",\n  \"n_contacts\": " << r.n_contacts
-          << ",\n  \"membrane_vertices\": " << r.n_membrane_vertices
-          << ",\n  \"steps\": " << r.steps
-          << ",\n  \"packing_steps\": " << r.packing_steps
-          << ",\n  \"timestep_s\": " << num(r.timestep)
-          << ",\n  \"wall_time_s\": " << num(r.wall_time_s)
-          << ",\n  \"cracks_total\": " << r.cracks_total
-          << ",\n  \"cracks_tensile\": " << r.cracks_tensile
-          << ",\n  \"cracks_shear\": " << r.cracks_shear
-          << ",\n  \"cracks_by_type\": {" << excavation::cracks_by_type_json(m) << "}"
-          << ",\n  \"cracks_before_excavation\": " << r.cracks_before_excavation
-          << ",\n  \"cracks_near_boundary\": " << r.cracks_near_boundary
-          << ",\n  \"damage_zone_depth\": " << num(r.damage_zone_depth)
-          << ",\n  \"damage_zone_depth_max\": " << num(r.damage_zone_depth_max)
-          << ",\n  \"damage_zone_depth_all\": " << num(r.damage_zone_depth_all)
-          << ",\n  \"evaluation_radius_m\": " << num(r.evaluation_radius)
-          << ",\n  \"cracks_beyond_evaluation\": " << r.cracks_beyond_evaluation
-          << ",\n  \"wall_convergence_mean\": " << num(r.wall_convergence_mean)
-          << ",\n  \"wall_particles\": " << r.n_wall_particles
-          << ",\n  \"servo_tolerance\": " << num(p.servo.tolerance)
-          << ",\n  \"servo_error_insitu\": " << num(r.servo_error_insitu)
-          << ",\n  \"servo_held_insitu\": " << (r.servo_held_insitu ? "true" : "false")
-          << ",\n  \"servo_error_final\": " << num(r.servo_error_final)
-          << ",\n  \"held_stress_insitu\": [" << num(r.held_stress_insitu(0, 0)) << ", "
-          << num(r.held_stress_insitu(1, 1)) << ", " << num(r.held_stress_insitu(0, 1))
-          << "],\n  \"region_stress_insitu\": [" << num(r.region_stress_insitu(0, 0))
-          << ", " << num(r.region_stress_insitu(1, 1)) << ", "
-          << num(r.region_stress_insitu(0, 1))
-          << "],\n  \"final_ratio\": " << num(r.final_ratio)
-          << ",\n  \"equilibrated\": " << (r.equilibrated ? "true" : "false") << "\n}\n";
-        dem::vtkout::write_text_atomically(dir + "/summary.json", s.str());
+        using dem::json_number;
+        auto stress = [](const auto &t) {
+          return nlohmann::ordered_json::array(
+              {json_number(t(0, 0)), json_number(t(1, 1)), json_number(t(0, 1))});
+        };
+        nlohmann::ordered_json j;
+        j["status"]                   = r.diverged ? "diverged" : "ok";
+        j["model"]                    = "full-DEM reference (servo-controlled membrane)";
+        j["diagnosis"]                = r.diagnosis;
+        j["reference_radius_m"]       = json_number(p.region.radius);
+        j["tunnel_radius_m"]          = json_number(a);
+        j["n_particles"]              = r.n_particles;
+        j["n_contacts"]               = r.n_contacts;
+        j["membrane_vertices"]        = r.n_membrane_vertices;
+        j["steps"]                    = r.steps;
+        j["packing_steps"]            = r.packing_steps;
+        j["timestep_s"]               = json_number(r.timestep);
+        j["wall_time_s"]              = json_number(r.wall_time_s);
+        j["cracks_total"]             = r.cracks_total;
+        j["cracks_tensile"]           = r.cracks_tensile;
+        j["cracks_shear"]             = r.cracks_shear;
+        j["cracks_by_type"]           = excavation::cracks_by_type(m);
+        j["cracks_before_excavation"] = r.cracks_before_excavation;
+        j["cracks_near_boundary"]     = r.cracks_near_boundary;
+        j["damage_zone_depth"]        = json_number(r.damage_zone_depth);
+        j["damage_zone_depth_max"]    = json_number(r.damage_zone_depth_max);
+        j["damage_zone_depth_all"]    = json_number(r.damage_zone_depth_all);
+        j["evaluation_radius_m"]      = json_number(r.evaluation_radius);
+        j["cracks_beyond_evaluation"] = r.cracks_beyond_evaluation;
+        j["wall_convergence_mean"]    = json_number(r.wall_convergence_mean);
+        j["wall_particles"]           = r.n_wall_particles;
+        j["servo_tolerance"]          = json_number(p.servo.tolerance);
+        j["servo_error_insitu"]       = json_number(r.servo_error_insitu);
+        j["servo_held_insitu"]        = r.servo_held_insitu;
+        j["servo_error_final"]        = json_number(r.servo_error_final);
+        j["held_stress_insitu"]       = stress(r.held_stress_insitu);
+        j["region_stress_insitu"]     = stress(r.region_stress_insitu);
+        j["final_ratio"]              = json_number(r.final_ratio);
+        j["equilibrated"]             = r.equilibrated;
+        dem::vtkout::write_text_atomically(dir + "/summary.json", j.dump(2) + "\n");
         out << "full-DEM reference: done in " << r.wall_time_s << " s: " << r.n_particles
             << " grains, " << r.steps << " steps, "
             << r.cracks_total - r.cracks_before_excavation
