@@ -152,15 +152,19 @@ namespace demfem::apps
                            ". Wait for that run, or choose another Problem/output "
                            "directory");
         // Stale: move it aside under a unique name, so that of two runs taking
-        // it over at once only one removes it; then try again.
+        // it over at once only one removes it; then try again. Had another
+        // run replaced it by its own lock meanwhile, that lock is put back.
         const std::string aside = lock_file_ + ".stale." + std::to_string(::getpid());
         if (::rename(lock_file_.c_str(), aside.c_str()) == 0)
           {
+            if (json::parse(read_text(aside), nullptr, false) != other)
+              ::link(aside.c_str(), lock_file_.c_str()); // fails if taken: fine
+            else
+              std::fprintf(stderr,
+                           "demfem: taking over the stale lock of %s (that process "
+                           "is gone)\n",
+                           holder(other).c_str());
             ::unlink(aside.c_str());
-            std::fprintf(stderr,
-                         "demfem: taking over the stale lock of %s (that process is "
-                         "gone)\n",
-                         holder(other).c_str());
           }
       }
 

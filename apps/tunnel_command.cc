@@ -93,7 +93,12 @@ namespace demfem::apps
                     << " m; region radius " << ar.radius << " m (" << st.margin_grains
                     << " grains margin)" << std::endl;
         }
-      s.validate("parameter file"); // throws dem::InputError naming the key
+      // Throws dem::InputError naming the key; the file is named too.
+      const auto &cl = command_line();
+      s.validate(cl.file.empty()
+                     ? std::string("defaults")
+                     : "parameter file '" + cl.file + "'" +
+                           (cl.overrides.empty() ? "" : " with --set overrides"));
       return s;
     }
 
