@@ -139,3 +139,36 @@ TEST_CASE("output directory: a live lock refuses the run, a stale one is taken o
   CHECK_FALSE(fs::exists(out / "demfem.lock"));
   fs::remove_all(out);
 }
+
+TEST_CASE("output directory: the study owns its directory too", "[apps][output][study]")
+{
+  const fs::path    out = fresh_dir("study");
+  const std::string args =
+      "study " + std::string(DEMFEM_SOURCE_DIR) +
+      "/apps/examples/study_2d.prm --set \"Problem/output directory=" + out.string() +
+      "\" --set \"Study/region radius factors=2.5\" --set "
+      "\"Study/grain resolutions=3\" --set \"Study/subcycles=1\" "
+      "--set \"Study/timestep safety factors=0.8\"";
+  const auto r = run_demfem(args);
+  INFO(r.out);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(read(out / "manifest.json"), Catch::Contains("\"status\": \"ok\"") &&
+                                              Catch::Contains("\"command\": \"study\""));
+  CHECK(fs::exists(out / "summary.json"));
+  CHECK(fs::is_directory(out / "run_000"));
+  CHECK_FALSE(fs::exists(out / "summary.json.tmp"));
+
+  const auto again = run_demfem(args);
+  INFO(again.out);
+  CHECK(again.exit_code == 1);
+  CHECK_THAT(again.out, Catch::Contains("--overwrite"));
+
+  // --overwrite removes the earlier sub-runs too.
+  fs::create_directories(out / "run_007");
+  const auto over = run_demfem(args + " --overwrite");
+  INFO(over.out);
+  CHECK(over.exit_code == 0);
+  CHECK_FALSE(fs::exists(out / "run_007"));
+  CHECK(fs::is_directory(out / "run_000"));
+  fs::remove_all(out);
+}
