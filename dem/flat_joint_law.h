@@ -27,15 +27,13 @@
 // (memo Eq. 24) and, since s = -k, Mbs = -sum(rho Fn + Mb).
 // Check (pure bending): moment about z = -kn (2/3) R^3 theta_bk (resisting).
 #include "dem/contact_law.h"
+#include "dem/flat_joint_elements.h"
 
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
-#include <map>
-#include <memory>
-#include <mutex>
 #include <string>
 
 namespace demfem::dem
@@ -76,9 +74,9 @@ namespace demfem::dem
         prepare(c);
         return c;
       }
-      int    Nr     = 2;     ///< elements in radial direction (2D: elements)
-      int    Nal    = 4;     ///< elements in circumferential direction (3D only)
-      bool   bonded = false; ///< install with all elements bonded (if gap0 = 0)
+      int  Nr     = 2;     ///< elements in radial direction (2D: elements)
+      int  Nal    = 4;     ///< elements in circumferential direction (3D only)
+      bool bonded = false; ///< install with all elements bonded (if gap0 = 0)
       /// 3D unit-radius element geometry of (Nr, Nal), set by prepare().
       const double *unit_table = nullptr;
 
@@ -102,7 +100,7 @@ namespace demfem::dem
     /// The group's constants: the 3D element table of (Nr, Nal).
     static void prepare(Params &p)
     {
-      p.unit_table = dim == 3 ? build_unit_geometry(p.Nr, p.Nal) : nullptr;
+      p.unit_table = dim == 3 ? flat_joint_unit_geometry(p.Nr, p.Nal) : nullptr;
       derive(p, p);
     }
     /// tan(phi), and the initial microstructural type from the install flag
@@ -118,27 +116,27 @@ namespace demfem::dem
     /// before cycling; mtype read only.
     static const std::vector<PropertyField<Props>> &properties()
     {
-      using P                                        = Props;
+      using P                                            = Props;
       const double                                   inf = HUGE_VAL;
       static const std::vector<PropertyField<Props>> f   = {
-          {"fj_kn", [](const P &q) { return q.kn; }, [](P &q, double v) { q.kn = v; }, true,
-           0, inf},
-          {"fj_ks", [](const P &q) { return q.ks; }, [](P &q, double v) { q.ks = v; }, true,
-           0, inf},
-          {"fj_fric", [](const P &q) { return q.fric; }, [](P &q, double v) { q.fric = v; },
-           true, 0, inf},
-          {"fj_ten", [](const P &q) { return q.ten; }, [](P &q, double v) { q.ten = v; },
-           true, 0, inf},
-          {"fj_coh", [](const P &q) { return q.coh; }, [](P &q, double v) { q.coh = v; },
-           true, 0, inf},
-          {"fj_fa", [](const P &q) { return q.fa; }, [](P &q, double v) { q.fa = v; }, true,
-           0, 89.999999},
-          {"fj_rmul", [](const P &q) { return q.rmul; }, [](P &q, double v) { q.rmul = v; },
-           false, 0, inf},
-          {"fj_gap0", [](const P &q) { return q.gap0; }, [](P &q, double v) { q.gap0 = v; },
-           false, 0, inf},
-          {"fj_mtype", [](const P &q) { return q.mtype; },
-           [](P &q, double v) { q.mtype = v; }, false, 0, 4}};
+            {"fj_kn", [](const P &q) { return q.kn; }, [](P &q, double v) { q.kn = v; },
+             true, 0, inf},
+            {"fj_ks", [](const P &q) { return q.ks; }, [](P &q, double v) { q.ks = v; },
+             true, 0, inf},
+            {"fj_fric", [](const P &q) { return q.fric; },
+             [](P &q, double v) { q.fric = v; }, true, 0, inf},
+            {"fj_ten", [](const P &q) { return q.ten; }, [](P &q, double v) { q.ten = v; },
+             true, 0, inf},
+            {"fj_coh", [](const P &q) { return q.coh; }, [](P &q, double v) { q.coh = v; },
+             true, 0, inf},
+            {"fj_fa", [](const P &q) { return q.fa; }, [](P &q, double v) { q.fa = v; },
+             true, 0, 89.999999},
+            {"fj_rmul", [](const P &q) { return q.rmul; },
+             [](P &q, double v) { q.rmul = v; }, false, 0, inf},
+            {"fj_gap0", [](const P &q) { return q.gap0; },
+             [](P &q, double v) { q.gap0 = v; }, false, 0, inf},
+            {"fj_mtype", [](const P &q) { return q.mtype; },
+             [](P &q, double v) { q.mtype = v; }, false, 0, 4}};
       return f;
     }
 
@@ -232,41 +230,11 @@ namespace demfem::dem
     static bool          code_slip(unsigned char c) { return c >= 4; }
     static unsigned char make_code(int B, bool slip) { return B + (slip ? 4 : 0); }
 
-    /// 3D unit-radius element geometry per (Nr, Nal) (memo Eq. 16-17 with
-    /// R = 1): four arrays over the elements, A^, r^_s, r^_t and 1/A^ (so that
-    /// the element loops vectorise and the strain energy needs no division).
-    /// A group looks its table up once (prepare); Params made by hand look it
-    /// up here. The table is shared by all groups (guarded by a mutex, never
-    /// freed, entries never move).
+    /// 3D unit-radius element table (dem/flat_joint_elements.h): a group
+    /// looks it up once (prepare), Params made by hand here.
     static const double *unit_geometry(const Params &p)
     {
-      return p.unit_table ? p.unit_table : build_unit_geometry(p.Nr, p.Nal);
-    }
-    static const double *build_unit_geometry(int Nr, int Nal)
-    {
-      static std::mutex                                               mutex;
-      static std::map<std::pair<int, int>, std::unique_ptr<double[]>> table;
-      std::lock_guard<std::mutex>                                     lock(mutex);
-      auto &t = table[{Nr, Nal}];
-      if (!t)
-        {
-          const int ne = Nr * Nal;
-          t.reset(new double[4 * std::size_t(ne)]);
-          const double dr = 1.0 / Nr, da = 2 * M_PI / Nal;
-          for (int e = 0; e < ne; ++e)
-            {
-              const int    I = e / Nal, J = e - I * Nal;
-              const double r1 = I * dr, r2 = (I + 1) * dr;
-              const double a1 = J * da, a2 = (J + 1) * da;
-              const double radial = (r2 * r2 * r2 - r1 * r1 * r1) / (r2 * r2 - r1 * r1);
-              t[e]                = 0.5 * (a2 - a1) * (r2 * r2 - r1 * r1);
-              t[ne + e] = 2.0 / 3.0 * (std::sin(a2) - std::sin(a1)) / (a2 - a1) * radial;
-              t[2 * ne + e] =
-                  2.0 / 3.0 * (std::cos(a1) - std::cos(a2)) / (a2 - a1) * radial;
-              t[3 * ne + e] = 1.0 / t[e];
-            }
-        }
-      return t.get();
+      return p.unit_table ? p.unit_table : flat_joint_unit_geometry(p.Nr, p.Nal);
     }
 
     /// Element geometry for radius R with the unit table ug (3D, from
@@ -303,8 +271,7 @@ namespace demfem::dem
     static void element_geometry(const Params &p, double R, int e, double &A, double &rs,
                                  double &rt)
     {
-      scaled_geometry(p, R, dim == 3 ? unit_geometry(p) : nullptr, e, A, rs,
-                      rt);
+      scaled_geometry(p, R, dim == 3 ? unit_geometry(p) : nullptr, e, A, rs, rt);
     }
 
     /// Interface gap at (r_s, r_t) (memo Eq. 21; 2D Eq. 14 as derived above).
@@ -363,8 +330,8 @@ namespace demfem::dem
     /// Element normal force and bending moment for an element centred at rho
     /// (2D, exact, Eq. 44-49) or at (rs, rt) with area A (3D, Eq. 50: Mb = 0).
     static void normal_and_bending(const Params &p, const Props &q, const double *st,
-                                   double A, double rs, double rt, bool bonded, double &Fn,
-                                   double &Mb)
+                                   double A, double rs, double rt, bool bonded,
+                                   double &Fn, double &Mb)
     {
       if (dim == 2)
         {
@@ -418,19 +385,15 @@ namespace demfem::dem
       if (dim == 3)
         st[h_tbt] += k.d_bt;
 
-      // The update is bound by memory latency; groups keep the state blocks
-      // of consecutive contacts contiguous, so fetch the next block while this
-      // one is computed (a prefetch never faults, whatever follows; the
-      // address is formed as an integer since it may lie past the array).
-      {
-        const std::size_t    bytes = sizeof(double) * std::size_t(state_size(p));
-        const std::uintptr_t next  = reinterpret_cast<std::uintptr_t>(st) + bytes;
-        for (std::size_t i = 0; i < bytes; i += 64) // one cache line
-          __builtin_prefetch(reinterpret_cast<const void *>(next + i), 1);
-      }
+      prefetch_next_state(st, state_size(p));
 
+      // Intact 3D material: the branch-free element loop, bitwise the same.
       if constexpr (dim == 3)
-        if (update_bonded_3d(p, q, k, st, f))
+        if (update_bonded_elements_3d({element_count(p), code_array(st), unit_geometry(p),
+                                       field(p, st, f_fss), field(p, st, f_fst), st[h_R],
+                                       st[h_gs], st[h_tbs], st[h_tbt], q.kn, q.ks, q.ten,
+                                       q.coh, q.tan_fa},
+                                      k.d_ss, k.d_st, k.d_twist, f))
           return;
 
       // Per-contact invariants hoisted out of the element loop.
@@ -445,7 +408,7 @@ namespace demfem::dem
       double        *eslip_a = field(p, st, f_eslip);
 
       // 3D: the resultant is summed in two partial sums, even and odd
-      // elements, as the two lanes of the fast path (update_bonded_3d), so
+      // elements, as the two lanes of the fast path (update_bonded_elements_3d), so
       // both give the same bits.
       ContactForce part[2];
       double       mz = 0; // 2D resultant moment about +z
@@ -601,91 +564,6 @@ namespace demfem::dem
         }
     }
 
-    /// 3D fast path of `update` (after the header increments) for a contact
-    /// whose elements are all bonded and not slipping, the state of intact
-    /// material: the arithmetic of the general loop for B = 3 (alpha = 1, no
-    /// slip test, Fn from Eq. 32/50, shear from Eq. 33-34) without branches,
-    /// so the element loop vectorises, then the resultant (Eq. 23-24) summed
-    /// in element order: the results are bitwise those of the general loop.
-    /// Returns false, having written nothing, if an element is not bonded or
-    /// would break this step (the general loop then does the contact, with
-    /// its events).
-    static bool update_bonded_3d(const Params &p, const Props &q, const ContactStep<dim> &k,
-                                 double *st, ContactForce &f)
-    {
-      // Two elements per instruction (SSE2, part of x86-64; the GCC/Clang
-      // vector extension lowers to scalar code elsewhere). Element-wise IEEE
-      // arithmetic, so the lanes give exactly the scalar results.
-      typedef double v2d __attribute__((vector_size(16)));
-      typedef long   v2l __attribute__((vector_size(16)));
-      constexpr int  max_elements = 64; // stack arrays below
-      const int      ne           = element_count(p);
-      if (ne > max_elements || ne % 2 != 0)
-        return false;
-      auto load = [](const double *a) {
-        v2d v;
-        std::memcpy(&v, a, sizeof v);
-        return v;
-      };
-      auto store = [](double *a, v2d v) { std::memcpy(a, &v, sizeof v); };
-      auto splat = [](double x) { return v2d{x, x}; };
-
-      // Every code 3 (bonded, not slipping), eight at a time.
-      const unsigned char *codes = code_array(st);
-      for (int e = 0; e < ne; e += 8)
-        {
-          const int     n    = ne - e < 8 ? ne - e : 8;
-          std::uint64_t word = 0, all3 = 0x0303030303030303ull;
-          std::memcpy(&word, codes + e, n);
-          if (n < 8)
-            all3 &= (1ull << (8 * n)) - 1; // the bytes past ne read as 0
-          if (word != all3)
-            return false;
-        }
-
-      const double *ug = unit_geometry(p);
-      const double *uA = ug, *urs = ug + ne, *urt = ug + 2 * ne;
-      double       *fss_a = field(p, st, f_fss), *fst_a = field(p, st, f_fst);
-      const v2d     R = splat(st[h_R]), RR = splat(st[h_R] * st[h_R]);
-      const v2d gs1 = splat(st[h_gs]), tbs1 = splat(st[h_tbs]), tbt1 = splat(st[h_tbt]);
-      const v2d d_ss = splat(k.d_ss), d_st = splat(k.d_st), d_tw = splat(k.d_twist);
-      const v2d kn = splat(q.kn), ks = splat(q.ks), ten = splat(q.ten),
-                coh     = splat(q.coh);
-      const v2d tan_phi = splat(q.tan_fa), zero = splat(0.0);
-      double    Fss[max_elements], Fst[max_elements];
-      v2l       broken = {0, 0};
-      // Resultant (Eq. 23-24): lane 0 sums the even elements, lane 1 the odd
-      // ones, as the general loop does.
-      v2d sFn = zero, sFss = zero, sFst = zero, sMt = zero, sMbs = zero, sMbt = zero;
-      for (int e = 0; e < ne; e += 2)
-        {
-          const v2d A  = RR * load(uA + e);
-          const v2d rs = R * load(urs + e), rt = R * load(urt + e);
-          const v2d g1 = gs1 + rt * tbs1 - rs * tbt1;
-          const v2d fn = kn * g1 * A;
-          const v2d ds = d_ss - d_tw * rt, dtt = d_st + d_tw * rs;
-          const v2d ksA = ks * A;
-          const v2d fs = load(fss_a + e) - ksA * ds, ft = load(fst_a + e) - ksA * dtt;
-          const v2d F2 = fs * fs + ft * ft;
-          const v2d Tc = coh * A - fn * tan_phi;
-          broken |= (fn > ten * A) | (Tc < zero) | (F2 > Tc * Tc);
-          store(Fss + e, fs), store(Fst + e, ft);
-          sFn += fn;
-          sFss += fs;
-          sFst += ft;
-          sMt += rs * ft - rt * fs;
-          sMbs += -fn * rt;
-          sMbt += fn * rs;
-        }
-      if (broken[0] | broken[1])
-        return false;
-      std::memcpy(fss_a, Fss, sizeof(double) * ne);
-      std::memcpy(fst_a, Fst, sizeof(double) * ne);
-      f = ContactForce{sFn[0] + sFn[1], sFss[0] + sFss[1], sFst[0] + sFst[1],
-                       sMt[0] + sMt[1], sMbs[0] + sMbs[1], sMbt[0] + sMbt[1]};
-      return true;
-    }
-
     /// Memo §1.6: active if any element is bonded or has a negative gap
     /// (2D: anywhere over the element, as the stress field of Eq. 28).
     static bool active(const Params &p, const Props &, const double *st, double /*gap*/)
@@ -711,7 +589,8 @@ namespace demfem::dem
 
     /// Memo §1.6: no bond left and the notional-surface centres further apart
     /// than the flat-joint diameter.
-    static bool deletable(const Params &p, const Props &, const double *st, double /*gap*/)
+    static bool deletable(const Params &p, const Props &, const double *st,
+                          double /*gap*/)
     {
       if (bonded_count(p, st) > 0)
         return false;

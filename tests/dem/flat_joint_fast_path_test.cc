@@ -1,5 +1,5 @@
 // The 3D flat-joint update has a fast path for contacts whose elements are
-// all bonded and not slipping (FlatJointLaw<3>::update_bonded_3d, the state
+// all bonded and not slipping (update_bonded_elements_3d in dem/flat_joint_elements.h, the state
 // of intact material). It must give bitwise the results of the general
 // element loop, and must hand over to it (having written nothing) when an
 // element breaks. The general loop is forced here by marking element 0 as
