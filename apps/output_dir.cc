@@ -271,7 +271,19 @@ namespace demfem::apps
     manifest_["status"]    = status;
     manifest_["exit_code"] = exit_code;
     manifest_["end_time"]  = utc_now();
-    write_manifest();
+    try
+      {
+        write_manifest();
+      }
+    catch (const std::exception &e)
+      {
+        // E.g. the disk is full: the run's own error (if any) has been
+        // reported already and stays the one message; a successful run
+        // says that its manifest still reads "running".
+        if (status.rfind("error", 0) != 0)
+          std::fprintf(stderr, "demfem: warning: %s/manifest.json not updated: %s\n",
+                       directory_.c_str(), e.what());
+      }
   }
 
   void RunDirectory::write_manifest() const

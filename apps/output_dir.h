@@ -46,7 +46,8 @@ namespace demfem::apps
     void resolved(const std::string &key, const nlohmann::json &value);
 
     /// Records the end status ("ok", "diverged", "interrupted", "error: ...")
-    /// and the exit code in the manifest.
+    /// and the exit code in the manifest. Never throws (it is called from
+    /// error handlers): a manifest that cannot be written is a warning.
     void finish(const std::string &status, int exit_code);
 
     const std::string &path() const { return directory_; }

@@ -8,7 +8,6 @@
 #include "dem/smooth_joint_law.h"
 
 #include <cstring>
-#include <fstream>
 #include <sstream>
 #include <type_traits>
 #include <utility>
@@ -24,7 +23,7 @@ namespace demfem::dem
     // 3: per-contact property blocks ("props" per group, "props_names") and
     //    the crack type.
     // 4: Fletcher32 checksums on every dataset, strings stored as checksummed
-    //    bytes, HDF5 1.8+ file format (checksummed metadata).
+    //    bytes, a checksum trailer over the whole file (dem/hdf5_io.h).
     constexpr int format_version = 4;
 
     // ----------------------------------------------------------------------
@@ -587,7 +586,9 @@ namespace demfem::dem
       write_strings(c, g, "values", values);
     }
 
-    std::map<std::string, std::string> read_metadata(const Ctx &c, hid_t file, int *dim)
+    /// `checksum`: what compare_checksum said of the file (open_for_reading).
+    std::map<std::string, std::string> read_metadata(const Ctx &c, hid_t file, int *dim,
+                                                     int checksum)
     {
       const auto format = read_strings(c, file, "format");
       if (format.size() != 1 || format[0] != format_name)
@@ -596,6 +597,11 @@ namespace demfem::dem
       if (version != format_version)
         c.fail("format version " + std::to_string(version) +
                " is not supported (expected " + std::to_string(format_version) + ")");
+      // A current file without its checksum trailer: the trailer itself is
+      // damaged (or the file was cut).
+      if (checksum < 0)
+        c.fail("its checksum trailer is missing or damaged: the file is damaged (use the "
+               "previous checkpoint, checkpoint.h5.prev, or start again)");
       if (dim)
         *dim = read_scalar<int>(c, file, "dim");
       Handle     g      = open_group(c, file, "metadata");
@@ -610,8 +616,9 @@ namespace demfem::dem
     }
 
     /// Reads every dataset once: InputError naming the first whose
-    /// Fletcher32 checksum fails.
-    void verify_datasets(const Ctx &c, hid_t file)
+    /// Fletcher32 checksum fails; a structure too damaged to walk is an
+    /// error too when `walk_errors`.
+    void verify_datasets(const Ctx &c, hid_t file, bool walk_errors = true)
     {
       struct Visit
       {
@@ -647,36 +654,27 @@ namespace demfem::dem
       const herr_t r = H5Ovisit(file, H5_INDEX_NAME, H5_ITER_NATIVE, each, &visit);
       if (!visit.failure.empty())
         throw InputError(visit.failure);
-      if (r < 0)
+      if (r < 0 && walk_errors)
         c.fail("cannot walk its datasets (damaged file?)");
     }
 
-    Handle open_for_reading(const Ctx &c)
+    /// Opens the file after comparing it with its checksum trailer (the
+    /// result in `*checksum`, for read_metadata's version-dependent check).
+    Handle open_for_reading(const Ctx &c, int *checksum_state)
     {
       struct stat st;
       if (::stat(c.file.c_str(), &st) != 0)
         c.fail(std::string("cannot open: ") + std::strerror(errno));
       const int checksum = compare_checksum(c);
-      Handle    f(H5Fopen(c.file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+      *checksum_state    = checksum;
+      Handle f(H5Fopen(c.file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
       if (checksum == 0)
         {
           // Damaged: name the dataset if the damage lies in one.
           if (f.valid())
-            verify_datasets(c, f);
+            verify_datasets(c, f, false);
           c.fail("its checksum does not match its contents: the file is damaged (use the "
                  "previous checkpoint, checkpoint.h5.prev, or start again)");
-        }
-      if (checksum < 0)
-        {
-          // No checksum: a file of format version <= 3 starts with HDF5's
-          // signature (its version check then refuses it); otherwise the
-          // checksum block itself is damaged.
-          char          head[8] = {};
-          std::ifstream in(c.file, std::ios::binary);
-          in.read(head, sizeof head);
-          if (std::string(head, 4) != "\x89HDF")
-            c.fail("its checksum block is damaged: the file is damaged (use the previous "
-                   "checkpoint, checkpoint.h5.prev, or start again)");
         }
       if (!f.valid())
         c.fail("not an HDF5 file or damaged");
@@ -700,8 +698,9 @@ namespace demfem::dem
   {
     QuietHdf5 quiet;
     const Ctx c{path, true};
-    Handle    file = open_for_reading(c);
-    auto      md   = read_metadata(c, file, nullptr);
+    int       checksum = 0;
+    Handle    file     = open_for_reading(c, &checksum);
+    auto      md       = read_metadata(c, file, nullptr, checksum);
     ModelCheckpoint<dim>::read(model, file, c);
     if (metadata)
       *metadata = std::move(md);
@@ -711,8 +710,9 @@ namespace demfem::dem
   {
     QuietHdf5 quiet;
     const Ctx c{path, true};
-    Handle    file = open_for_reading(c);
-    read_metadata(c, file, nullptr); // the format and version first
+    int       checksum = 0;
+    Handle    file     = open_for_reading(c, &checksum);
+    read_metadata(c, file, nullptr, checksum); // the format and version first
     verify_datasets(c, file);
   }
 
@@ -721,8 +721,9 @@ namespace demfem::dem
   {
     QuietHdf5 quiet;
     const Ctx c{path, true};
-    Handle    file = open_for_reading(c);
-    return read_metadata(c, file, dim);
+    int       checksum = 0;
+    Handle    file     = open_for_reading(c, &checksum);
+    return read_metadata(c, file, dim, checksum);
   }
 
   template void write_checkpoint<2>(const Model<2> &, const std::string &,

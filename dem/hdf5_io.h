@@ -9,9 +9,9 @@
 // Integrity: every non-empty dataset is chunked with the Fletcher32 checksum
 // filter, strings included (stored as bytes, since a variable-length
 // string's characters live outside the dataset and the filter would not
-// cover them), and the file uses the HDF5 1.8+ format whose object headers
-// and superblock carry checksums too. A damaged byte makes H5Dread (or the
-// open) fail; read_data reports it naming the dataset and the file.
+// cover them), and the whole file ends with a checksum trailer (below,
+// "Whole-file checksum and writing"). A damaged byte in a dataset makes
+// H5Dread fail; read_data reports it naming the dataset and the file.
 #include "dem/types.h"
 
 #include <fcntl.h>
@@ -367,83 +367,112 @@ namespace demfem::dem::hdf5io
   }
 
   // ----------------------------------------------------------------------
-  // Whole-file checksum. The dataset checksums do not cover HDF5's own
-  // structures between them (chunk indexes, heaps, free space of its block
-  // aggregation: about half of a small checkpoint, measured), so the file
-  // also carries a checksum of all its bytes in its user block, 512 bytes at
-  // its start that HDF5 reserves and never reads.
+  // Whole-file checksum and writing. The dataset checksums do not cover
+  // HDF5's own structures between them (object headers, chunk indexes,
+  // heaps, free space of its block aggregation: about half of a small
+  // checkpoint, measured), so the file ends with a trailer holding a
+  // checksum of all the bytes before it (HDF5 ignores bytes past its end of
+  // file). HDF5 builds the file in memory (core driver, no backing store)
+  // and we write the bytes ourselves: a full disk is then our own write
+  // error, reported with errno, and never an HDF5 file left half closed
+  // (HDF5 1.10 crashes at exit on a file whose close failed).
 
-  constexpr std::size_t user_block_size = 512;
-  constexpr const char *checksum_magic  = "demfem checkpoint checksum fnv1a64 ";
+  constexpr std::size_t trailer_size   = 64;
+  constexpr const char *checksum_magic = "demfem-checksum fnv1a64 ";
 
-  /// FNV-1a (64 bit) of the file's bytes after the user block, and their count.
-  inline std::uint64_t file_checksum(const Ctx &c, std::size_t &n_bytes)
+  /// FNV-1a (64 bit) of `n` bytes.
+  inline std::uint64_t fnv1a(const char *data, std::size_t n,
+                             std::uint64_t h = 1469598103934665603ull)
+  {
+    for (std::size_t k = 0; k < n; ++k)
+      h = (h ^ static_cast<unsigned char>(data[k])) * 1099511628211ull;
+    return h;
+  }
+
+  /// The trailer of an image of n bytes with checksum h: magic, hex
+  /// checksum, byte count, padded to trailer_size.
+  inline std::string checksum_trailer(std::uint64_t h, std::size_t n)
+  {
+    std::ostringstream s;
+    s << checksum_magic << std::hex << h << std::dec << " " << n << "\n";
+    std::string t = s.str();
+    t.resize(trailer_size, ' ');
+    t.back() = '\n';
+    return t;
+  }
+
+  /// Compares the file with its checksum trailer: 1 equal, 0 it differs
+  /// (damaged), -1 no trailer (a file of format version <= 3, or the
+  /// trailer itself is damaged).
+  inline int compare_checksum(const Ctx &c)
   {
     const int fd = ::open(c.file.c_str(), O_RDONLY);
     if (fd < 0)
       c.fail(std::string("cannot open: ") + std::strerror(errno));
+    struct stat st;
+    if (::fstat(fd, &st) != 0 || std::size_t(st.st_size) < trailer_size)
+      {
+        ::close(fd);
+        return -1;
+      }
+    const std::size_t n = std::size_t(st.st_size) - trailer_size;
+    char              tail[trailer_size];
+    if (::pread(fd, tail, trailer_size, off_t(n)) != ssize_t(trailer_size))
+      {
+        ::close(fd);
+        return -1;
+      }
+    const std::string  magic = checksum_magic;
+    std::istringstream in(std::string(tail + magic.size(), trailer_size - magic.size()));
+    std::uint64_t      stored   = 0;
+    std::size_t        stored_n = 0;
+    if (std::string(tail, magic.size()) != magic ||
+        !(in >> std::hex >> stored >> std::dec >> stored_n))
+      {
+        ::close(fd);
+        return -1;
+      }
     std::uint64_t     h = 1469598103934665603ull;
     std::vector<char> buf(1 << 16);
-    n_bytes = 0;
-    for (off_t at = off_t(user_block_size);;)
+    for (std::size_t at = 0; at < n;)
       {
-        const ssize_t got = ::pread(fd, buf.data(), buf.size(), at);
-        if (got < 0)
+        const ssize_t got =
+            ::pread(fd, buf.data(), std::min(buf.size(), n - at), off_t(at));
+        if (got <= 0)
           {
             ::close(fd);
             c.fail(std::string("cannot read: ") + std::strerror(errno));
           }
-        if (got == 0)
-          break;
-        for (ssize_t k = 0; k < got; ++k)
-          h = (h ^ static_cast<unsigned char>(buf[std::size_t(k)])) * 1099511628211ull;
-        at += got;
-        n_bytes += std::size_t(got);
+        h = fnv1a(buf.data(), std::size_t(got), h);
+        at += std::size_t(got);
       }
     ::close(fd);
-    return h;
-  }
-
-  /// Writes the checksum of the closed file into its user block.
-  inline void stamp_checksum(const Ctx &c)
-  {
-    std::size_t         n = 0;
-    const std::uint64_t h = file_checksum(c, n);
-    std::ostringstream  s;
-    s << checksum_magic << std::hex << h << std::dec << " " << n << "\n";
-    std::string block = s.str();
-    block.resize(user_block_size, '\0');
-    const int fd = ::open(c.file.c_str(), O_WRONLY);
-    if (fd < 0 || ::pwrite(fd, block.data(), block.size(), 0) != ssize_t(block.size()))
-      {
-        if (fd >= 0)
-          ::close(fd);
-        c.fail("cannot write the checksum into " + c.file);
-      }
-    ::close(fd);
-  }
-
-  /// Compares the file with the checksum in its user block: 1 equal, 0 it
-  /// differs (damaged), -1 no checksum (a file of format version <= 3, or
-  /// its user block is damaged).
-  inline int compare_checksum(const Ctx &c)
-  {
-    char      head[user_block_size] = {};
-    const int fd                    = ::open(c.file.c_str(), O_RDONLY);
-    if (fd < 0)
-      c.fail(std::string("cannot open: ") + std::strerror(errno));
-    const ssize_t got = ::pread(fd, head, sizeof head, 0);
-    ::close(fd);
-    const std::string magic = checksum_magic;
-    if (got != ssize_t(sizeof head) || std::string(head, magic.size()) != magic)
-      return -1;
-    std::istringstream in(std::string(head + magic.size(), sizeof head - magic.size()));
-    std::uint64_t      stored   = 0;
-    std::size_t        stored_n = 0, n = 0;
-    if (!(in >> std::hex >> stored >> std::dec >> stored_n))
-      return -1;
-    const std::uint64_t h = file_checksum(c, n);
     return h == stored && n == stored_n ? 1 : 0;
+  }
+
+  /// Writes `bytes` to a new file `path` and syncs it; runtime_error naming
+  /// the file and the reason (e.g. "No space left on device").
+  inline void write_bytes(const Ctx &c, const std::string &path, const std::string &bytes)
+  {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0)
+      c.fail("cannot create " + path + ": " + std::strerror(errno) +
+             " (directory missing or not writable?)");
+    for (std::size_t at = 0; at < bytes.size();)
+      {
+        const ssize_t put = ::write(fd, bytes.data() + at, bytes.size() - at);
+        if (put < 0 && errno == EINTR)
+          continue;
+        if (put <= 0)
+          {
+            const int e = errno;
+            ::close(fd);
+            c.fail("cannot write " + path + ": " + std::strerror(e));
+          }
+        at += std::size_t(put);
+      }
+    if (::fsync(fd) != 0 || ::close(fd) != 0)
+      c.fail("cannot write " + path + ": " + std::strerror(errno));
   }
 
   inline void write_atomically(const std::string                             &path,
@@ -453,23 +482,29 @@ namespace demfem::dem::hdf5io
     const std::string tmp = path + ".tmp", prev = path + ".prev";
     try
       {
-        QuietHdf5 quiet;
-        // The 1.8+ file format: checksummed superblock and object headers.
-        Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-        if (!access.valid() ||
-            H5Pset_libver_bounds(access, H5F_LIBVER_V18, H5F_LIBVER_LATEST) < 0)
-          c.fail("cannot set the file format of " + tmp);
-        Handle create(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
-        if (!create.valid() || H5Pset_userblock(create, user_block_size) < 0)
-          c.fail("cannot reserve the checksum block of " + tmp);
-        Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, create, access), H5Fclose);
-        if (!file.valid())
-          c.fail("cannot create " + tmp + " (directory missing or not writable?)");
-        body(file, c);
-        if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0 || file.close() < 0)
-          c.fail("cannot flush and close " + tmp);
-        stamp_checksum(Ctx{tmp, false});
-        fsync_path(tmp, false, c);
+        std::string image;
+        {
+          QuietHdf5 quiet;
+          Handle    access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+          if (!access.valid() || H5Pset_fapl_core(access, 1 << 20, 0) < 0)
+            c.fail("cannot set up the in-memory file of " + tmp);
+          Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access),
+                      H5Fclose);
+          if (!file.valid())
+            c.fail("cannot create the in-memory file of " + tmp);
+          body(file, c);
+          if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
+            c.fail("cannot flush the in-memory file of " + tmp);
+          const ssize_t n = H5Fget_file_image(file, nullptr, 0);
+          if (n <= 0)
+            c.fail("cannot take the image of " + tmp);
+          image.resize(std::size_t(n));
+          if (H5Fget_file_image(file, image.data(), image.size()) != n ||
+              file.close() < 0)
+            c.fail("cannot take the image of " + tmp);
+        }
+        image += checksum_trailer(fnv1a(image.data(), image.size()), image.size());
+        write_bytes(c, tmp, image);
       }
     catch (...)
       {

@@ -93,6 +93,31 @@ rc=$?
 check "corrupt (prm text): refused (exit $rc)" [ "$rc" -eq 1 ]
 check "corrupt (prm text): Fletcher32 named" grep -q "Fletcher32" "$work/text.log"
 
+# 4. Disk full (a 300 KiB tmpfs; only where mounting is allowed, e.g. as
+# root): one error naming the file, exit 1, no crash, and the files written
+# before are complete (replaced atomically).
+total=15
+tiny="$work/tiny"
+mkdir -p "$tiny"
+if mount -t tmpfs -o size=300k tmpfs "$tiny" 2>/dev/null; then
+  trap 'umount "$tiny" 2>/dev/null; rm -rf "$work"' EXIT
+  "$exe" tunnel "$prm" "${small[@]}" --set "Output/interval=200" \
+    --set "Problem/output directory=$tiny/run" > "$work/full.log" 2>&1
+  rc=$?
+  total=$((total + 4))
+  check "disk full: exit 1 (exit $rc)" [ "$rc" -eq 1 ]
+  check "disk full: one error naming the file and the reason" \
+    [ "$(grep -c 'error:' "$work/full.log")" -eq 1 -a \
+      "$(grep -c "error: .*$tiny/run/.*No space left on device" "$work/full.log")" -eq 1 ]
+  check "disk full: no temporary file left over as a result" \
+    [ -z "$(find "$tiny/run" -name '*.pvd' -size 0)" ]
+  check "disk full: history.csv complete (every row ends a line)" \
+    [ ! -s "$tiny/run/history.csv" -o "$(tail -c 1 "$tiny/run/history.csv" | od -An -c | tr -d ' ')" = '\n' ]
+  umount "$tiny"
+else
+  echo "skipped: disk-full probe (cannot mount a tmpfs here)"
+fi
+
 for f in "$work"/*.log; do echo "--- $f"; tail -n 3 "$f"; done
-echo "$((15 - failed)) passed, $failed failed"
+echo "$((total - failed)) passed, $failed failed"
 [ "$failed" -eq 0 ]
