@@ -150,21 +150,8 @@ namespace demfem::apps
           }
 
         const fem::ElasticSettings settings = read_settings(prm);
-        // One owner per directory: rank 0 claims it for all ranks, which
-        // learn the outcome together (a rank alone in an error would hang
-        // the others in the solver's collectives).
-        std::string claim_error;
-        if (Utilities::MPI::this_mpi_process(comm) == 0)
-          try
-            {
-              run_dir.emplace(settings.output_directory, prm);
-            }
-          catch (const std::exception &e)
-            {
-              claim_error = exception_text(e);
-            }
-        claim_error = Utilities::MPI::broadcast(comm, claim_error, 0);
-        AssertThrow(claim_error.empty(), ExcMessage(claim_error));
+        // One owner per directory: rank 0 claims it for all ranks.
+        claim_output_directory(run_dir, settings.output_directory, prm);
         if (settings.dimension == 2)
           {
             fem::ElasticProblem<2> problem(settings, comm);

@@ -1,5 +1,7 @@
 #include "apps/output_dir.h"
 
+#include <deal.II/base/mpi.h>
+
 #include "apps/cli.h"
 #include "apps/prm_cli.h"
 #include "dem/vtk_output.h"
@@ -290,5 +292,27 @@ namespace demfem::apps
   {
     dem::vtkout::write_text_atomically(directory_ + "/manifest.json",
                                        manifest_.dump(2) + "\n");
+  }
+
+  void claim_output_directory(std::optional<RunDirectory>    &slot,
+                              const std::string              &directory,
+                              const dealii::ParameterHandler &prm, bool continuing)
+  {
+    namespace mpi           = dealii::Utilities::MPI;
+    const bool  initialized = mpi::job_supports_mpi();
+    std::string error;
+    if (!initialized || mpi::this_mpi_process(MPI_COMM_WORLD) == 0)
+      try
+        {
+          slot.emplace(directory, prm, continuing);
+        }
+      catch (const std::exception &e)
+        {
+          error = e.what();
+        }
+    if (initialized && mpi::n_mpi_processes(MPI_COMM_WORLD) > 1)
+      error = mpi::broadcast(MPI_COMM_WORLD, error, 0);
+    if (!error.empty())
+      throw UsageError(error);
   }
 } // namespace demfem::apps

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,15 @@ namespace demfem::apps
     bool           finished_ = false;
     bool           created_  = false; ///< the directory did not exist before
   };
+
+  /// Claims `directory` into `slot` on MPI rank 0 only (one owner per
+  /// directory; every rank writes into it) and tells all ranks the outcome
+  /// together: a rank alone in an error would leave the others waiting in a
+  /// collective. Throws UsageError on every rank if the claim failed.
+  void claim_output_directory(std::optional<RunDirectory>    &slot,
+                              const std::string              &directory,
+                              const dealii::ParameterHandler &prm,
+                              bool                            continuing = false);
 
   /// Result files of demfem runs that --overwrite deletes from a directory
   /// (and whose presence marks it as used): a list of names and patterns.

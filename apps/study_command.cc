@@ -397,7 +397,7 @@ namespace demfem::apps
             }
 
         const std::string out = base.output_directory;
-        run_dir.emplace(out, prm);
+        claim_output_directory(run_dir, out, prm);
 
         // The region of a resolution (grain sizes scaled, d_max/d_min kept).
         auto region_at = [&](double r, std::uint64_t seed) {
@@ -598,7 +598,8 @@ namespace demfem::apps
                     << " agreeing with the reference (speed-up table " << out
                     << "/study.md)";
         std::cout << "; output in " << out << std::endl;
-        run_dir->finish("ok", 0);
+        if (run_dir)
+          run_dir->finish("ok", 0);
         return 0;
       }
     catch (const std::exception &e)

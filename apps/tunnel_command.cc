@@ -176,9 +176,9 @@ namespace demfem::apps
         s.restart_file = restart;
         // A foreign checkpoint is bad input: refused before anything is written.
         coupling::check_restart(s);
-        run_dir.emplace(s.output_directory, prm,
-                        !restart.empty() && inside(restart, s.output_directory));
-        if (radius_auto)
+        claim_output_directory(run_dir, s.output_directory, prm,
+                               !restart.empty() && inside(restart, s.output_directory));
+        if (radius_auto && run_dir)
           run_dir->resolved("DEM region/radius", s.region.radius);
         std::signal(SIGINT, on_stop_signal);
         std::signal(SIGTERM, on_stop_signal);
@@ -189,7 +189,8 @@ namespace demfem::apps
             std::cout << "demfem tunnel: stopped at step " << r.steps
                       << " on request; continue with: " << restart_command(r.checkpoint)
                       << std::endl;
-            run_dir->finish("interrupted", sig == SIGTERM ? 143 : 130);
+            if (run_dir)
+              run_dir->finish("interrupted", sig == SIGTERM ? 143 : 130);
             return sig == SIGTERM ? 143 : 130;
           }
         if (r.diverged)
@@ -197,7 +198,8 @@ namespace demfem::apps
             std::cerr << "demfem tunnel: the run diverged: " << r.diagnosis
                       << "\n(summary.json records it; no non-finite value was written)"
                       << std::endl;
-            run_dir->finish("diverged", 2);
+            if (run_dir)
+              run_dir->finish("diverged", 2);
             return 2;
           }
         std::cout << "demfem tunnel: done in " << r.wall_time_s << " s: " << r.n_particles
@@ -206,7 +208,8 @@ namespace demfem::apps
                   << " m, mean wall convergence " << r.wall_convergence_mean
                   << " m, interface force imbalance " << r.interface_force_imbalance_max
                   << "; output in " << s.output_directory << std::endl;
-        run_dir->finish("ok", 0);
+        if (run_dir)
+          run_dir->finish("ok", 0);
         return 0;
       }
     catch (const std::exception &e)
