@@ -41,6 +41,8 @@ namespace demfem::apps
         "measured properties with units; E, nu are the continuum's pair: 3D, or 2D\n"
         "plane strain), summary.json, history_<test>.csv, <test>_stress_strain.svg,\n"
         "VTK of the specimen and of each test at peak and at the end (.pvd).\n"
+        "Exit 3 (summary.json status step_limit_reached) when a test ended at\n"
+        "Tests/step limit before its post-peak end.\n"
         "\n"
         "--fit  automatic calibration: searches the microparameters of Fit/parameters\n"
         "       for the targets of Fit/Targets (E, nu, ucs, bts, direct tension, crack\n"

@@ -88,7 +88,12 @@ namespace demfem::apps
                 lp.kind = kind, lp.ctype = ctype, lp.Pc = Pc;
                 if (strain_limit > 0)
                   lp.strain_limit = strain_limit;
-                return dem::run_lab_test(*sp, lp);
+                auto r = dem::run_lab_test(*sp, lp);
+                if (r.ended_by == "step limit")
+                  throw std::runtime_error(std::string(dem::test_kind_name(kind)) +
+                                           " test ended at Tests/step limit before its "
+                                           "peak was certain");
+                return r;
               };
               using dem::CompressionType, dem::TestKind;
               if (elastic || needs(targets, "ucs"))

@@ -394,6 +394,7 @@ namespace demfem::apps
               << " (measurement regions " << porosity_m << ")"
               << ", genesis " << genesis_s << " s\n";
 
+    std::vector<std::string> truncated; // tests ended by the step limit
     // One test on a fresh specimen: history CSV, stress-strain SVG, VTK at
     // the peak and the end, and (Tests/loading rate check) the repeats at
     // half and quarter rate on the same packing (fistPkg §5.4).
@@ -447,6 +448,18 @@ namespace demfem::apps
         std::cerr << ", Pc held within " << 100 * r.confining_deviation_to_peak
                   << " % to the peak";
       std::cerr << "\n";
+      // A test stopped by the step limit before its post-peak end may not
+      // have reached its peak: the run says so and does not end "ok".
+      auto check_end = [&](const dem::LabTestResult &t, const std::string &what) {
+        if (t.ended_by != "step limit")
+          return;
+        truncated.push_back(what);
+        std::cerr << "demfem calibrate: warning: " << what
+                  << " ended at Tests/step limit (" << t.loading_steps
+                  << " steps) before its post-peak end: its peak may not be reached; "
+                     "raise Tests/step limit\n";
+      };
+      check_end(r, label);
       if (r.confining_deviation_to_peak > 0.01)
         std::cerr
             << "demfem calibrate: warning: " << label
@@ -469,10 +482,11 @@ namespace demfem::apps
               l2.step_limit = std::int64_t(double(l2.step_limit) / factor);
               Progress               progress2(label + " @ " + which + " rate");
               dem::LabCallbacks<dim> cb2;
-              cb2.progress    = [&](const dem::LabProgress &g) { progress2(g); };
-              const auto   r2 = dem::run_lab_test(*sp2, l2, cb2);
-              const double d  = (r2.peak - r.peak) / r.peak;
-              sensitive       = sensitive || std::abs(d) > rate_tolerance;
+              cb2.progress  = [&](const dem::LabProgress &g) { progress2(g); };
+              const auto r2 = dem::run_lab_test(*sp2, l2, cb2);
+              check_end(r2, label + " at " + which + " rate");
+              const double d = (r2.peak - r.peak) / r.peak;
+              sensitive      = sensitive || std::abs(d) > rate_tolerance;
               j.num(std::string("peak_") + which + "_rate_Pa", r2.peak)
                   .num(std::string("peak_relative_change_") + which + "_rate", d);
               std::cerr << "demfem calibrate: " << label << " at " << which
@@ -609,6 +623,7 @@ namespace demfem::apps
 
     Json sum;
     sum.str("command", "calibrate")
+        .str("status", truncated.empty() ? "ok" : "step_limit_reached")
         .str("parameter_file", s.where)
         .num("dim", dim)
         .num("n_grains", n_grains)
@@ -624,6 +639,13 @@ namespace demfem::apps
     fs::remove(ckpt + ".prev");
     std::cerr << "demfem calibrate: wrote " << s.out << "/material.json ("
               << seconds_since(t_start) << " s)\n";
+    if (!truncated.empty())
+      {
+        std::cerr << "demfem calibrate: " << truncated.size()
+                  << " test(s) ended at the step limit (summary.json: status "
+                     "step_limit_reached); exit 3\n";
+        return 3;
+      }
     return 0;
   }
 

@@ -270,3 +270,23 @@ TEST_CASE("calibrate: the loading-rate check reports half and quarter rate",
   const bool moved = std::abs(h - p) > 0.02 * p || std::abs(q - p) > 0.02 * p;
   CHECK(u["quasi_static"].get<std::string>() == (moved ? "no" : "yes"));
 }
+
+TEST_CASE("calibrate: a test stopped by the step limit is not ok", "[calibrate]")
+{
+  // 300 loading steps end the UCS test long before its peak (about 10 000
+  // steps at this rate): a warning naming the key, status and exit 3, the
+  // results still written.
+  const fs::path out = work_dir() / "step_limit_out";
+  fs::remove_all(out);
+  const fs::path prm = write("step_limit.prm", tiny_prm(out));
+  const auto     r   = run_demfem("calibrate " + prm.string() +
+                                  " --set \"Tests/tests=ucs\" --set \"Problem/vtk=false\""
+                                        " --set \"Tests/step limit=300\"");
+  INFO(r.out);
+  CHECK(r.exit_code == 3);
+  CHECK(r.out.find("Tests/step limit") != std::string::npos);
+  const auto sum = nlohmann::json::parse(read(out / "summary.json"));
+  CHECK(sum["status"] == "step_limit_reached");
+  CHECK(sum["tests"]["ucs"]["ended_by"] == "step limit");
+  CHECK(fs::is_regular_file(out / "material.json"));
+}
