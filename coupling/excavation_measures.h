@@ -110,12 +110,18 @@ namespace demfem::coupling::excavation
     return j;
   }
 
-  /// The members of cracks_by_type() as a JSON fragment (without braces).
+  /// The members of cracks_by_type() as a JSON fragment without braces,
+  /// `"contact_bond": 0, "parallel_bond": 0, ...` (for summaries still
+  /// assembled as text).
   template <int dim>
   std::string cracks_by_type_json(const dem::Model<dim> &m)
   {
-    const std::string s = cracks_by_type(m).dump();
-    return s.substr(1, s.size() - 2);
+    const nlohmann::ordered_json all = cracks_by_type(m); // outlives the loop
+    std::string                  s;
+    for (const auto &[name, n] : all.items())
+      s +=
+          (s.empty() ? "" : ", ") + nlohmann::ordered_json(name).dump() + ": " + n.dump();
+    return s;
   }
 
   /// Percentile of the crack distances that is the damage-zone depth.
