@@ -119,12 +119,8 @@ namespace demfem::dem
       }
     if (broken[0] | broken[1])
       return false;
-    // Copied back pair by pair, not by memcpy of a run-time length: the
-    // library call re-reads the just-stored pairs as one wide load, which
-    // cannot be forwarded from the 16-byte stores, and it cost a quarter of
-    // the 3D step (docs/bench.md, "Real material on two threads").
-    for (int e = 0; e < ne; e += 2)
-      store(fss_a + e, load(Fss + e)), store(fst_a + e, load(Fst + e));
+    std::memcpy(fss_a, Fss, sizeof(double) * ne);
+    std::memcpy(fst_a, Fst, sizeof(double) * ne);
     f = ContactForce{sFn[0] + sFn[1], sFss[0] + sFss[1], sFst[0] + sFst[1],
                      sMt[0] + sMt[1], sMbs[0] + sMbs[1], sMbt[0] + sMbt[1]};
     return true;
