@@ -9,6 +9,7 @@
 #include "apps/calibrate.h"
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "apps/output_dir.h"
 #include "apps/prm_cli.h"
 #include "dem/lab_tests.h"
 
@@ -32,7 +33,7 @@ namespace demfem::apps
 
     const char *usage =
         "usage: demfem calibrate FILE.prm [--fit] [--set \"Section/key=value\"]... "
-        "[--print-parameters] [--help]\n"
+        "[--overwrite] [--defaults] [--print-parameters] [--help]\n"
         "\n"
         "Builds a bonded-particle material (fistPkg §4: packing, finalization), runs\n"
         "the laboratory tests listed in Tests/tests (ucs, triaxial, uniaxial strain,\n"
@@ -655,7 +656,7 @@ namespace demfem::apps
         switch (read_parameters(int(args.size()), args.data(), prm, usage, file))
           {
           case PrmAction::help:
-            std::cout << usage;
+            std::cout << usage << common_options_help;
             return 0;
           case PrmAction::print:
             prm.print_parameters(std::cout, ParameterHandler::Text);
@@ -664,9 +665,19 @@ namespace demfem::apps
             break;
           }
         const Settings s = read_settings(prm, file, fit);
+        // The run owns its output directory: lock, manifest.json, and an
+        // earlier run's results refused unless --overwrite.
+        RunDirectory run(s.out, prm);
+        int          code = 0;
         if (s.fit.enabled)
-          return s.dim == 2 ? run_fit<2>(s) : run_fit<3>(s);
-        return s.dim == 2 ? run_calibration<2>(s) : run_calibration<3>(s);
+          code = s.dim == 2 ? run_fit<2>(s) : run_fit<3>(s);
+        else
+          code = s.dim == 2 ? run_calibration<2>(s) : run_calibration<3>(s);
+        run.finish(code == 0
+                       ? "ok"
+                       : (s.fit.enabled ? "targets_not_reached" : "step_limit_reached"),
+                   code);
+        return code;
       }
     catch (const std::exception &e)
       {

@@ -290,3 +290,25 @@ TEST_CASE("calibrate: a test stopped by the step limit is not ok", "[calibrate]"
   CHECK(sum["tests"]["ucs"]["ended_by"] == "step limit");
   CHECK(fs::is_regular_file(out / "material.json"));
 }
+
+TEST_CASE("calibrate: the run owns its output directory", "[calibrate]")
+{
+  // manifest.json records the run; a second run into the same directory is
+  // refused naming --overwrite, which replaces the results.
+  const fs::path out = work_dir() / "owned_out";
+  fs::remove_all(out);
+  const std::string cmd = "calibrate " + write("owned.prm", tiny_prm(out)).string() +
+                          " --set \"Tests/tests=brazilian\" --set \"Problem/vtk=false\"";
+  const auto r1 = run_demfem(cmd);
+  INFO(r1.out);
+  REQUIRE(r1.exit_code == 0);
+  const auto manifest = nlohmann::json::parse(read(out / "manifest.json"));
+  CHECK(manifest["status"] == "ok");
+  const auto r2 = run_demfem(cmd);
+  CHECK(r2.exit_code != 0);
+  CHECK(r2.out.find("--overwrite") != std::string::npos);
+  const auto r3 = run_demfem(cmd + " --overwrite");
+  INFO(r3.out);
+  CHECK(r3.exit_code == 0);
+  CHECK(fs::is_regular_file(out / "material.json"));
+}
