@@ -12,6 +12,7 @@
 #include "apps/output_dir.h"
 #include "apps/prm_cli.h"
 #include "dem/lab_tests.h"
+#include "dem/memory_budget.h"
 
 #include <algorithm>
 #include <chrono>
@@ -79,6 +80,10 @@ namespace demfem::apps
                         "2 (disks) or 3 (spheres)");
       prm.declare_entry("output directory", "out/calibrate", Patterns::Anything(),
                         "Created after validation; files in it are replaced");
+      prm.declare_entry(
+          "memory limit", "auto", Patterns::Anything(),
+          "Refuse a specimen whose estimated memory exceeds this [GB]; auto: "
+          "half the machine's memory");
       prm.declare_entry("vtk", "true", Patterns::Bool(),
                         "Write VTK of specimen and tests");
       prm.leave_subsection();
@@ -453,6 +458,10 @@ namespace demfem::apps
       s.dim = prm.get_integer("dimension");
       s.out = prm.get("output directory");
       s.vtk = prm.get_bool("vtk");
+      if (const auto ml = prm.get("memory limit"); ml != "auto")
+        s.mat.memory_limit =
+            1e9 * parse_number(where + ": Problem/memory limit", ml, 1e-6,
+                               std::numeric_limits<double>::max(), "GB");
       prm.leave_subsection();
       if (s.out.empty())
         throw dem::InputError(where + ": Problem/output directory must not be empty");
@@ -633,6 +642,15 @@ namespace demfem::apps
       m.validate(where, s.dim);
       v.validate(where, s.dim);
       l.validate(where, s.dim);
+      // The specimen's memory, estimated before the output directory is
+      // made (genesis checks it again where the grains are drawn).
+      const double n = s.n_grains > 0 ? s.n_grains
+                       : s.dim == 2   ? dem::expected_grain_count<2>(m, v)
+                                      : dem::expected_grain_count<3>(m, v);
+      dem::check_memory(
+          n, s.dim, m.memory_limit, where,
+          "Material/diameter multiplier (or lower Material/number of grains)",
+          "Problem/memory limit");
       return s;
     }
   } // namespace

@@ -132,6 +132,9 @@ namespace demfem::apps::study
                       "walls z = 0, t and the continuum's z faces are on rollers. With "
                       "Continuum/axial extension > 0 the length of the DEM section, >= 2 "
                       "overlaps + 1 largest grain");
+    prm.declare_entry("memory limit", "auto", Patterns::Anything(),
+                      "Refuse a region whose estimated memory exceeds this [GB]; auto: "
+                      "half the machine's memory");
     prm.declare_entry("porosity 3d", "0.42", Patterns::Double(),
                       "3D: target porosity of the sphere packing, in [0.3, 0.6]");
     prm.declare_entry("lnm emod", "20e9", Patterns::Double(),
@@ -239,6 +242,9 @@ namespace demfem::apps::study
     r.lnm_krat               = prm.get_double("lnm krat");
     r.lnm_fric               = prm.get_double("lnm fric");
     r.seed                   = prm.get_integer("seed");
+    if (const auto ml = prm.get("memory limit"); ml != "auto")
+      r.memory_limit = 1e9 * parse_number(key_name("DEM region/memory limit"), ml, 1e-6,
+                                          std::numeric_limits<double>::max(), "GB");
     prm.leave_subsection();
     if (!dmat.empty())
       {

@@ -1,5 +1,6 @@
 #include "coupling/dem_region.h"
 
+#include "dem/memory_budget.h"
 #include "dem/property_rules.h"
 
 #include "dem/flat_joint_law.h"
@@ -39,6 +40,15 @@ namespace demfem::coupling
       throw dem::InputError(w + ": DEM region/grain diameter " + std::to_string(d_hi) +
                             " m is too large for the region radius " +
                             std::to_string(radius) + " m (allowed: <= radius/4)");
+    // Grains of the packed region (2D: the disk r < b, per unit thickness;
+    // 3D: the slab), estimated before anything is allocated.
+    const double d  = mean_diameter();
+    const double Vr = M_PI * radius * radius * (dim == 3 ? slab_thickness : 1.0);
+    const double Vg = dim == 2 ? M_PI * d * d / 4 : M_PI * d * d * d / 6;
+    dem::check_memory((1 - (dim == 3 ? porosity_3d : porosity)) * Vr / Vg, dim,
+                      memory_limit, w,
+                      "DEM region/grain diameter (or the material file's sizes)",
+                      "DEM region/memory limit");
     if (dim == 3)
       {
         // Random dense packings of spheres: about 0.36 in bulk, looser next

@@ -68,6 +68,9 @@ namespace demfem::coupling
     /// also checks the slab keys.
     void   validate(const std::string &where, int dim = 2) const;
     double mean_diameter() const { return 0.5 * (d_lo + d_hi); }
+    /// Refuse a region whose estimated memory exceeds this [bytes] (<= 0:
+    /// half the machine's memory; dem/memory_budget.h).
+    double memory_limit = 0;
     /// Target porosity of the packing of dimension dim.
     double target_porosity(int dim) const { return dim == 2 ? porosity : porosity_3d; }
   };
@@ -75,11 +78,11 @@ namespace demfem::coupling
   /// Law groups of the built region.
   struct RegionGroups
   {
-    int              pack = -1, pack_wall = -1; ///< packing (frictionless linear)
-    int              linear = -1, wall = -1;    ///< new grain-grain / grain-ring contacts
-    int              bond = -1;                 ///< the flat-joint group
-    std::size_t      n_bonds    = 0;
-    std::size_t      n_rattlers = 0; ///< unbonded grains removed
+    int         pack = -1, pack_wall = -1; ///< packing (frictionless linear)
+    int         linear = -1, wall = -1;    ///< new grain-grain / grain-ring contacts
+    int         bond       = -1;           ///< the flat-joint group
+    std::size_t n_bonds    = 0;
+    std::size_t n_rattlers = 0; ///< unbonded grains removed
     /// 3D: frictionless law of the slab walls and their wall ids (z = 0, t).
     int                slab_wall  = -1;
     std::array<int, 2> slab_walls = {{-1, -1}};

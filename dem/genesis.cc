@@ -1,6 +1,7 @@
 // Material genesis (fistPkg §4.2): packing phase (§4.2.1, Table 7) and
 // finalization phase (§4.2.2) with the flat-jointed microstructure of §2.6.2.
 #include "dem/genesis.h"
+#include "dem/memory_budget.h"
 #include "dem/property_rules.h"
 
 #include "dem/contact_bond_law.h"
@@ -331,10 +332,9 @@ namespace demfem::dem
     // 1. Grain cloud of porosity n_c (overlaps not accounted for).
     const double Vv = s.vessel.volume(m.walls);
     const double Vg = (1 - p.cloud_porosity_or_default(dim)) * Vv;
-    if (Vg / mean_grain_volume<dim>(p) > 5000000)
-      throw InputError(where + ": the size distribution gives about " +
-                       std::to_string(std::llround(Vg / mean_grain_volume<dim>(p))) +
-                       " grains; raise 'diameter_multiplier'");
+    check_memory(Vg / mean_grain_volume<dim>(p), dim, p.memory_limit, where,
+                 "Material/diameter multiplier (or lower Material/number of grains)",
+                 "Problem/memory limit");
     const std::vector<double> radii   = draw_radii<dim>(p, Vg, rng);
     double                    Vgrains = 0;
     for (double r : radii)

@@ -93,6 +93,11 @@ namespace demfem::dem
 
     bool is_bonded() const { return type != "linear"; }
     /// Throws InputError naming the key, `where` (file) and the allowed range.
+    /// Run setting, not a property of the material: genesis refuses a
+    /// specimen whose estimated memory exceeds it [bytes] (<= 0: half the
+    /// machine's memory; dem/memory_budget.h).
+    double memory_limit = 0;
+
     void validate(const std::string &where, int dim = 2) const;
     /// Table 7 default of n_c when cloud_porosity < 0.
     double cloud_porosity_or_default(int dim) const;
