@@ -11,6 +11,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace demfem::fem
 {
@@ -220,12 +221,65 @@ namespace demfem::fem
     tria.set_manifold(0, CylindricalManifold<3>(2));
   }
 
+  namespace
+  {
+    // The section headers of a Gmsh file agree with its $MeshFormat and
+    // announce no more entries than the file can hold (each takes at least
+    // two bytes): a body of one version under the header of another made
+    // the reader allocate from whatever numbers it found, growing without
+    // bound. 2.x: "$Nodes" then one count; 4.x: four numbers (blocks,
+    // count, smallest tag, largest tag), as for $Elements.
+    void check_gmsh_sections(const std::string &file)
+    {
+      std::ifstream in(file, std::ios::binary | std::ios::ate);
+      const double  bytes = double(in.tellg());
+      in.seekg(0);
+      auto fail = [&](const std::string &what) {
+        AssertThrow(false, ExcMessage("Continuum/mesh: '" + file +
+                                      "' is not a consistent Gmsh mesh: " + what));
+      };
+      std::string line, version;
+      while (std::getline(in, line))
+        {
+          if (line.rfind("$MeshFormat", 0) == 0)
+            {
+              std::getline(in, line);
+              std::istringstream f(line);
+              f >> version;
+              if (version.empty() || (version[0] != '2' && version[0] != '4'))
+                fail("$MeshFormat version '" + version + "' (allowed: 2.2, 4.1)");
+            }
+          else if (line.rfind("$Nodes", 0) == 0 || line.rfind("$Elements", 0) == 0)
+            {
+              const std::string section = line.substr(0, line.find_first_of(" \r"));
+              std::getline(in, line);
+              std::istringstream       h(line);
+              std::vector<long double> v;
+              for (long double x; h >> x;)
+                v.push_back(x);
+              const std::size_t expected = version[0] == '4' ? 4 : 1;
+              if (version.empty() || v.size() != expected || !h.eof())
+                fail("the line after " + section + " is '" + line + "'; a version " +
+                     (version.empty() ? "?" : version) + " file has " +
+                     std::to_string(expected) + " number(s) there");
+              // The counts (4.x: blocks and entries; tags may be sparse).
+              for (std::size_t k = 0; k < std::min<std::size_t>(v.size(), 2); ++k)
+                if (const long double x = v[k]; !(x >= 0) || x > bytes)
+                  fail(section + " announces " + std::to_string(double(x)) +
+                       " entries, more than the file's " + std::to_string(bytes) +
+                       " bytes can hold");
+            }
+        }
+    }
+  } // namespace
+
   template <int dim>
   void read_gmsh_mesh(Triangulation<dim> &tria, const std::string &file)
   {
     std::ifstream in(file);
     AssertThrow(in.good(),
                 ExcMessage("Continuum/mesh: cannot open mesh file '" + file + "'"));
+    check_gmsh_sections(file);
     GridIn<dim> grid_in;
     grid_in.attach_triangulation(tria);
     try
