@@ -13,7 +13,6 @@
 #include "dem/vtk_output.h"
 
 #include <nlopt.hpp>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>

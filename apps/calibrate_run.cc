@@ -471,7 +471,6 @@ namespace demfem::apps
           // (fistPkg §5.4); more than rate_tolerance flags the test.
           bool        sensitive = false;
           double      factor    = 1;
-          std::string ladder;
           for (int level = 1; level <= s.rate_check; ++level)
             {
               factor *= 0.5;
