@@ -1,0 +1,168 @@
+// Flexible Voronoi model (dem/voronoi/flexible_model.h; seed 004 §2.2-2.3):
+// Newton's third law of the contact and element forces, no force under a
+// rigid translation, and the flexible model tending to the rigid one as the
+// grains' Young's modulus grows.
+#include "dem/types.h"
+#include "dem/voronoi/flexible_model.h"
+#include "dem/voronoi/tessellation.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace demfem::dem;
+using namespace demfem::dem::voronoi;
+
+namespace
+{
+  ContactMaterial contact_material()
+  {
+    ContactMaterial m;
+    m.kn               = 1e13;
+    m.kratio           = 2;
+    m.tensile_strength = 1e12; // elastic in these tests
+    m.cohesion         = 1e12;
+    m.friction         = 0.5;
+    m.thickness        = 0.01;
+    return m.brittle();
+  }
+
+  GrainElasticity grain_material(double E)
+  {
+    GrainElasticity g;
+    g.youngs_modulus = E;
+    g.poisson_ratio  = 0.2;
+    g.density        = 2650;
+    g.thickness      = 0.01;
+    return g;
+  }
+} // namespace
+
+TEST_CASE("Flexible Voronoi model: forces balance, rigid translation is force free",
+          "[voronoi][flexible]")
+{
+  // A 3 x 3 lattice of slightly perturbed disks.
+  std::vector<double> x, y, r;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i)
+      {
+        x.push_back((i + 0.5) * 2e-3 + 1e-4 * std::sin(7.0 * (i + 3 * j)));
+        y.push_back((j + 0.5) * 2e-3 + 1e-4 * std::cos(5.0 * (i + 3 * j)));
+        r.push_back(0.9e-3);
+      }
+  const auto t = laguerre_tessellation(x, y, r, ClipDomain::rectangle(0, 0, 6e-3, 6e-3));
+  FlexibleVoronoiModel model(t, x, y, r, grain_material(50e9), contact_material());
+  REQUIRE(model.contacts.n_contacts() >= 12);
+  const double dt = model.stable_time_step(0.2);
+
+  SECTION("rigid translation")
+  {
+    for (int m = 0; m < model.mesh.n_nodes(); ++m)
+      {
+        model.vx[m] = 0.3;
+        model.vy[m] = -0.2;
+      }
+    for (int i = 0; i < 50; ++i)
+      model.step(dt);
+    // Interpolated velocities of both grains are the same (sum N = 1): the
+    // relative velocity is roundoff (1e-16 m/s) and the contact forces
+    // below kn A * 50 dt * 1e-16 m/s; the elements see F = I up to the
+    // roundoff eps |x| |grad N| ~ 1e-15 of the positions, i.e. stresses of
+    // E 1e-15 and node forces ~1e-9 N. 1e-6 N is a bound with margin,
+    // against the ~1e3 N forces of a strain of 1e-4.
+    double fmax = 0;
+    for (int m = 0; m < model.mesh.n_nodes(); ++m)
+      fmax = std::max(fmax, std::hypot(model.fx[m], model.fy[m]));
+    INFO("largest node force " << fmax << " N, dt " << dt << " s");
+    CHECK(fmax <= 1e-6);
+    // Velocities change by at most 50 dt fmax / m_min (1e-10 m/s here).
+    double m_min = HUGE_VAL;
+    for (double m : model.mesh.mass)
+      m_min = std::min(m_min, m);
+    for (int m = 0; m < model.mesh.n_nodes(); ++m)
+      {
+        CHECK(std::abs(model.vx[m] - 0.3) <= 50 * dt * 1e-6 / m_min);
+        CHECK(std::abs(model.vy[m] + 0.2) <= 50 * dt * 1e-6 / m_min);
+      }
+  }
+  SECTION("Newton's third law under random motion")
+  {
+    std::mt19937                           gen(5u);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int m = 0; m < model.mesh.n_nodes(); ++m)
+      {
+        model.vx[m] = 0.05 * u(gen);
+        model.vy[m] = 0.05 * u(gen);
+      }
+    for (int i = 0; i < 200; ++i)
+      {
+        model.step(dt);
+        double sx = 0, sy = 0, fmax = 0;
+        for (int m = 0; m < model.mesh.n_nodes(); ++m)
+          {
+            sx += model.fx[m];
+            sy += model.fy[m];
+            fmax = std::max(fmax, std::hypot(model.fx[m], model.fy[m]));
+          }
+        // Element forces sum to zero per triangle and each contact point
+        // gives f to B's nodes and -f to A's (sum N = 1): the total is
+        // roundoff of a sum of ~100 forces of size fmax.
+        CHECK(std::abs(sx) <= 1e-12 * fmax);
+        CHECK(std::abs(sy) <= 1e-12 * fmax);
+      }
+  }
+}
+
+TEST_CASE("Flexible Voronoi model tends to the rigid one as E grows",
+          "[voronoi][flexible]")
+{
+  // Two square grains (disks R = 1 mm at (0, 0) and (2, 0) mm, cells
+  // 2 x 2 mm); grain A held, a force F on B's centroid node pushes B
+  // against A. Rigid grains: B moves by F / (kn A), A = L t (no rotation by
+  // symmetry). Flexible grains add the grain's own compliance ~ F / (E t),
+  // so the relative excess over the rigid answer must fall like 1 / E.
+  const double              R = 1e-3;
+  const std::vector<double> x = {0, 2 * R}, y = {0, 0}, r = {R, R};
+  const auto t  = laguerre_tessellation(x, y, r, ClipDomain::rectangle(-R, -R, 3 * R, R));
+  const auto cm = contact_material();
+  const double        F = 1e3, A = 2 * R * cm.thickness;
+  const double        rigid = F / (cm.kn * A);
+  std::vector<double> excess;
+  for (double E : {2e10, 2e11, 2e12})
+    {
+      FlexibleVoronoiModel model(t, x, y, r, grain_material(E), cm);
+      model.damping = 0.7;
+      for (int m = model.mesh.grain_node_offset[0]; m < model.mesh.grain_node_offset[1];
+           ++m)
+        model.fixed[m] = 1;
+      const int cb     = model.centroid_node(1);
+      model.fx_ext[cb] = -F;
+      const double dt  = model.stable_time_step(0.3);
+      // Damped to rest: run until the kinetic energy is 1e-16 of the work
+      // F * rigid, then check that it stays at rest.
+      int steps = 0;
+      for (; steps < 400000; ++steps)
+        {
+          model.step(dt);
+          if (steps > 1000 && model.kinetic_energy() < 1e-16 * F * rigid)
+            break;
+        }
+      REQUIRE(steps < 400000);
+      const double delta = model.mesh.x0[cb] - model.x[cb];
+      // Static equilibrium: the contact carries F (sum of the point forces).
+      double fn = 0;
+      for (int p = 0; p < model.contacts.n_points(); ++p)
+        fn += model.contacts.fn[p];
+      CHECK(-fn == Approx(F).epsilon(1e-6));
+      excess.push_back(delta / rigid - 1);
+      INFO("E = " << E << ": delta / rigid - 1 = " << excess.back());
+      CHECK(excess.back() > 0);
+    }
+  // Falls like 1 / E: each factor 10 in E divides the excess by 10 (the
+  // rest to damped-equilibrium tolerance and the O(1/E^2) terms: 10 %).
+  CHECK(excess[1] / excess[0] == Approx(0.1).epsilon(0.1));
+  CHECK(excess[2] / excess[1] == Approx(0.1).epsilon(0.1));
+  CHECK(excess[2] < 1e-2);
+}
