@@ -106,9 +106,9 @@ TEST_CASE("Rigid Voronoi contact: geometry from the tessellation", "[voronoi][ri
   CHECK(c.grain_a[0] == 0);
   CHECK(c.grain_b[0] == 1);
   // Offset of the Laguerre edge from the PCM plane:
-  // edge_x - (R_A - U/2) = (R_A - R_B)(R_A + R_B - d) / (2 d); roundoff of
-  // coordinates of 1e-3 is 1e-19, i.e. 1e-12 relative to the 2e-5 offset
-  // ... is too tight, hence an absolute 1e-16 m.
+  // edge_x - (R_A - U/2) = (R_A - R_B)(R_A + R_B - d) / (2 d) = 9.6e-6 m.
+  // Both sides are differences of mm-sized numbers: their roundoff is
+  // ~1e-19 m, so 1e-16 m (1e-11 relative) is a safe bound.
   CHECK(std::abs(c.offset[0] - (RA - RB) * (RA + RB - d) / (2 * d)) <= 1e-16);
   CHECK(c.edge_length[0] == Approx(3e-3).epsilon(1e-12));
   const double A = 3e-3 * m.thickness;
