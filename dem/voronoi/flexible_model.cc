@@ -113,13 +113,18 @@ namespace demfem::dem::voronoi
       }
   }
 
-  void FlexibleVoronoiModel::step(double dt)
+  void FlexibleVoronoiModel::compute_forces(double dt)
   {
-    const int nn = mesh.n_nodes();
     std::copy(fx_ext.begin(), fx_ext.end(), fx.begin());
     std::copy(fy_ext.begin(), fy_ext.end(), fy.begin());
     mesh.add_internal_forces(x.data(), y.data(), fx.data(), fy.data());
     add_contact_forces(dt);
+  }
+
+  void FlexibleVoronoiModel::step(double dt)
+  {
+    const int nn = mesh.n_nodes();
+    compute_forces(dt);
     auto sign = [](double v) { return v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0; };
     for (int m = 0; m < nn; ++m)
       {

@@ -44,6 +44,11 @@ namespace demfem::dem::voronoi
     /// v += dt F / m and x += dt v. Fixed nodes keep zero velocity.
     void step(double dt);
 
+    /// The force part of `step`: (fx, fy) = applied + internal + contact
+    /// forces at the current positions, the contact increments from the
+    /// current velocities times dt. Nodes do not move.
+    void compute_forces(double dt);
+
     /// Time step estimate: min of the elements' h / c_p and of 2 sqrt(m / k)
     /// over the nodes touched by a contact point, k = max(kn, ks) A_i,
     /// times `safety` (an estimate: a node shares its springs and elements).

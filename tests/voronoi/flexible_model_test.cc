@@ -166,3 +166,91 @@ TEST_CASE("Flexible Voronoi model tends to the rigid one as E grows",
   CHECK(excess[2] / excess[1] == Approx(0.1).epsilon(0.1));
   CHECK(excess[2] < 1e-2);
 }
+
+TEST_CASE("Flexible Voronoi contact under rigid nodal motion is the rigid contact",
+          "[voronoi][flexible]")
+{
+  // Nodal velocities from rigid-body fields of each grain: the shape
+  // functions interpolate them exactly (they are linear), so every local
+  // point sees the rigid model's relative velocity, carries the same
+  // forces, and the nodal forces of each grain have the rigid model's
+  // resultant and moment about the disk centre (the transfer keeps both).
+  // Positions are held (small displacements), so the grains stay unstrained.
+  const std::vector<double> x = {0, 2.6e-3}, y = {0, 0.3e-3}, r = {1e-3, 1.5e-3};
+  const auto                t =
+      laguerre_tessellation(x, y, r, ClipDomain::rectangle(-2e-3, -1.5e-3, 5e-3, 2e-3));
+  auto cm                    = contact_material();
+  cm.tensile_strength        = 3e6; // strengths low enough to damage some points
+  cm.cohesion                = 6e6;
+  cm.tensile_fracture_energy = 3 * cm.tensile_elastic_energy();
+  cm.shear_fracture_energy   = 3 * cm.shear_elastic_energy();
+  FlexibleVoronoiModel flex(t, x, y, r, grain_material(50e9), cm);
+  RigidVoronoiContacts rigid(cm);
+  rigid.add_from_tessellation(t, x, y, r, PointScheme::lobatto3);
+  REQUIRE(rigid.n_points() == flex.contacts.n_points());
+
+  std::vector<double>                    vx(2), vy(2), om(2), fx(2), fy(2), mz(2);
+  const GrainKinematics                  kin{x.data(),  y.data(),  r.data(),
+                            vx.data(), vy.data(), om.data()};
+  std::mt19937                           gen(11u);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int                                    damaged = 0;
+  double                                 scale   = 0; // largest point force so far
+  for (int i = 0; i < 300; ++i)
+    {
+      for (int k = 0; k < 2; ++k)
+        {
+          vx[k] = 2e-10 * u(gen) + (k ? 3e-9 : 0); // drift apart
+          vy[k] = 2e-10 * u(gen);
+          om[k] = 2e-7 * u(gen);
+        }
+      for (int k = 0; k < 2; ++k)
+        for (int m = flex.mesh.grain_node_offset[k];
+             m < flex.mesh.grain_node_offset[k + 1]; ++m)
+          {
+            // v + omega k x (x_m - x_disk) about the disk centre.
+            flex.vx[m] = vx[k] - om[k] * (flex.y[m] - y[k]);
+            flex.vy[m] = vy[k] + om[k] * (flex.x[m] - x[k]);
+          }
+      std::fill(fx.begin(), fx.end(), 0.0);
+      std::fill(fy.begin(), fy.end(), 0.0);
+      std::fill(mz.begin(), mz.end(), 0.0);
+      rigid.update(kin, 1.0, GrainForces{fx.data(), fy.data(), mz.data()});
+      flex.compute_forces(1.0);
+      for (int p = 0; p < rigid.n_points(); ++p)
+        scale = std::max({scale, std::abs(rigid.fn[p]), std::abs(rigid.fs[p])});
+      // Same arithmetic up to the interpolation's roundoff: 1e-9 of the
+      // largest point force (the velocities are interpolated from nodes
+      // 1e-3 m away, ~1e-13 relative; increments accumulate over steps).
+      for (int p = 0; p < rigid.n_points(); ++p)
+        {
+          CHECK(std::abs(flex.contacts.fn[p] - rigid.fn[p]) <= 1e-9 * scale);
+          CHECK(std::abs(flex.contacts.fs[p] - rigid.fs[p]) <= 1e-9 * scale);
+          CHECK(flex.contacts.crack[p] == rigid.crack[p]);
+        }
+      for (int k = 0; k < 2; ++k)
+        {
+          double Fx = 0, Fy = 0, M = 0;
+          for (int m = flex.mesh.grain_node_offset[k];
+               m < flex.mesh.grain_node_offset[k + 1]; ++m)
+            {
+              Fx += flex.fx[m];
+              Fy += flex.fy[m];
+              M += (flex.x[m] - x[k]) * flex.fy[m] - (flex.y[m] - y[k]) * flex.fx[m];
+            }
+          CHECK(std::abs(Fx - fx[k]) <= 1e-9 * 3 * scale);
+          CHECK(std::abs(Fy - fy[k]) <= 1e-9 * 3 * scale);
+          CHECK(std::abs(M - mz[k]) <= 1e-9 * 3 * scale * 5e-3);
+        }
+    }
+  int cracked = 0;
+  for (int p = 0; p < rigid.n_points(); ++p)
+    {
+      damaged += rigid.damage_t[p] + rigid.damage_s[p] > 0;
+      cracked += rigid.crack[p] != PointCrack::intact;
+    }
+  // The history reached softening and cracks (opening 9e-7 m against the
+  // crack opening 2 G_t / sigma_t = 9e-7 m), not only the elastic range.
+  CHECK(damaged == rigid.n_points());
+  CHECK(cracked > 0);
+}
