@@ -215,23 +215,25 @@ namespace demfem::dem::voronoi
       }
     if (D < 1 && k.cohesion > 0)
       {
-        // Slip dw softens the cohesion: |trial| - ks A dw =
-        // (1 - D - dw / w_sc) c A + fric, valid while that is >= 0.
-        double dw = HUGE_VAL;
-        if (S > 0 && k.ks_soft > 0)
-          dw = (mag - S) / (k.ks_soft * A);
-        else if (S == 0) // tension beyond the cohesion: free slip
-          dw = mag / (k.ks * A);
-        if (dw < (1 - D) * k.w_sc && S > 0)
+        // Slip dw of this step softens the cohesion; on the softening line
+        // |trial| - ks A dw = (1 - D - dw / w_sc) c A + fric. In tension the
+        // strength can reach zero before D = 1: from there on the slip is
+        // free (force 0) and all of the trial displacement is slip.
+        double dw = HUGE_VAL, f_new = 0; // brittle (ks_soft = 0): breaks
+        if (k.ks_soft > 0)
           {
-            s.damage_s += dw / k.w_sc;
-            s.fs = sign * (mag - k.ks * A * dw);
-            return fn;
+            dw    = S > 0 ? (mag - S) / (k.ks_soft * A) : mag / (k.ks * A);
+            f_new = S > 0 ? mag - k.ks * A * dw : 0.0;
+            if (f_new < 0)
+              {
+                dw    = mag / (k.ks * A);
+                f_new = 0;
+              }
           }
         if (dw < (1 - D) * k.w_sc)
           {
             s.damage_s += dw / k.w_sc;
-            s.fs = 0;
+            s.fs = sign * f_new;
             return fn;
           }
         s.damage_s = 1 - s.damage_t;

@@ -192,6 +192,36 @@ TEST_CASE("Softening law, shear: G_s A without and with compression",
   }
 }
 
+TEST_CASE("Softening law, shear under tension: lower peak, tensile crack, no friction",
+          "[voronoi][softening]")
+{
+  const auto   m  = rock();
+  const double ks = m.kn / m.kratio;
+  Point        p(m);
+  // Tension at half the tensile strength, held.
+  p.step(0.5 * m.tensile_strength / m.kn, 0);
+  const double fn0 = 0.5 * m.tensile_strength * p.A;
+  REQUIRE(p.fn == Approx(fn0).epsilon(1e-12));
+  // Mohr-Coulomb in tension: c A - mu F_n.
+  const double peak = m.cohesion * p.A - m.friction * fn0;
+  const double du   = peak / (ks * p.A) / 500.3;
+  double       fmax = 0;
+  for (int i = 0; i < 100000 && p.crack == PointCrack::intact; ++i)
+    {
+      p.step(0, du);
+      fmax = std::max(fmax, -p.fs);
+      CHECK(-p.fs >= 0); // never reverses under monotonic slip
+    }
+  // The last elastic step is within one increment ks A du of the peak.
+  CHECK(fmax <= peak * (1 + 1e-12));
+  CHECK(fmax >= peak - ks * p.A * du * (1 + 1e-9));
+  // Broken under tension: a tensile crack (seed 004 §2.6), no friction.
+  CHECK(p.crack == PointCrack::tensile);
+  p.step(0, du);
+  CHECK(p.fs == 0);
+  CHECK(p.fn == 0);
+}
+
 TEST_CASE("Softening law: the damages add and reduce both strengths",
           "[voronoi][softening]")
 {
