@@ -295,3 +295,60 @@ TEST_CASE("Laguerre tessellation input errors", "[voronoi][tessellation]")
   CHECK(t.area[0] == Approx(1.0).epsilon(1e-15));
   CHECK(t.end(0) - t.begin(0) == 4);
 }
+
+TEST_CASE(
+    "Laguerre cells of overlapping polydisperse disks: hidden cells, areas, ownership",
+    "[voronoi][tessellation]")
+{
+  // Overlaps allowed and radii over a decade: some small disks inside big
+  // ones have empty power cells. Everything else must still hold.
+  std::mt19937                           gen(2024u);
+  std::uniform_real_distribution<double> u(0, 0.1), ur(0.5e-3, 8e-3);
+  Packing                                p;
+  for (int i = 0; i < 600; ++i)
+    {
+      p.x.push_back(u(gen));
+      p.y.push_back(u(gen));
+      p.r.push_back(ur(gen));
+    }
+  const auto t =
+      laguerre_tessellation(p.x, p.y, p.r, ClipDomain::rectangle(0, 0, 0.1, 0.1));
+  int    n_hidden = 0;
+  double sum      = 0;
+  for (int c = 0; c < t.n_cells(); ++c)
+    {
+      n_hidden += t.empty_reason[c] == EmptyCellReason::hidden;
+      sum += t.area[c];
+      for (int e = t.begin(c); e < t.end(c); ++e)
+        {
+          const int d = t.edge_neighbour[e];
+          if (d == Tessellation::boundary)
+            continue;
+          CHECK(t.empty_reason[d] == EmptyCellReason::none);
+          CHECK(t.shared_edge(d, c) >= 0);
+        }
+    }
+  CHECK(n_hidden > 0);
+  // Same roundoff argument as for the non-overlapping packing.
+  CHECK(std::abs(sum - 0.01) <= 1e-12 * 0.01);
+  // Brute-force ownership: the disk of least power distance owns the point
+  // (a hidden disk never does).
+  const double                           L = 0.1 * std::sqrt(2.0);
+  std::uniform_real_distribution<double> uq(0, 0.1);
+  int                                    checked = 0;
+  for (int k = 0; k < 2000; ++k)
+    {
+      const double qx = uq(gen), qy = uq(gen);
+      int          best = 0;
+      for (int i = 1; i < t.n_cells(); ++i)
+        if (power(p, i, qx, qy) < power(p, best, qx, qy))
+          best = i;
+      REQUIRE(t.empty_reason[best] == EmptyCellReason::none);
+      const double m = inside_margin(t, best, qx, qy);
+      if (std::abs(m) < 1e-9 * L)
+        continue;
+      ++checked;
+      CHECK(m > 0);
+    }
+  CHECK(checked > 1990);
+}
