@@ -298,7 +298,7 @@ TEST_CASE("Softening law, brittle limit: tension cut-off and Mohr-Coulomb",
 }
 
 TEST_CASE(
-    "Softening law: no strength is a linear no-tension Coulomb contact; input checks",
+    "Softening law: no strength is a linear no-tension Coulomb contact, and input checks",
     "[voronoi][softening]")
 {
   auto m                    = rock();
