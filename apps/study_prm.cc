@@ -67,6 +67,11 @@ namespace demfem::apps::study
     prm.declare_entry("excavation stages", "1", Patterns::Integer(1, 1000),
                       "The forces of the removed grains on the remaining ones are "
                       "relaxed to zero in this many equal stages");
+    prm.declare_entry("in situ tolerance", "0.1", Patterns::Double(),
+                      "The in-situ state counts as reached when the DEM region's "
+                      "centre-disk stress before excavation is within this fraction of "
+                      "the largest |in situ stress principal| (every component), in "
+                      "(0, 1]; else the run ends with status in_situ_not_reached");
     prm.leave_subsection();
 
     prm.enter_subsection("Continuum");
@@ -200,7 +205,11 @@ namespace demfem::apps::study
     s.tunnel_radius = prm.get_double("radius");
     s.sigma0 << prm.get_double("in situ stress xx"), prm.get_double("in situ stress xy"),
         prm.get_double("in situ stress xy"), prm.get_double("in situ stress yy");
-    s.stages = prm.get_integer("excavation stages");
+    s.stages            = prm.get_integer("excavation stages");
+    s.in_situ_tolerance = prm.get_double("in situ tolerance");
+    AssertThrow(s.in_situ_tolerance > 0 && s.in_situ_tolerance <= 1,
+                ExcMessage(key_name("Tunnel/in situ tolerance") + " = " +
+                           prm.get("in situ tolerance") + " is outside (0, 1]"));
     prm.leave_subsection();
 
     prm.enter_subsection("Continuum");

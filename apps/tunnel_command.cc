@@ -1,19 +1,21 @@
 // `demfem tunnel FILE.prm`: the coupled excavation-damage run
 // (docs/architecture.md, "Coupling" and "Outputs and run status"). Every input
 // is validated before the output directory is created, so a bad input writes
-// nothing. Exit codes: 0 done, 1 bad input or error, 2 the run diverged
-// (diagnosis printed and in summary.json), 130 / 143 stopped by SIGINT /
-// SIGTERM after writing a checkpoint.
+// nothing. The run's outcome is checked before it says "ok"
+// (coupling/tunnel_result.h); every other status has its own non-zero exit
+// code (docs/tunnel.md, "Run status and exit codes").
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 
+#include "apps/cli.h"
 #include "apps/commands.h"
 #include "apps/output_dir.h"
 #include "apps/prm_cli.h"
 #include "apps/study.h"
 #include "coupling/tunnel_run.h"
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <iostream>
@@ -30,8 +32,8 @@ namespace demfem::apps
 
     const char *usage =
         "usage: demfem tunnel FILE.prm [--set \"Section/key=value\"]... "
-        "[--restart CHECKPOINT.h5] [--overwrite] [--defaults] [--print-parameters] "
-        "[--help]\n"
+        "[--restart CHECKPOINT.h5] [--accept STATUS[,STATUS]] [--overwrite] [--defaults] "
+        "[--print-parameters] [--help]\n"
         "\n"
         "Coupled DEM-continuum tunnel excavation, 2D or (Problem/dimension = 3) a\n"
         "slab 0 < z < 'DEM region/slab thickness' in plane strain through walls,\n"
@@ -56,11 +58,20 @@ namespace demfem::apps
         "run into it, manifest.json records the command, the parameters, the\n"
         "version and the end status, and a directory holding an earlier run is\n"
         "refused unless --overwrite (docs/tunnel.md).\n"
-        "Exit codes: 0 done, 1 bad input or error, 2 diverged, 130 / 143 stopped\n"
-        "by SIGINT / SIGTERM after writing a checkpoint.\n"
+        "Before it says \"ok\" the run checks its outcome: no divergence (energy\n"
+        "balance, kinetic-energy growth, NaN), model time advancing, the in-situ\n"
+        "state reached (region stress within 'Tunnel/in situ tolerance' of sigma0),\n"
+        "every phase equilibrated (not ended by 'Coupling/step limit') and no\n"
+        "excavation crack at the coupling boundary. summary.json 'status' names the\n"
+        "most severe failure, 'problems' lists each with its numbers.\n"
+        "Exit codes: 0 ok, 1 bad input or error, 2 diverged, 3 not_equilibrated,\n"
+        "4 in_situ_not_reached, 5 region_too_small, 6 time_not_advancing,\n"
+        "130 / 143 stopped by SIGINT / SIGTERM after writing a checkpoint.\n"
         "\n"
         "options:\n"
-        "  --restart CHECKPOINT.h5  continue from a checkpoint\n";
+        "  --restart CHECKPOINT.h5  continue from a checkpoint\n"
+        "  --accept STATUS,...      exit 0 for these statuses (not_equilibrated,\n"
+        "                           region_too_small); summary.json still names them\n";
 
     /// Async-signal-safe: only sets the flag the run polls at step boundaries.
     extern "C" void on_stop_signal(int sig) { coupling::tunnel_stop_requested = sig; }
@@ -105,13 +116,18 @@ namespace demfem::apps
     /// The command that continues this run from `checkpoint`: this command
     /// line (the file and every --set override) without its --restart and
     /// --overwrite (which would delete the checkpoint), plus --restart.
-    std::string restart_command(const std::string &checkpoint)
+    std::string restart_command(const std::string &checkpoint, const std::string &accept)
     {
       const auto              &cl = command_line();
       std::vector<std::string> a  = {"demfem", "tunnel"};
       for (const auto &x : cl.arguments)
         if (x != "--overwrite")
           a.push_back(x);
+      if (!accept.empty())
+        {
+          a.push_back("--accept");
+          a.push_back(accept);
+        }
       a.push_back("--restart");
       a.push_back(checkpoint);
       return shell_quoted(a);
@@ -137,8 +153,10 @@ namespace demfem::apps
     std::optional<RunDirectory>      run_dir;
     try
       {
-        std::string      file, restart;
-        ParameterHandler prm;
+        std::string                      file, restart;
+        std::vector<coupling::RunStatus> accepted;
+        std::string                      accept_text; // as given, for the restart hint
+        ParameterHandler                 prm;
         declare_parameters(prm);
         // --restart FILE is ours; the rest is the shared .prm command line.
         std::vector<char *> args;
@@ -151,6 +169,31 @@ namespace demfem::apps
               AssertThrow(std::filesystem::is_regular_file(restart),
                           ExcMessage("--restart: checkpoint '" + restart +
                                      "' does not exist or is not a file"));
+            }
+          else if (std::string(argv[i]) == "--accept")
+            {
+              AssertThrow(i + 1 < argc,
+                          ExcMessage("--accept needs a status list, e.g. --accept "
+                                     "not_equilibrated"));
+              accept_text = argv[++i];
+              for (const auto &name : split_list("--accept", accept_text))
+                {
+                  coupling::RunStatus st;
+                  try
+                    {
+                      st = coupling::status_from_name(name);
+                    }
+                  catch (const std::invalid_argument &e)
+                    {
+                      throw UsageError(std::string("--accept: ") + e.what());
+                    }
+                  AssertThrow(st == coupling::RunStatus::not_equilibrated ||
+                                  st == coupling::RunStatus::region_too_small,
+                              ExcMessage("--accept " + name +
+                                         ": only not_equilibrated and region_too_small "
+                                         "may be accepted (the others are not results)"));
+                  accepted.push_back(st);
+                }
             }
           else
             args.push_back(argv[i]);
@@ -187,30 +230,46 @@ namespace demfem::apps
           {
             const int sig = coupling::tunnel_stop_requested;
             std::cout << "demfem tunnel: stopped at step " << r.steps
-                      << " on request; continue with: " << restart_command(r.checkpoint)
-                      << std::endl;
+                      << " on request; continue with: "
+                      << restart_command(r.checkpoint, accept_text) << std::endl;
             if (run_dir)
               run_dir->finish("interrupted", sig == SIGTERM ? 143 : 130);
             return sig == SIGTERM ? 143 : 130;
           }
         if (r.diverged)
+          std::cerr << "demfem tunnel: the run diverged: " << r.diagnosis
+                    << "\n(summary.json records it; no non-finite value was written)"
+                    << std::endl;
+        else
+          std::cout << "demfem tunnel: done in " << r.wall_time_s
+                    << " s: " << r.n_particles << " grains, " << r.cracks_total
+                    << " cracks (" << r.cracks_tensile << " tensile), damage-zone depth "
+                    << r.damage_zone_depth << " m, mean wall convergence "
+                    << r.wall_convergence_mean << " m, interface force imbalance "
+                    << r.interface_force_imbalance_max << "; output in "
+                    << s.output_directory << std::endl;
+        for (const auto &[status, what] : r.problems)
+          if (status != coupling::RunStatus::diverged)
+            std::cerr << "demfem tunnel: " << coupling::status_name(status) << ": "
+                      << what << std::endl;
+        const std::string name = coupling::status_name(r.status);
+        int               code = coupling::exit_code(r.status);
+        if (code != 0 &&
+            std::all_of(r.problems.begin(), r.problems.end(), [&](const auto &pr) {
+              return std::find(accepted.begin(), accepted.end(), pr.first) !=
+                     accepted.end();
+            }))
           {
-            std::cerr << "demfem tunnel: the run diverged: " << r.diagnosis
-                      << "\n(summary.json records it; no non-finite value was written)"
+            std::cout << "demfem tunnel: status " << name << " accepted (--accept)"
                       << std::endl;
-            if (run_dir)
-              run_dir->finish("diverged", 2);
-            return 2;
+            code = 0;
           }
-        std::cout << "demfem tunnel: done in " << r.wall_time_s << " s: " << r.n_particles
-                  << " grains, " << r.cracks_total << " cracks (" << r.cracks_tensile
-                  << " tensile), damage-zone depth " << r.damage_zone_depth
-                  << " m, mean wall convergence " << r.wall_convergence_mean
-                  << " m, interface force imbalance " << r.interface_force_imbalance_max
-                  << "; output in " << s.output_directory << std::endl;
+        else if (code != 0)
+          std::cerr << "demfem tunnel: status " << name << " (exit " << code
+                    << "; summary.json lists the problems)" << std::endl;
         if (run_dir)
-          run_dir->finish("ok", 0);
-        return 0;
+          run_dir->finish(name, code);
+        return code;
       }
     catch (const std::exception &e)
       {

@@ -1,7 +1,11 @@
 #include "coupling/coupled_model.h"
 
+#include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/utilities.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q.h>
 #include <deal.II/grid/tria.h>
+#include <deal.II/numerics/data_out.h>
 
 #include "coupling/slaved_layer_model.h"
 #include "coupling/wall_facet_model.h"
@@ -643,6 +647,58 @@ namespace demfem::coupling
       for (int c = 0; c < dim; ++c)
         r[k][c] = u[k][c];
     return r;
+  }
+
+  template <int dim>
+  std::string CoupledModel<dim>::continuum_vtu() const
+  {
+    // Displacement and the total stress per cell (both sides start
+    // stress-free, so sigma(u) is the total stress; plane strain, 3D: the
+    // slab on rollers), at the cell centre, as a .vtu text.
+    dealii::DataOut<dim> data_out;
+    data_out.attach_dof_handler(dof_handler());
+    std::vector<dealii::DataComponentInterpretation::DataComponentInterpretation> ci(
+        dim, dealii::DataComponentInterpretation::component_is_part_of_vector);
+    const dealii::Vector<double> u = displacement_field();
+    data_out.add_data_vector(u, std::vector<std::string>(dim, "displacement"),
+                             dealii::DataOut<dim>::type_dof_data, ci);
+    const auto  &dh = dof_handler();
+    const double E = cp.young_modulus, nu = cp.poisson_ratio;
+    const double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+    const char  *xyz                       = "xyz";
+    std::vector<std::pair<int, int>> comps = {{0, 0}, {1, 1}, {0, 1}};
+    if (dim == 3)
+      comps.insert(comps.end(), {{2, 2}, {0, 2}, {1, 2}});
+    std::vector<dealii::Vector<double>> sig(
+        comps.size(), dealii::Vector<double>(dh.get_triangulation().n_active_cells()));
+    dealii::MappingQ<dim>  mapping(1);
+    dealii::QMidpoint<dim> q;
+    dealii::FEValues<dim>  fv(mapping, dh.get_fe(), q, dealii::update_gradients);
+    std::vector<std::vector<dealii::Tensor<1, dim>>> g(
+        1, std::vector<dealii::Tensor<1, dim>>(dim));
+    for (const auto &cell : dh.active_cell_iterators())
+      {
+        fv.reinit(cell);
+        fv.get_function_gradients(u, g);
+        double tr = 0;
+        for (int a = 0; a < dim; ++a)
+          tr += g[0][a][a];
+        const auto c = cell->active_cell_index();
+        for (std::size_t k = 0; k < comps.size(); ++k)
+          {
+            const auto [a, b] = comps[k];
+            const double e    = 0.5 * (g[0][a][b] + g[0][b][a]);
+            sig[k][c]         = (a == b ? lam * tr : 0.0) + 2 * mu * e;
+          }
+      }
+    for (std::size_t k = 0; k < comps.size(); ++k)
+      data_out.add_data_vector(
+          sig[k], std::string("stress_") + xyz[comps[k].first] + xyz[comps[k].second],
+          dealii::DataOut<dim>::type_cell_data);
+    data_out.build_patches();
+    std::ostringstream text;
+    data_out.write_vtu(text);
+    return text.str();
   }
 
   template <int dim>

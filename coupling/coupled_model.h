@@ -203,7 +203,10 @@ namespace demfem::coupling
     /// The continuum's displacement field for output (explicit: the
     /// dynamic state; quasi-static: a static solve with the current
     /// interface forces) on dof_handler().
-    dealii::Vector<double>         displacement_field() const;
+    dealii::Vector<double> displacement_field() const;
+    /// The continuum as VTK XML (.vtu) text: displacement and the total
+    /// stress components per cell (stress_xx, ...), for ParaView.
+    std::string                    continuum_vtu() const;
     const dealii::DoFHandler<dim> &dof_handler() const;
     double                         continuum_inner_radius() const;
 

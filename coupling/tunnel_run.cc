@@ -1,10 +1,5 @@
 #include "coupling/tunnel_run.h"
 
-#include <deal.II/base/quadrature_lib.h>
-#include <deal.II/fe/fe_values.h>
-#include <deal.II/fe/mapping_q.h>
-#include <deal.II/numerics/data_out.h>
-
 #include "coupling/excavation_measures.h"
 #include "dem/checkpoint.h"
 #include "dem/vtk_output.h"
@@ -150,6 +145,8 @@ namespace demfem::coupling
       bool                            resuming    = false;
       std::int64_t                    resume_n    = 1;
       double                          resume_peak = 0;
+      double                          phase_t0    = 0; // model time at the phase start
+      std::vector<PhaseRecord>        phases;          // the phases ended so far
       std::vector<Vec<dim>>           fex; // forces of the removed grains, by id
       Eigen::Matrix<double, dim, dim> stress_before =
           Eigen::Matrix<double, dim, dim>::Zero();
@@ -219,14 +216,18 @@ namespace demfem::coupling
         return c ? s / c : 0.0;
       }
 
-      // Cracks within two mean grain diameters of the coupling ring: damage
-      // there is influenced by the interface (diagnostic).
+      // Excavation cracks within two mean grain diameters of the coupling
+      // ring: the excavation's damage reached the boundary, where the
+      // continuum cannot crack (status region_too_small). Cracks of the
+      // in-situ phase are not the excavation's and are counted apart.
       std::size_t near_interface() const
       {
-        std::size_t n = 0;
-        for (const auto &c : m.dem.cracks)
-          n += c.position.template head<2>().norm() >
-               m.continuum_inner_radius() - 2 * p.region.mean_diameter();
+        if (!excavated)
+          return 0;
+        std::size_t  n  = 0;
+        const double r0 = m.continuum_inner_radius() - 2 * p.region.mean_diameter();
+        for (std::size_t k = cracks_before; k < m.dem.cracks.size(); ++k)
+          n += m.dem.cracks[k].position.template head<2>().norm() > r0;
         return n;
       }
 
@@ -248,57 +249,7 @@ namespace demfem::coupling
         dem::vtkout::write_particles(dir + "/" + pf, m.dem, solid);
         dem::vtkout::write_contacts(dir + "/" + bf, m.dem);
         dem::vtkout::write_cracks(dir + "/" + cf, m.dem.current_cracks());
-        {
-          dealii::DataOut<dim> data_out;
-          data_out.attach_dof_handler(m.dof_handler());
-          std::vector<dealii::DataComponentInterpretation::DataComponentInterpretation>
-              ci(dim, dealii::DataComponentInterpretation::component_is_part_of_vector);
-          const dealii::Vector<double> u = m.displacement_field();
-          data_out.add_data_vector(u, std::vector<std::string>(dim, "displacement"),
-                                   dealii::DataOut<dim>::type_dof_data, ci);
-          // Total stress per cell (both sides start stress-free, so sigma(u)
-          // is the total stress; plane strain, 3D: the slab on rollers), at
-          // the cell centre.
-          const auto  &dh = m.dof_handler();
-          const double E = p.continuum.young_modulus, nu = p.continuum.poisson_ratio;
-          const double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
-          const char  *xyz                       = "xyz";
-          std::vector<std::pair<int, int>> comps = {{0, 0}, {1, 1}, {0, 1}};
-          if (dim == 3)
-            comps.insert(comps.end(), {{2, 2}, {0, 2}, {1, 2}});
-          std::vector<dealii::Vector<double>> sig(
-              comps.size(),
-              dealii::Vector<double>(dh.get_triangulation().n_active_cells()));
-          dealii::MappingQ<dim>  mapping(1);
-          dealii::QMidpoint<dim> q;
-          dealii::FEValues<dim>  fv(mapping, dh.get_fe(), q, dealii::update_gradients);
-          std::vector<std::vector<dealii::Tensor<1, dim>>> g(
-              1, std::vector<dealii::Tensor<1, dim>>(dim));
-          for (const auto &cell : dh.active_cell_iterators())
-            {
-              fv.reinit(cell);
-              fv.get_function_gradients(u, g);
-              double tr = 0;
-              for (int a = 0; a < dim; ++a)
-                tr += g[0][a][a];
-              const auto c = cell->active_cell_index();
-              for (std::size_t k = 0; k < comps.size(); ++k)
-                {
-                  const auto [a, b] = comps[k];
-                  const double e    = 0.5 * (g[0][a][b] + g[0][b][a]);
-                  sig[k][c]         = (a == b ? lam * tr : 0.0) + 2 * mu * e;
-                }
-            }
-          for (std::size_t k = 0; k < comps.size(); ++k)
-            data_out.add_data_vector(sig[k],
-                                     std::string("stress_") + xyz[comps[k].first] +
-                                         xyz[comps[k].second],
-                                     dealii::DataOut<dim>::type_cell_data);
-          data_out.build_patches();
-          std::ostringstream text;
-          data_out.write_vtu(text);
-          dem::vtkout::write_text_atomically(dir + "/" + uf, text.str());
-        }
+        dem::vtkout::write_text_atomically(dir + "/" + uf, m.continuum_vtu());
         frames.push_back({t, {pf, bf, cf, uf}});
         ++frame;
         // One .pvd per series and a combined one (parts of a time step).
@@ -358,7 +309,9 @@ namespace demfem::coupling
         if (!warned_region_too_small && near_interface() > 0)
           {
             warned_region_too_small = true;
-            out << "warning: cracks within two grain diameters of the coupling boundary "
+            out << "warning: excavation cracks within two grain diameters of the "
+                   "coupling "
+                   "boundary "
                    "(r > "
                 << m.continuum_inner_radius() - 2 * p.region.mean_diameter()
                 << " m): the DEM region is too small for this damage; enlarge DEM "
@@ -383,6 +336,10 @@ namespace demfem::coupling
             ke_peak  = resume_peak;
             resuming = false;
           }
+        else
+          phase_t0 = m.dem.time();
+        bool         equilibrated = false;
+        std::int64_t n_end        = n0 - 1;
         for (std::int64_t n = n0; n <= limit; ++n)
           {
             // Step boundary: the state is "about to run iteration n".
@@ -403,6 +360,7 @@ namespace demfem::coupling
               }
             load(n);
             m.step();
+            n_end        = n;
             const auto s = m.dem.step_count();
             if (s % p.history_interval == 0)
               record();
@@ -428,10 +386,29 @@ namespace demfem::coupling
                 const std::int64_t windows = 2 * p.coupling.subcycles;
                 if (n >= std::max(min_steps, windows) && ur < p.ratio_tolerance &&
                     ke <= 1e-4 * ke_peak && m.interface_residual() < p.ratio_tolerance)
-                  break;
+                  {
+                    equilibrated = true;
+                    break;
+                  }
               }
           }
         progress_line(m.dem.unbalanced_ratio());
+        PhaseRecord ph;
+        ph.name                 = phase;
+        ph.steps                = n_end;
+        ph.time_start           = phase_t0;
+        ph.time_end             = m.dem.time();
+        ph.timestep             = m.dt();
+        ph.unbalanced_ratio     = m.dem.unbalanced_ratio();
+        const double ke         = m.continuum_kinetic_energy();
+        ph.kinetic_energy_ratio = ke_peak > 0 ? ke / ke_peak : 0.0;
+        ph.interface_residual   = m.interface_residual();
+        ph.equilibrated         = equilibrated;
+        phases.push_back(ph);
+        if (!equilibrated)
+          out << "warning: phase '" << phase << "' ended at its step limit (" << n_end
+              << " steps) before equilibrium: unbalanced ratio " << ph.unbalanced_ratio
+              << " (target " << p.ratio_tolerance << ")" << std::endl;
       }
 
       void checkpoint(std::int64_t n, double ke_peak)
@@ -453,6 +430,8 @@ namespace demfem::coupling
         md["run.n"]             = std::to_string(n);
         md["run.step"]          = std::to_string(m.dem.step_count());
         md["run.ke_peak"]       = encode_doubles({ke_peak});
+        md["run.phase_t0"]      = encode_doubles({phase_t0});
+        md["run.phases"]        = phases_to_text(phases);
         md["run.excavated"]     = excavated ? "1" : "0";
         md["run.cracks_before"] = std::to_string(cracks_before);
         md["run.ref"]           = encode_doubles(r);
@@ -488,7 +467,16 @@ namespace demfem::coupling
         phase_index = int(geti("run.phase_index"));
         resume_n    = geti("run.n");
         resume_peak = decode_doubles(meta_get(md, "run.ke_peak", file), "ke_peak").at(0);
-        excavated   = geti("run.excavated") != 0;
+        phase_t0 = decode_doubles(meta_get(md, "run.phase_t0", file), "phase_t0").at(0);
+        try
+          {
+            phases = phases_from_text(meta_get(md, "run.phases", file));
+          }
+        catch (const std::invalid_argument &e)
+          {
+            throw dem::InputError("restart: checkpoint " + file + ": " + e.what());
+          }
+        excavated     = geti("run.excavated") != 0;
         cracks_before = std::size_t(geti("run.cracks_before"));
         ref           = vecs("run.ref");
         fex           = vecs("run.fex");
@@ -603,10 +591,9 @@ namespace demfem::coupling
         out << "demfem tunnel: building the DEM region and the continuum" << std::endl;
         m.build(&out);
         m.set_insitu(p.sigma0);
-        r.n_fem_dofs          = m.n_fem_dofs();
-        r.mean_grain_diameter = p.region.mean_diameter();
-        budget                = p.ramp_steps + p.phase_step_limit * (2 + p.stages);
-        step0                 = m.dem.step_count();
+        r.n_fem_dofs = m.n_fem_dofs();
+        budget       = p.ramp_steps + p.phase_step_limit * (2 + p.stages);
+        step0        = m.dem.step_count();
         if (!p.restart_file.empty())
           restore(p.restart_file);
         else
@@ -669,31 +656,11 @@ namespace demfem::coupling
               checkpoint(0, 0);
           }
         save_history();
-        r.region_stress_before    = stress_before.template topLeftCorner<2, 2>();
-        r.region_stress_before_zz = dim == 3 ? stress_before(dim - 1, dim - 1) : 0.0;
-        r.checkpoint              = last_checkpoint;
-        if constexpr (dim == 2)
-          r.positions = m.dem.particles.x;
-        else
-          r.positions_3d = m.dem.particles.x;
-
-        r.n_particles    = m.dem.particles.size();
-        r.n_contacts     = m.dem.n_contacts();
-        r.steps          = m.dem.step_count();
-        r.cracks_total   = cracks(-1);
-        r.cracks_tensile = cracks(0);
-        r.cracks_shear   = cracks(1);
-        r.damage_zone_depth =
-            excavation::damage_zone_depth(m.dem, cracks_before, p.tunnel_radius);
-        r.damage_zone_depth_max =
-            excavation::largest_crack_depth(m.dem, cracks_before, p.tunnel_radius);
-        r.interface_force_imbalance_max = m.imbalance_max();
-        std::vector<std::array<double, 6>> rows;
-        r.wall_convergence_mean = convergence(&r.n_wall_particles, &rows);
-        r.wall_time_s =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        fill_result(r);
         if (!r.diverged)
           {
+            std::vector<std::array<double, 6>> rows;
+            convergence(nullptr, &rows);
             std::ostringstream w;
             w << "x,y,z,ux,uy,uz\n" << std::setprecision(12);
             for (const auto &q : rows)
@@ -701,53 +668,58 @@ namespace demfem::coupling
                 << q[5] << "\n";
             dem::vtkout::write_text_atomically(dir + "/wall_displacement.csv", w.str());
           }
-        std::ostringstream s;
-        s << "{\n  \"status\": \"" << (r.diverged ? "diverged" : "ok") << "\",\n";
-        if (r.diverged)
-          {
-            std::string d;
-            for (char c : r.diagnosis)
-              d += (c == '"' || c == '\\') ? '\'' : c;
-            s << "  \"diagnosis\": \"" << d << "\",\n";
-          }
-        s << "  \"dimension\": " << dim << ",\n";
-        if (dim == 3)
-          s << "  \"slab_thickness\": " << num(p.region.slab_thickness)
-            << ",\n  \"embedding\": \"" << (m.section() ? "section" : "slab")
-            << "\",\n  \"axial_extension\": " << num(p.continuum.axial_extension)
-            << ",\n";
-        s << "  \"variant\": \"" << m.variant() << "\",\n  \"scheme\": \"" << m.scheme()
-          << "\",\n"
-          << "  \"n_particles\": " << r.n_particles
-          << ",\n  \"n_contacts\": " << r.n_contacts
-          << ",\n  \"n_fem_dofs\": " << r.n_fem_dofs
-          << ",\n  \"steps\": " << r.steps - step0 << ",\n  \"packing_steps\": " << step0
-          << ",\n  \"timestep_s\": " << num(m.dt())
-          << ",\n  \"wall_time_s\": " << num(r.wall_time_s)
-          << ",\n  \"cracks_total\": " << r.cracks_total
-          << ",\n  \"cracks_tensile\": " << r.cracks_tensile
-          << ",\n  \"cracks_shear\": " << r.cracks_shear << ",\n  \"cracks_by_type\": {"
-          << excavation::cracks_by_type_json(m.dem) << "}"
-          << ",\n  \"damage_zone_depth\": " << num(r.damage_zone_depth)
-          << ",\n  \"damage_zone_depth_max\": " << num(r.damage_zone_depth_max)
-          << ",\n  \"cracks_before_excavation\": " << cracks_before
-          << ",\n  \"cracks_near_interface\": " << near_interface()
-          << ",\n  \"region_too_small\": " << (near_interface() > 0 ? "true" : "false")
-          << ",\n  \"dem_region_radius\": " << num(p.region.radius)
-          << ",\n  \"wall_convergence_mean\": " << num(r.wall_convergence_mean)
-          << ",\n  \"wall_particles\": " << r.n_wall_particles
-          << ",\n  \"interface_force_imbalance_max\": "
-          << num(r.interface_force_imbalance_max)
-          << ",\n  \"region_stress_before_excavation\": ["
-          << num(r.region_stress_before(0, 0)) << ", "
-          << num(r.region_stress_before(1, 1)) << ", "
-          << num(r.region_stress_before(0, 1)) << "]";
-        if (dim == 3)
-          s << ",\n  \"region_stress_zz_before_excavation\": "
-            << num(r.region_stress_before_zz);
-        s << "\n}\n";
-        dem::vtkout::write_text_atomically(dir + "/summary.json", s.str());
+        assess_outcome(r);
+        dem::vtkout::write_text_atomically(dir + "/summary.json",
+                                           summary_json(r).dump(2) + "\n");
         return r;
+      }
+
+      // Everything the summary, the study and the outcome checks need.
+      void fill_result(TunnelResult &r) const
+      {
+        r.dimension = dim;
+        r.variant   = m.variant();
+        r.scheme    = m.scheme();
+        if (dim == 3)
+          {
+            r.embedding       = m.section() ? "section" : "slab";
+            r.slab_thickness  = p.region.slab_thickness;
+            r.axial_extension = p.continuum.axial_extension;
+          }
+        r.sigma0                  = p.sigma0;
+        r.region_stress_before    = stress_before.template topLeftCorner<2, 2>();
+        r.region_stress_before_zz = dim == 3 ? stress_before(dim - 1, dim - 1) : 0.0;
+        r.in_situ_tolerance       = p.in_situ_tolerance;
+        r.ratio_tolerance         = p.ratio_tolerance;
+        r.phases                  = phases;
+        r.checkpoint              = last_checkpoint;
+        if constexpr (dim == 2)
+          r.positions = m.dem.particles.x;
+        else
+          r.positions_3d = m.dem.particles.x;
+        r.n_particles              = m.dem.particles.size();
+        r.n_contacts               = m.dem.n_contacts();
+        r.steps                    = m.dem.step_count();
+        r.packing_steps            = step0;
+        r.timestep                 = m.dt();
+        r.critical_timestep        = m.dem.critical_timestep();
+        r.cracks_total             = cracks(-1);
+        r.cracks_tensile           = cracks(0);
+        r.cracks_shear             = cracks(1);
+        r.cracks_by_type           = excavation::cracks_by_type(m.dem);
+        r.cracks_before_excavation = cracks_before;
+        r.cracks_near_interface    = near_interface();
+        r.region_too_small         = r.cracks_near_interface > 0;
+        r.dem_region_radius        = p.region.radius;
+        r.mean_grain_diameter      = p.region.mean_diameter();
+        r.damage_zone_depth =
+            excavation::damage_zone_depth(m.dem, cracks_before, p.tunnel_radius);
+        r.damage_zone_depth_max =
+            excavation::largest_crack_depth(m.dem, cracks_before, p.tunnel_radius);
+        r.interface_force_imbalance_max = m.imbalance_max();
+        r.wall_convergence_mean         = convergence(&r.n_wall_particles);
+        r.wall_time_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       }
     };
   } // namespace

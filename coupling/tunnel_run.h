@@ -7,6 +7,7 @@
 // force balance and energies; summary.json, history.csv,
 // wall_displacement.csv and VTK series (.pvd per series and a combined one).
 #include "coupling/coupled_model.h"
+#include "coupling/tunnel_result.h"
 
 #include <csignal>
 #include <cstdint>
@@ -27,9 +28,12 @@ namespace demfem::coupling
     RegionParams    region;
     ContinuumParams continuum;
     CouplingParams  coupling;
-    double          ratio_tolerance  = 1e-3; ///< equilibrium: unbalanced ratio below this
-    std::int64_t    ramp_steps       = 2000; ///< in-situ load ramp
-    std::int64_t    phase_step_limit = 20000; ///< per equilibrium phase / stage
+    double          ratio_tolerance = 1e-3; ///< equilibrium: unbalanced ratio below this
+    /// In-situ state reached: centre-disk stress before excavation within
+    /// this fraction of the largest |sigma0 principal| (tunnel_result.h).
+    double       in_situ_tolerance = 0.1;
+    std::int64_t ramp_steps        = 2000;  ///< in-situ load ramp
+    std::int64_t phase_step_limit  = 20000; ///< per equilibrium phase / stage
     std::int64_t vtk_interval = 1000; ///< steps between VTK frames (0: phase ends only)
     std::int64_t history_interval = 100;
     bool         write_vtk        = true;
@@ -52,30 +56,6 @@ namespace demfem::coupling
     void validate(const std::string &where) const;
   };
 
-  struct TunnelResult
-  {
-    bool            diverged = false;
-    std::string     diagnosis;
-    std::size_t     n_particles = 0, n_contacts = 0, n_fem_dofs = 0;
-    std::int64_t    steps        = 0;
-    double          wall_time_s  = 0;
-    std::size_t     cracks_total = 0, cracks_tensile = 0, cracks_shear = 0;
-    double          damage_zone_depth     = 0; ///< 90th-percentile crack distance [m]
-    double          damage_zone_depth_max = 0; ///< largest crack distance [m]
-    double          wall_convergence_mean = 0; ///< mean inward radial displacement [m]
-    double          interface_force_imbalance_max = 0;
-    std::size_t     n_wall_particles              = 0;
-    Eigen::Matrix2d region_stress_before =
-        Eigen::Matrix2d::Zero();        ///< centre disk, pre-excavation (in plane)
-    double region_stress_before_zz = 0; ///< 3D: szz of the same region
-    double mean_grain_diameter     = 0;
-    /// Stopped on request (signal): a checkpoint was written, no summary.
-    bool                     interrupted = false;
-    std::string              checkpoint;   ///< latest checkpoint written ("" none)
-    std::vector<dem::Vec<2>> positions;    ///< final grain positions (model order), 2D
-    std::vector<dem::Vec<3>> positions_3d; ///< same, 3D
-  };
-
   /// Set by a SIGINT/SIGTERM handler (nothing else is async-signal-safe):
   /// the run writes a checkpoint at the next step boundary and returns with
   /// TunnelResult::interrupted.
@@ -90,5 +70,6 @@ namespace demfem::coupling
   /// Runs the workflow; writes into p.output_directory (created here, after
   /// validation). Divergence does not throw: it is reported in the result
   /// (and summary.json) with a diagnosis; no non-finite number is written.
+  /// The result's status is set by assess_outcome (tunnel_result.h).
   TunnelResult run_tunnel(const TunnelParams &p, std::ostream &progress);
 } // namespace demfem::coupling

@@ -7,7 +7,12 @@
 #   2. a re-run into a used directory without --overwrite is refused, with
 #      --overwrite it runs;
 #   3. a checkpoint with corrupted bytes is refused naming the checksum
-#      failure and the file.
+#      failure and the file;
+#   4. a full disk gives one error naming the file;
+#   5. outcome checks (docs/tunnel.md, "Run status and exit codes"): a
+#      load ramp too short gives in_situ_not_reached (exit 4), phases cut by
+#      the step limit not_equilibrated (exit 3, or 0 with --accept), an
+#      absurd stiffness contrast in_situ_not_reached (exit 4).
 # Usage: fault_injection.sh DEMFEM_EXE SOURCE_DIR
 set -u
 exe="$1"
@@ -50,7 +55,10 @@ check "concurrent: manifest status interrupted" \
   grep -q '"status": "interrupted"' "$out/manifest.json"
 check "concurrent: lock released" [ ! -e "$out/demfem.lock" ]
 
-# 2. Re-run without --overwrite refused; with it, runs.
+# 2. Re-run without --overwrite refused; with it, runs. (Its in-situ ramp of
+# 300 steps is cut by the step limit of 300 before the load reaches the
+# region (the in-situ phase has ramp + limit = 600 steps): in_situ_not_reached,
+# exit 4, the problems named.)
 "$exe" tunnel "$prm" "${small[@]}" --set "Problem/output directory=$out" \
   > "$work/rerun.log" 2>&1
 rc=$?
@@ -59,8 +67,12 @@ check "re-run: message names --overwrite" grep -q -- "--overwrite" "$work/rerun.
 "$exe" tunnel "$prm" "${small[@]}" --set "Problem/output directory=$out" --overwrite \
   > "$work/overwrite.log" 2>&1
 rc=$?
-check "re-run: --overwrite runs (exit $rc)" [ "$rc" -eq 0 ]
-check "re-run: manifest status ok" grep -q '"status": "ok"' "$out/manifest.json"
+check "re-run: --overwrite runs, in situ not reached (exit $rc)" [ "$rc" -eq 4 ]
+check "re-run: manifest status in_situ_not_reached" \
+  grep -q '"status": "in_situ_not_reached"' "$out/manifest.json"
+check "re-run: summary names the phase and the step limit" \
+  grep -q "phase 'in-situ' ended at its step limit (600 steps, Coupling/step limit)" \
+  "$out/summary.json"
 
 # 3. Corrupted checkpoint: 16 bytes in the middle of the file and, apart,
 # one byte of the stored .prm text.
@@ -93,10 +105,45 @@ rc=$?
 check "corrupt (prm text): refused (exit $rc)" [ "$rc" -eq 1 ]
 check "corrupt (prm text): Fletcher32 named" grep -q "Fletcher32" "$work/text.log"
 
+# 5. Outcome checks. Phases that cannot reach an equilibrium ratio of 1e-12
+# within 2000 steps (the in-situ state is reached: 4 % off sigma0, measured):
+# not_equilibrated, exit 3; with --accept, exit 0 and the status kept.
+unreachable=(--set "Coupling/equilibrium ratio=1e-12" --set "Coupling/step limit=2000")
+"$exe" tunnel "$prm" "${small[@]}" "${unreachable[@]}" \
+  --set "Problem/output directory=$work/unequilibrated" > "$work/unequilibrated.log" 2>&1
+rc=$?
+check "not equilibrated: exit 3 (exit $rc)" [ "$rc" -eq 3 ]
+check "not equilibrated: summary status" \
+  grep -q '"status": "not_equilibrated"' "$work/unequilibrated/summary.json"
+"$exe" tunnel "$prm" "${small[@]}" "${unreachable[@]}" \
+  --set "Problem/output directory=$work/accepted" \
+  --accept not_equilibrated,region_too_small > "$work/accepted.log" 2>&1
+rc=$?
+check "accept: not_equilibrated accepted (exit $rc)" [ "$rc" -eq 0 ]
+check "accept: summary and manifest still say not_equilibrated" \
+  grep -q '"status": "not_equilibrated"' "$work/accepted/summary.json" "$work/accepted/manifest.json"
+# A DEM 10^4 times stiffer than the continuum (the grains' own in-situ state
+# never arrives: measured region stress ~1e-44 Pa for -30 MPa), with enough
+# steps for the in-situ phase to matter: in_situ_not_reached, exit 4, even
+# with --accept not_equilibrated.
+"$exe" tunnel "$prm" "${small[@]}" --set "Problem/output directory=$work/stiff" \
+  --set "DEM region/emod=2e14" --set "DEM region/lnm emod=2e14" \
+  --accept not_equilibrated > "$work/stiff.log" 2>&1
+rc=$?
+check "absurd stiffness: in_situ_not_reached (exit $rc)" [ "$rc" -eq 4 ]
+check "absurd stiffness: summary and manifest name it" \
+  grep -q '"status": "in_situ_not_reached"' "$work/stiff/summary.json" "$work/stiff/manifest.json"
+check "absurd stiffness: message names the tolerance key" \
+  grep -q "Tunnel/in situ tolerance" "$work/stiff.log"
+"$exe" tunnel "$prm" "${small[@]}" --set "Problem/output directory=$work/bad_accept" \
+  --accept diverged > "$work/bad_accept.log" 2>&1
+rc=$?
+check "accept: diverged cannot be accepted (exit $rc)" [ "$rc" -eq 1 ]
+
 # 4. Disk full (a 300 KiB tmpfs; only where mounting is allowed, e.g. as
 # root): one error naming the file, exit 1, no crash, and the files written
 # before are complete (replaced atomically).
-total=15
+total=25
 tiny="$work/tiny"
 mkdir -p "$tiny"
 if mount -t tmpfs -o size=300k tmpfs "$tiny" 2>/dev/null; then

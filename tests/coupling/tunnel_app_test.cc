@@ -110,6 +110,10 @@ TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing",
       // Refused before the run, where the key enters (apps/study_prm.cc).
       {"--set \"Coupling/timestep safety=5\"", "Coupling/timestep safety (--set) = 5"},
       {"--set \"Coupling/timestep safety=1.01\"", "outside (0, 1]"},
+      {"--set \"Tunnel/in situ tolerance=0\"", "Tunnel/in situ tolerance (--set) = 0"},
+      // Only statuses whose results are still results may be accepted.
+      {"--accept fine", "unknown run status 'fine'"},
+      {"--accept in_situ_not_reached", "only not_equilibrated and region_too_small"},
   };
   for (const auto &c : cases)
     {

@@ -1,0 +1,105 @@
+#pragma once
+// What a `demfem tunnel` run produced and whether it reached what it was
+// asked (docs/tunnel.md, "Run status and exit codes"; docs/architecture.md,
+// "Outputs and run status"). No deal.II here: the study, the summary writer
+// and the tests read results without the continuum's headers.
+#include "dem/types.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace demfem::coupling
+{
+  /// One cycling phase of the workflow (in-situ, each excavation stage,
+  /// final equilibrium) as it ended.
+  struct PhaseRecord
+  {
+    std::string  name;
+    std::int64_t steps      = 0;
+    double       time_start = 0, time_end = 0; ///< model time [s]
+    double       timestep = 0;                 ///< at the phase end [s]
+    /// The DEM's unbalanced-force ratio, the continuum's kinetic energy over
+    /// its peak in the phase and the interface residual, at the phase end.
+    double unbalanced_ratio = 0, kinetic_energy_ratio = 0, interface_residual = 0;
+    /// Ended by the equilibrium criterion, not by its step limit.
+    bool equilibrated = false;
+  };
+
+  /// summary.json "status", most severe first. Exit codes:
+  /// docs/tunnel.md, "Run status and exit codes".
+  enum class RunStatus
+  {
+    ok,
+    diverged,            ///< instability (energy, kinetic-energy growth, NaN)
+    time_not_advancing,  ///< dt lost in round-off of t: no physical time passed
+    in_situ_not_reached, ///< region stress before excavation not sigma0
+    not_equilibrated,    ///< a phase ended at its step limit
+    region_too_small,    ///< excavation cracks at the coupling boundary
+  };
+  std::string status_name(RunStatus s);
+  /// Throws std::invalid_argument for an unknown name.
+  RunStatus status_from_name(const std::string &name);
+  int       exit_code(RunStatus s);
+
+  struct TunnelResult
+  {
+    RunStatus status   = RunStatus::ok;
+    bool      diverged = false;
+    /// Every failed check, most severe first, each with its numbers.
+    std::vector<std::pair<RunStatus, std::string>> problems;
+    std::string                                    diagnosis; ///< of a divergence
+    std::vector<PhaseRecord>                       phases;
+
+    int          dimension = 2;
+    std::string  variant, scheme, embedding; ///< embedding: "" (2D), slab, section
+    double       slab_thickness = 0, axial_extension = 0;
+    std::size_t  n_particles = 0, n_contacts = 0, n_fem_dofs = 0;
+    std::int64_t steps = 0, packing_steps = 0;
+    double       timestep = 0, critical_timestep = 0; ///< coupled dt, DEM critical
+    double       wall_time_s  = 0;
+    std::size_t  cracks_total = 0, cracks_tensile = 0, cracks_shear = 0;
+    nlohmann::ordered_json cracks_by_type;
+    std::size_t            cracks_before_excavation = 0;
+    /// Excavation cracks within two mean diameters of the coupling boundary
+    /// (the continuum cannot crack: the region is too small for the damage).
+    std::size_t cracks_near_interface = 0;
+    bool        region_too_small      = false;
+    double      dem_region_radius     = 0;
+    double      damage_zone_depth     = 0; ///< 90th-percentile crack distance [m]
+    double      damage_zone_depth_max = 0; ///< largest crack distance [m]
+    double      wall_convergence_mean = 0; ///< mean inward radial displacement [m]
+    double      interface_force_imbalance_max = 0;
+    std::size_t n_wall_particles              = 0;
+    /// sigma0 asked (in plane) and the centre-disk stress measured before the
+    /// excavation; in_situ_error = max |difference| / max |sigma0 principal|.
+    Eigen::Matrix2d sigma0 = Eigen::Matrix2d::Zero();
+    Eigen::Matrix2d region_stress_before =
+        Eigen::Matrix2d::Zero();        ///< centre disk, pre-excavation (in plane)
+    double region_stress_before_zz = 0; ///< 3D: szz of the same region
+    double in_situ_error           = 0;
+    double in_situ_tolerance       = 0;
+    double ratio_tolerance         = 0;
+    double mean_grain_diameter     = 0;
+    /// Stopped on request (signal): a checkpoint was written, no summary.
+    bool                     interrupted = false;
+    std::string              checkpoint;   ///< latest checkpoint written ("" none)
+    std::vector<dem::Vec<2>> positions;    ///< final grain positions (model order), 2D
+    std::vector<dem::Vec<3>> positions_3d; ///< same, 3D
+  };
+
+  /// The outcome checks (DESIGN "Run status"; docs/tunnel.md): fills
+  /// status and problems from the phases, the in-situ stress, the cracks at
+  /// the boundary and a divergence already recorded. A run that diverged is
+  /// not checked further (its state is not an answer).
+  void assess_outcome(TunnelResult &r);
+
+  /// summary.json of a finished (not interrupted) run.
+  nlohmann::ordered_json summary_json(const TunnelResult &r);
+
+  /// PhaseRecords as text lines for a checkpoint, and back.
+  std::string              phases_to_text(const std::vector<PhaseRecord> &phases);
+  std::vector<PhaseRecord> phases_from_text(const std::string &text);
+} // namespace demfem::coupling
