@@ -121,7 +121,7 @@ TEST_CASE("3D region: packing reaches its porosity target with every grain insid
   CHECK(b.model.kinetic_energy() == 0);
 }
 
-TEST_CASE("3D region: the slab walls hold the grains without friction; Love-Weber "
+TEST_CASE("3D region: the slab walls hold the grains without friction, Love-Weber "
           "stress of the slab",
           "[coupling][region3d]")
 {

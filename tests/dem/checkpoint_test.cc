@@ -221,7 +221,7 @@ TEST_CASE("checkpoint restart continues bit for bit (3D, 100 spheres)", "[checkp
   restart_bitwise<3>(2e5);
 }
 
-TEST_CASE("checkpoint writes keep the previous file; a failed write changes nothing",
+TEST_CASE("checkpoint writes keep the previous file, and a failed write changes nothing",
           "[checkpoint]")
 {
   Threads           one(1);

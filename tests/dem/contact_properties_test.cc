@@ -245,7 +245,7 @@ namespace
   };
 } // namespace
 
-TEST_CASE("modifiable properties are read and set during a run; the rest refused",
+TEST_CASE("modifiable properties are read and set during a run, the rest refused",
           "[properties]")
 {
   Threads one(1);

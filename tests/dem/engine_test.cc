@@ -135,7 +135,7 @@ namespace
   }
 } // namespace
 
-TEST_CASE("time step above critical is refused; below critical is stable", "[engine][timestep]")
+TEST_CASE("time step above critical is refused, below critical is stable", "[engine][timestep]")
 {
   Model<2> probe;
   lattice(probe, 8);
