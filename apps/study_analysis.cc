@@ -1,5 +1,6 @@
 // Closed forms, Pareto front, CSV and SVG chart of `demfem study`.
 #include "apps/study.h"
+#include "common/atomic_file.h"
 #include "dem/types.h"
 
 #include <algorithm>
@@ -144,7 +145,7 @@ namespace demfem::apps::study
 
   void write_csv(const std::string &file, const std::vector<Row> &rows)
   {
-    std::ofstream o(file);
+    std::ostringstream o; // replaced atomically below
     o << "run,region_radius_m,region_factor,region_auto,a_over_d,grain_diameter_m,"
          "subcycles,timestep_safety,status,n_particles,steps,wall_time_s,"
          "wall_convergence_m,kirsch_convergence_m,error_rel,pareto,seed,equilibrated,"
@@ -183,6 +184,7 @@ namespace demfem::apps::study
           << (dmg ? (r.region_too_small ? "yes" : "no") : "") << ","
           << quoted(r.diagnosis) << "\n";
       }
+    write_file_atomically(file, o.str());
   }
 
   void write_chart(const std::string &file, const std::vector<Row> &rows, bool breakable,
@@ -215,7 +217,7 @@ namespace demfem::apps::study
       return H - B - (H - T - B) * (std::log10(e) - y0) / (y1 - y0);
     };
 
-    std::ofstream o(file);
+    std::ostringstream o; // replaced atomically below
     o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
       << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
       << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
@@ -287,6 +289,7 @@ namespace demfem::apps::study
       << " unstable, invalid or</text>\n<text x=\"" << W - R + 12 << "\" y=\"" << T + 70
       << "\">unequilibrated run(s)</text>\n<text x=\"" << W - R + 12 << "\" y=\""
       << T + 84 << "\">not plotted (study.csv)</text>\n</svg>\n";
+    write_file_atomically(file, o.str());
   }
 
   RegionAnswer region_answer(const std::vector<Row>       &rows,
@@ -334,7 +337,7 @@ namespace demfem::apps::study
                             const std::vector<Reference> &refs, double tolerance,
                             const RegionAnswer &answer)
   {
-    std::ofstream c(csv), m(markdown);
+    std::ostringstream c, m; // replaced atomically below
     c << "run,region_factor,region_auto,a_over_d,seed,variant,scheme,subcycles,"
          "timestep_safety,relaxation,stiffness_contrast,n_particles,"
          "reference_particles,wall_time_s,reference_wall_time_s,speedup,"
@@ -463,6 +466,8 @@ namespace demfem::apps::study
       << (answer.smallest_agreeing < 0 ? std::string("(none)")
                                        : num(answer.smallest_agreeing))
       << " agrees.\n";
+    write_file_atomically(csv, c.str());
+    write_file_atomically(markdown, m.str());
     return n;
   }
 } // namespace demfem::apps::study

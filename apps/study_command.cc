@@ -20,6 +20,7 @@
 #include "apps/output_dir.h"
 #include "apps/prm_cli.h"
 #include "apps/study.h"
+#include "common/atomic_file.h"
 #include "dem/types.h"
 #include "dem/vtk_output.h"
 
@@ -257,7 +258,7 @@ namespace demfem::apps
           row.diagnosis = exception_text(e);
         }
       if (std::filesystem::is_directory(p.output_directory))
-        std::ofstream(p.output_directory + "/log.txt") << log.str();
+        write_file_atomically(p.output_directory + "/log.txt", log.str());
       std::cout << "run " << row.index << ": b/a " << row.region_factor << ", a/d " << r
                 << ", " << variant << ", " << scheme << ", k " << k << ", safety " << s
                 << ", relaxation " << rx << ", contrast " << c << ", seed " << seed
@@ -427,7 +428,7 @@ namespace demfem::apps
                     f.diagnosis = exception_text(e);
                   }
                 if (std::filesystem::is_directory(f.directory))
-                  std::ofstream(f.directory + "/log.txt") << log.str();
+                  write_file_atomically(f.directory + "/log.txt", log.str());
                 std::cout << "reference " << refs.size() << ": " << f.status;
                 if (f.status != "invalid")
                   std::cout << ", " << f.result.n_particles << " grains, "

@@ -192,7 +192,7 @@ namespace demfem::coupling
       std::unique_ptr<MembraneServo>        servo;
       double                                load_factor = 0;
       std::string                           phase       = "build";
-      std::ofstream                         history;
+      std::ostringstream                    history; // written whole, atomically
       excavation::Record                    exc;
       bool                                  excavated    = false;
       bool                                  equilibrated = true;
@@ -325,7 +325,6 @@ namespace demfem::coupling
         r.packing_steps       = step0;
         r.timestep            = m.timestep();
         r.n_membrane_vertices = servo->vertices().size();
-        history.open(dir + "/history.csv");
         history << "step,time,phase,load_factor,unbalanced_ratio,kinetic_energy,"
                    "strain_energy,cracks,cracks_tensile,cracks_shear,held_stress_xx,"
                    "held_stress_yy,held_stress_xy,servo_error,wall_convergence_mean\n";
@@ -369,7 +368,7 @@ namespace demfem::coupling
             out << "full-DEM reference: DIVERGED in phase '" << phase << "': " << e.what()
                 << std::endl;
           }
-        history.close();
+        dem::vtkout::write_text_atomically(dir + "/history.csv", history.str());
         const double a             = p.tunnel_radius;
         r.n_particles              = m.particles.size();
         r.n_contacts               = m.n_contacts();

@@ -1,23 +1,8 @@
 #pragma once
-// JSON numbers for every output file (docs/architecture.md, "Conventions"):
-// all JSON goes through nlohmann-json; a non-finite value (a quantity that
-// was not measured) is written as null, never as a bare nan or inf.
-#include <nlohmann/json.hpp>
-
-#include <cmath>
-#include <cstdint>
+// JSON numbers (common/json_number.h) under the engine's namespace.
+#include "common/json_number.h"
 
 namespace demfem::dem
 {
-  /// Integral values (counts, seeds, codes) are written as integers, as a
-  /// reader of an integer key expects them; others with the round-trip
-  /// precision of a double.
-  inline nlohmann::ordered_json json_number(double v)
-  {
-    if (!std::isfinite(v))
-      return nlohmann::ordered_json();
-    if (std::abs(v) < 9007199254740992.0 && v == std::trunc(v)) // 2^53
-      return nlohmann::ordered_json(static_cast<std::int64_t>(v));
-    return nlohmann::ordered_json(v);
-  }
+  using demfem::json_number;
 } // namespace demfem::dem

@@ -1,6 +1,8 @@
 // VTK XML writers of the DEM model (see vtk_output.h).
 #include "dem/vtk_output.h"
 
+#include "common/atomic_file.h"
+
 #include "dem/contact_bond_law.h"
 #include "dem/flat_joint_law.h"
 #include "dem/parallel_bond_law.h"
@@ -16,13 +18,13 @@
 #include <vtkPolyData.h>
 #include <vtkXMLPolyDataWriter.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
-#include <algorithm>
 
 namespace demfem::dem::vtkout
 {
@@ -115,18 +117,7 @@ namespace demfem::dem::vtkout
 
   void write_text_atomically(const std::string &path, const std::string &text)
   {
-    const std::string tmp = temporary(path);
-    {
-      std::ofstream f(tmp);
-      f << text;
-      f.flush();
-      if (!f)
-        {
-          std::remove(tmp.c_str());
-          throw std::runtime_error("cannot write " + path);
-        }
-    }
-    fs::rename(tmp, path);
+    write_file_atomically(path, text);
   }
 
   template <int dim>
@@ -233,14 +224,14 @@ namespace demfem::dem::vtkout
             double area = 1;
             if (shown.force_strengths)
               {
-                const double r = grp.is_wall[k]
-                                     ? p.radius[grp.end1[k]]
-                                     : std::min(p.radius[grp.end1[k]], p.radius[grp.end2[k]]);
-                area = dim == 2 ? 2 * r : M_PI * r * r;
+                const double r = grp.is_wall[k] ? p.radius[grp.end1[k]]
+                                                : std::min(p.radius[grp.end1[k]],
+                                                           p.radius[grp.end2[k]]);
+                area           = dim == 2 ? 2 * r : M_PI * r * r;
               }
             ten->SetValue(c, shown.ten.empty() ? 0.0 : grp.property(k, shown.ten) / area);
-            shear->SetValue(c,
-                            shown.shear.empty() ? 0.0 : grp.property(k, shown.shear) / area);
+            shear->SetValue(c, shown.shear.empty() ? 0.0
+                                                   : grp.property(k, shown.shear) / area);
             mtype->SetValue(c, shown.mtype.empty()
                                    ? 0
                                    : static_cast<int>(grp.property(k, shown.mtype)));
@@ -329,9 +320,8 @@ namespace demfem::dem::vtkout
       data->SetPolys(cells);
     for (vtkDataArray *a :
          {static_cast<vtkDataArray *>(mode), static_cast<vtkDataArray *>(type),
-          static_cast<vtkDataArray *>(size),
-          static_cast<vtkDataArray *>(gap), static_cast<vtkDataArray *>(step),
-          static_cast<vtkDataArray *>(normal)})
+          static_cast<vtkDataArray *>(size), static_cast<vtkDataArray *>(gap),
+          static_cast<vtkDataArray *>(step), static_cast<vtkDataArray *>(normal)})
       data->GetCellData()->AddArray(a);
     write_polydata(path, data);
   }

@@ -6,6 +6,7 @@
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/numerics/data_out.h>
 
+#include "common/atomic_file.h"
 #include "fem/elastic_problem.h"
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <fstream>
 #include <iomanip>
 #include <set>
+#include <sstream>
 
 namespace demfem::fem
 {
@@ -123,9 +125,10 @@ namespace demfem::fem
     pvd_records.emplace_back(fraction, name);
     if (Utilities::MPI::this_mpi_process(comm) == 0)
       {
-        std::ofstream pvd(settings.output_directory + "/solution.pvd");
+        std::ostringstream pvd;
         pvd << std::setprecision(17);
         DataOutBase::write_pvd_record(pvd, pvd_records);
+        write_file_atomically(settings.output_directory + "/solution.pvd", pvd.str());
       }
   }
 

@@ -2,6 +2,11 @@
 
 #include "fem/isotropic_elasticity.h"
 
+#include "common/atomic_file.h"
+#include "common/json_number.h"
+
+#include <nlohmann/json.hpp>
+
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/utilities.h>
 #include <deal.II/distributed/grid_refinement.h>
@@ -525,8 +530,8 @@ namespace demfem::fem
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (root)
       {
-        std::ofstream du(settings.output_directory + "/wall_displacement.csv");
-        std::ofstream ds(settings.output_directory + "/wall_stress.csv");
+        // Each file replaced atomically (common/atomic_file.h).
+        std::ostringstream du, ds, hs;
         du << std::setprecision(12) << "x,y,z,ux,uy,uz\n";
         ds << std::setprecision(12) << "x,y,z,sxx,syy,szz,sxy,sxz,syz\n";
         for (const auto &w : wall)
@@ -538,40 +543,42 @@ namespace demfem::fem
               ds << ',' << w.stress[c[0]][c[1]];
             ds << '\n';
           }
-        std::ofstream hs(settings.output_directory + "/history.csv");
         hs << std::setprecision(12)
            << "stage,release_fraction,max_wall_displacement,min_wall_hoop_stress,"
               "max_wall_hoop_stress\n";
         for (unsigned int k = 0; k < history.size(); ++k)
           hs << k << ',' << history[k].fraction << ',' << history[k].max_u << ','
              << history[k].hoop_min << ',' << history[k].hoop_max << '\n';
-        std::ofstream js(settings.output_directory + "/summary.json");
-        js << std::setprecision(12) << "{\n"
-           << "  \"command\": \"fem\",\n"
-           << "  \"dim\": " << dim << ",\n"
-           << "  \"plane_strain\": " << (dim == 2 ? "true" : "false") << ",\n"
-           << "  \"mesh\": \"" << settings.mesh << "\",\n"
-           << "  \"n_cells\": " << triangulation.n_global_active_cells() << ",\n"
-           << "  \"n_dofs\": " << dof_handler.n_dofs() << ",\n"
-           << "  \"element_degree\": " << settings.degree << ",\n"
-           << "  \"refinements\": " << settings.refinements << ",\n"
-           << "  \"E\": " << settings.young_modulus << ",\n"
-           << "  \"nu\": " << settings.poisson_ratio << ",\n"
-           << "  \"radius\": " << settings.radius << ",\n"
-           << "  \"in_situ_stress\": {\"xx\": " << settings.sxx
-           << ", \"yy\": " << settings.syy << ", \"zz\": " << settings.szz
-           << ", \"xy\": " << settings.sxy << ", \"xz\": " << settings.sxz
-           << ", \"yz\": " << settings.syz << "},\n"
-           << "  \"excavation_stages\": " << settings.excavation_stages << ",\n"
-           << "  \"solver\": \"" << settings.solver << "\",\n"
-           << "  \"solver_iterations\": " << last_iterations << ",\n"
-           << "  \"n_ranks\": " << Utilities::MPI::n_mpi_processes(comm) << ",\n"
-           << "  \"n_wall_vertices\": " << wall.size() << ",\n"
-           << "  \"max_wall_displacement\": " << max_u << ",\n"
-           << "  \"min_wall_hoop_stress\": " << hoop_min << ",\n"
-           << "  \"max_wall_hoop_stress\": " << hoop_max << ",\n"
-           << "  \"wall_time_s\": " << wall_time << "\n"
-           << "}\n";
+        nlohmann::ordered_json j;
+        j["command"]        = "fem";
+        j["dim"]            = dim;
+        j["plane_strain"]   = dim == 2;
+        j["mesh"]           = settings.mesh;
+        j["n_cells"]        = triangulation.n_global_active_cells();
+        j["n_dofs"]         = dof_handler.n_dofs();
+        j["element_degree"] = settings.degree;
+        j["refinements"]    = settings.refinements;
+        j["E"]              = json_number(settings.young_modulus);
+        j["nu"]             = json_number(settings.poisson_ratio);
+        j["radius"]         = json_number(settings.radius);
+        j["in_situ_stress"] = {
+            {"xx", json_number(settings.sxx)}, {"yy", json_number(settings.syy)},
+            {"zz", json_number(settings.szz)}, {"xy", json_number(settings.sxy)},
+            {"xz", json_number(settings.sxz)}, {"yz", json_number(settings.syz)}};
+        j["excavation_stages"]     = settings.excavation_stages;
+        j["solver"]                = settings.solver;
+        j["solver_iterations"]     = last_iterations;
+        j["n_ranks"]               = Utilities::MPI::n_mpi_processes(comm);
+        j["n_wall_vertices"]       = wall.size();
+        j["max_wall_displacement"] = json_number(max_u);
+        j["min_wall_hoop_stress"]  = json_number(hoop_min);
+        j["max_wall_hoop_stress"]  = json_number(hoop_max);
+        j["wall_time_s"]           = json_number(wall_time);
+        const std::string &dir     = settings.output_directory;
+        write_file_atomically(dir + "/wall_displacement.csv", du.str());
+        write_file_atomically(dir + "/wall_stress.csv", ds.str());
+        write_file_atomically(dir + "/history.csv", hs.str());
+        write_file_atomically(dir + "/summary.json", j.dump(2) + "\n");
       }
     pcout << "   max wall displacement: " << max_u << " m; wall hoop stress in ["
           << hoop_min << ", " << hoop_max << "] Pa" << std::endl
