@@ -21,6 +21,7 @@
 #include "apps/prm_cli.h"
 #include "apps/study.h"
 #include "common/atomic_file.h"
+#include "common/json_number.h"
 #include "dem/types.h"
 #include "dem/vtk_output.h"
 
@@ -100,7 +101,7 @@ namespace demfem::apps
       return best;
     }
 
-    void limits(std::ostream &o, const std::string &prefix,
+    void limits(nlohmann::ordered_json &o, const std::string &prefix,
                 const std::vector<const study::Row *> &rows, const std::string &label)
     {
       for (std::size_t ax = 0; ax < axes().size(); ++ax)
@@ -128,11 +129,10 @@ namespace demfem::apps
           for (const auto &[v, ok] : all_stable)
             if (ok && (first_bad < 0 || v < first_bad))
               best = v;
-          const std::string name = prefix + axes()[ax].first;
-          o << "  \"" << name << "_largest_stable\": " << (best < 0 ? "null" : num(best))
-            << ",\n  \"" << name
-            << "_smallest_unstable\": " << (first_bad < 0 ? "null" : num(first_bad))
-            << ",\n";
+          const std::string name      = prefix + axes()[ax].first;
+          o[name + "_largest_stable"] = best < 0 ? nullptr : json_number(best);
+          o[name + "_smallest_unstable"] =
+              first_bad < 0 ? nullptr : json_number(first_bad);
           if (all_stable.size() > 1 || first_bad >= 0)
             std::cout << "demfem study: " << label << axes()[ax].first
                       << ": largest stable "
@@ -474,25 +474,24 @@ namespace demfem::apps
                                      refs, st.agreement_tolerance, answer);
           }
 
-        std::ostringstream j; // summary.json, written at once below
-        std::size_t        n_stable = 0, n_unstable = 0;
+        nlohmann::ordered_json j; // summary.json
+        std::size_t            n_stable = 0, n_unstable = 0;
         for (const auto &r : rows)
           {
             n_stable += r.status == "stable";
             n_unstable += r.status == "unstable";
           }
-        j << "{\n  \"mode\": \"" << (st.breakable ? "breakable" : "elastic")
-          << "\",\n  \"runs\": " << rows.size() << ",\n  \"stable\": " << n_stable
-          << ",\n  \"unstable\": " << n_unstable
-          << ",\n  \"invalid\": " << rows.size() - n_stable - n_unstable
-          << ",\n  \"stable_not_equilibrated\": "
-          << std::count_if(rows.begin(), rows.end(),
-                           [](const study::Row &r) {
-                             return r.status == "stable" && !r.equilibrated;
-                           })
-          << ",\n";
+        j["mode"]     = st.breakable ? "breakable" : "elastic";
+        j["runs"]     = rows.size();
+        j["stable"]   = n_stable;
+        j["unstable"] = n_unstable;
+        j["invalid"]  = rows.size() - n_stable - n_unstable;
+        j["stable_not_equilibrated"] =
+            std::count_if(rows.begin(), rows.end(), [](const study::Row &r) {
+              return r.status == "stable" && !r.equilibrated;
+            });
         if (!st.breakable)
-          j << "  \"kirsch_convergence_m\": " << num(kirsch) << ",\n";
+          j["kirsch_convergence_m"] = json_number(kirsch);
         // Stability map: over all runs (keys as before), then per scheme.
         std::vector<const study::Row *> all;
         for (const auto &r : rows)
@@ -510,53 +509,52 @@ namespace demfem::apps
           }
         if (any_auto)
           {
-            const auto &ar = autos.begin()->second;
-            j << "  \"auto_damage_threshold_Pa\": " << num(ar.threshold)
-              << ",\n  \"auto_ucs_Pa\": " << num(st.ucs)
-              << ",\n  \"auto_damage_radius_m\": " << num(ar.damage_radius)
-              << ",\n  \"auto_margin_grains\": " << num(st.margin_grains)
-              << ",\n  \"auto_region_radius_m\": " << num(ar.radius)
-              << ",\n  \"auto_a_over_d\": " << num(autos.begin()->first) << ",\n";
+            const auto &ar                = autos.begin()->second;
+            j["auto_damage_threshold_Pa"] = json_number(ar.threshold);
+            j["auto_ucs_Pa"]              = json_number(st.ucs);
+            j["auto_damage_radius_m"]     = json_number(ar.damage_radius);
+            j["auto_margin_grains"]       = json_number(st.margin_grains);
+            j["auto_region_radius_m"]     = json_number(ar.radius);
+            j["auto_a_over_d"]            = json_number(autos.begin()->first);
           }
         if (st.breakable)
           {
-            j << "  \"agreement_tolerance\": " << num(st.agreement_tolerance)
-              << ",\n  \"reference_radius_factor\": " << num(st.reference_radius_factor)
-              << ",\n  \"references\": [";
-            for (std::size_t i = 0; i < refs.size(); ++i)
-              {
-                const auto &f = refs[i];
-                j << (i ? ", " : "") << "{\"directory\": \"" << f.directory
-                  << "\", \"status\": \"" << f.status
-                  << "\", \"a_over_d\": " << num(f.resolution) << ", \"seed\": " << f.seed
-                  << ", \"reference_particles\": " << f.result.n_particles
-                  << ", \"reference_steps\": " << f.result.steps
-                  << ", \"reference_wall_time_s\": " << num(f.result.wall_time_s)
-                  << ", \"reference_damage_zone_depth\": "
-                  << num(f.result.damage_zone_depth)
-                  << ", \"reference_cracks_excavation\": " << f.cracks_excavation()
-                  << ", \"reference_cracks_tensile\": " << f.result.cracks_tensile
-                  << ", \"reference_cracks_shear\": " << f.result.cracks_shear
-                  << ", \"reference_wall_convergence\": "
-                  << num(f.result.wall_convergence_mean)
-                  << ", \"reference_servo_error_insitu\": "
-                  << num(f.result.servo_error_insitu) << "}";
-              }
-            j << "],\n  \"speedup_rows\": " << n_speedup
-              << ",\n  \"region_factor_smallest_agreeing\": "
-              << (answer.smallest_agreeing < 0 ? "null" : num(answer.smallest_agreeing))
-              << ",\n  \"region_factor_largest_disagreeing\": "
-              << (answer.largest_disagreeing < 0 ? "null"
-                                                 : num(answer.largest_disagreeing))
-              << ",\n";
+            j["agreement_tolerance"]     = json_number(st.agreement_tolerance);
+            j["reference_radius_factor"] = json_number(st.reference_radius_factor);
+            auto references              = nlohmann::ordered_json::array();
+            for (const auto &f : refs)
+              references.push_back(
+                  {{"directory", f.directory},
+                   {"status", f.status},
+                   {"a_over_d", json_number(f.resolution)},
+                   {"seed", f.seed},
+                   {"reference_particles", f.result.n_particles},
+                   {"reference_steps", f.result.steps},
+                   {"reference_wall_time_s", json_number(f.result.wall_time_s)},
+                   {"reference_damage_zone_depth",
+                    json_number(f.result.damage_zone_depth)},
+                   {"reference_cracks_excavation", f.cracks_excavation()},
+                   {"reference_cracks_tensile", f.result.cracks_tensile},
+                   {"reference_cracks_shear", f.result.cracks_shear},
+                   {"reference_wall_convergence",
+                    json_number(f.result.wall_convergence_mean)},
+                   {"reference_servo_error_insitu",
+                    json_number(f.result.servo_error_insitu)}});
+            j["references"]   = references;
+            j["speedup_rows"] = n_speedup;
+            j["region_factor_smallest_agreeing"] =
+                answer.smallest_agreeing < 0 ? nullptr
+                                             : json_number(answer.smallest_agreeing);
+            j["region_factor_largest_disagreeing"] =
+                answer.largest_disagreeing < 0 ? nullptr
+                                               : json_number(answer.largest_disagreeing);
           }
-        j << "  \"pareto_runs\": [";
-        bool first = true;
+        auto pareto = nlohmann::ordered_json::array();
         for (const auto &r : rows)
           if (r.pareto)
-            j << (first ? "" : ", ") << r.index, first = false;
-        j << "]\n}\n";
-        dem::vtkout::write_text_atomically(out + "/summary.json", j.str());
+            pareto.push_back(r.index);
+        j["pareto_runs"] = pareto;
+        write_file_atomically(out + "/summary.json", j.dump(2) + "\n");
         std::cout << "demfem study: " << rows.size() << " runs (" << n_stable
                   << " stable, " << n_unstable << " unstable)";
         if (st.breakable)

@@ -34,29 +34,35 @@ namespace demfem::coupling::excavation
   /// State kept from the excavation on: positions by particle id at the
   /// excavation, forces the removed grains exerted on the remaining ones (by
   /// id), and the crack count before it.
+  template <int dim>
   struct Record
   {
-    std::vector<dem::Vec<2>> ref;
-    std::vector<dem::Vec<2>> removed_forces;
-    std::size_t              cracks_before = 0;
-    std::size_t              n_removed     = 0;
+    std::vector<dem::Vec<dim>> ref;
+    std::vector<dem::Vec<dim>> removed_forces;
+    std::size_t                cracks_before = 0;
+    std::size_t                n_removed     = 0;
   };
 
-  /// Removes the grains with |x| < a (tunnel centred at the origin) and
-  /// returns the record; the energy baseline is restarted (the model was
-  /// changed by hand).
-  inline Record remove_tunnel_grains(dem::Model<2> &m, double a)
+  /// Removes the grains with in-plane |(x, y)| < a (tunnel centred at the
+  /// origin, along z in 3D) and returns the record; grains whose translation
+  /// is prescribed (slaved to a continuum, e.g. a 3D section's end layers)
+  /// stay: the continuum's own tunnel is excavated by releasing its wall
+  /// traction. The energy baseline is restarted (the model was changed by
+  /// hand).
+  template <int dim>
+  Record<dim> remove_tunnel_grains(dem::Model<dim> &m, double a)
   {
-    Record r;
-    auto  &P = m.particles;
+    Record<dim> r;
+    auto       &P = m.particles;
     r.ref.assign(P.size() ? *std::max_element(P.id.begin(), P.id.end()) + 1 : 0,
-                 dem::Vec<2>::Zero());
+                 dem::Vec<dim>::Zero());
     for (std::size_t i = 0; i < P.size(); ++i)
       r.ref[P.id[i]] = P.x[i];
     std::vector<char> rm(P.size(), 0);
     for (std::size_t i = 0; i < P.size(); ++i)
-      r.n_removed += (rm[i] = P.x[i].norm() < a);
-    r.removed_forces.assign(r.ref.size(), dem::Vec<2>::Zero());
+      r.n_removed += (rm[i] = P.x[i].template head<2>().norm() < a &&
+                              !(P.fixity[i] & dem::fix_translation));
+    r.removed_forces.assign(r.ref.size(), dem::Vec<dim>::Zero());
     for (int g = 0; g < m.n_groups(); ++g)
       {
         const auto &grp = m.group(g);
@@ -79,7 +85,8 @@ namespace demfem::coupling::excavation
 
   /// Applies the fraction `remaining` of the removed grains' forces as
   /// external forces (staged excavation: relaxed to zero over the stages).
-  inline void apply_removed_forces(dem::Model<2> &m, const Record &r, double remaining)
+  template <int dim>
+  void apply_removed_forces(dem::Model<dim> &m, const Record<dim> &r, double remaining)
   {
     auto &P = m.particles;
     for (std::size_t i = 0; i < P.size(); ++i)
@@ -87,7 +94,8 @@ namespace demfem::coupling::excavation
   }
 
   /// Cracks of mode `mode` (0 tension, 1 shear; < 0 all) with index >= from.
-  inline std::size_t count_cracks(const dem::Model<2> &m, int mode, std::size_t from = 0)
+  template <int dim>
+  std::size_t count_cracks(const dem::Model<dim> &m, int mode, std::size_t from = 0)
   {
     std::size_t n = 0;
     for (std::size_t k = from; k < m.cracks.size(); ++k)
@@ -182,12 +190,13 @@ namespace demfem::coupling::excavation
     return n;
   }
 
-  /// Mean inward radial displacement of the grains whose reference centre
-  /// lies within d of the wall r = a (their count in n; rows x, y, ux, uy).
-  inline double wall_convergence(const dem::Model<2>            &m,
-                                 const std::vector<dem::Vec<2>> &ref, double a, double d,
-                                 std::size_t                        *n    = nullptr,
-                                 std::vector<std::array<double, 4>> *rows = nullptr)
+  /// Mean inward radial displacement (in the xy plane) of the grains whose
+  /// reference centre lies within d of the wall r = a (their count in n;
+  /// rows x, y, z, ux, uy, uz with z = 0 in 2D).
+  template <int dim>
+  double wall_convergence(const dem::Model<dim> &m, const std::vector<dem::Vec<dim>> &ref,
+                          double a, double d, std::size_t *n = nullptr,
+                          std::vector<std::array<double, 6>> *rows = nullptr)
   {
     const auto &P = m.particles;
     double      s = 0;
@@ -196,15 +205,16 @@ namespace demfem::coupling::excavation
       {
         if (std::size_t(P.id[i]) >= ref.size())
           continue;
-        const dem::Vec<2> &X = ref[P.id[i]];
-        const double       r = X.norm();
+        const dem::Vec<dim> &X = ref[P.id[i]];
+        const double         r = X.template head<2>().norm();
         if (r < a + d)
           {
-            const dem::Vec<2> u = P.x[i] - X;
-            s -= u.dot(X / r);
+            const dem::Vec<dim> u = P.x[i] - X;
+            s -= u.template head<2>().dot(X.template head<2>() / r);
             ++c;
             if (rows)
-              rows->push_back({X[0], X[1], u[0], u[1]});
+              rows->push_back({{X[0], X[1], dim == 3 ? X[dim - 1] : 0.0, u[0], u[1],
+                                dim == 3 ? u[dim - 1] : 0.0}});
           }
       }
     if (n)

@@ -193,7 +193,7 @@ namespace demfem::coupling
       double                                load_factor = 0;
       std::string                           phase       = "build";
       std::ostringstream                    history; // written whole, atomically
-      excavation::Record                    exc;
+      excavation::Record<2>                 exc;
       bool                                  excavated    = false;
       bool                                  equilibrated = true;
       std::int64_t                          step0        = 0;
@@ -398,7 +398,7 @@ namespace demfem::coupling
                   << "depth; unfiltered depth " << r.damage_zone_depth_all << " m)"
                   << std::endl;
           }
-        std::vector<std::array<double, 4>> rows;
+        std::vector<std::array<double, 6>> rows;
         if (excavated)
           r.wall_convergence_mean = excavation::wall_convergence(
               m, exc.ref, a, d(), &r.n_wall_particles, &rows);
@@ -412,7 +412,8 @@ namespace demfem::coupling
             std::ostringstream w;
             w << "x,y,z,ux,uy,uz\n" << std::setprecision(12);
             for (const auto &q : rows)
-              w << q[0] << "," << q[1] << ",0," << q[2] << "," << q[3] << ",0\n";
+              w << q[0] << "," << q[1] << "," << q[2] << "," << q[3] << "," << q[4] << ","
+                << q[5] << "\n";
             dem::vtkout::write_text_atomically(dir + "/wall_displacement.csv", w.str());
           }
         {

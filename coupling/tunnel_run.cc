@@ -130,11 +130,12 @@ namespace demfem::coupling
       std::ostringstream                                       history;
       int                                                      frame = 0;
       std::vector<std::pair<double, std::vector<std::string>>> frames;
-      std::vector<Vec<dim>> ref; // positions by id at excavation start
-      bool                  excavated          = false;
-      std::size_t           cracks_before      = 0; // cracks before the excavation
-      std::string           phase              = "build";
-      std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+      // Positions and removed grains' forces by id at the excavation, and the
+      // cracks before it (coupling/excavation_measures.h).
+      excavation::Record<dim>               exc;
+      bool                                  excavated = false;
+      std::string                           phase     = "build";
+      std::chrono::steady_clock::time_point t0        = std::chrono::steady_clock::now();
       std::int64_t budget = 0; // expected coupled steps for the ETA (upper bound)
       std::int64_t step0  = 0; // steps of the packing
       // Checkpoint / restart state (docs/architecture.md, "Checkpoints and restart"):
@@ -147,7 +148,6 @@ namespace demfem::coupling
       double                          resume_peak = 0;
       double                          phase_t0    = 0; // model time at the phase start
       std::vector<PhaseRecord>        phases;          // the phases ended so far
-      std::vector<Vec<dim>>           fex; // forces of the removed grains, by id
       Eigen::Matrix<double, dim, dim> stress_before =
           Eigen::Matrix<double, dim, dim>::Zero();
       std::string last_checkpoint;
@@ -177,43 +177,16 @@ namespace demfem::coupling
         dem::vtkout::write_text_atomically(dir + "/history.csv", history.str());
       }
 
-      std::size_t cracks(int mode) const
-      {
-        std::size_t n = 0;
-        for (const auto &c : m.dem.cracks)
-          n += (mode < 0 || c.mode == mode);
-        return n;
-      }
+      std::size_t cracks(int mode) const { return excavation::count_cracks(m.dem, mode); }
 
       // Mean inward radial displacement of the grains within one mean
-      // diameter of the wall since excavation started (radial: in the xy
-      // plane); count in n; rows x, y, z, ux, uy, uz.
+      // diameter of the wall since excavation started (excavation_measures.h).
       double convergence(std::size_t                        *n    = nullptr,
                          std::vector<std::array<double, 6>> *rows = nullptr) const
       {
-        if (!excavated)
-          return 0;
-        const auto  &P = m.dem.particles;
-        const double a = p.tunnel_radius, d = p.region.mean_diameter();
-        double       s = 0;
-        std::size_t  c = 0;
-        for (std::size_t i = 0; i < P.size(); ++i)
-          {
-            const Vec<dim> &X = ref[P.id[i]];
-            const double    r = X.template head<2>().norm();
-            if (r < a + d)
-              {
-                const Vec<dim> u = P.x[i] - X;
-                s -= u.template head<2>().dot(X.template head<2>() / r);
-                ++c;
-                if (rows)
-                  rows->push_back({{X[0], X[1], dim == 3 ? X[dim - 1] : 0.0, u[0], u[1],
-                                    dim == 3 ? u[dim - 1] : 0.0}});
-              }
-          }
-        if (n)
-          *n = c;
-        return c ? s / c : 0.0;
+        return excavated ? excavation::wall_convergence(m.dem, exc.ref, p.tunnel_radius,
+                                                        p.region.mean_diameter(), n, rows)
+                         : 0.0;
       }
 
       // Excavation cracks within two mean grain diameters of the coupling
@@ -226,7 +199,7 @@ namespace demfem::coupling
           return 0;
         std::size_t  n  = 0;
         const double r0 = m.continuum_inner_radius() - 2 * p.region.mean_diameter();
-        for (std::size_t k = cracks_before; k < m.dem.cracks.size(); ++k)
+        for (std::size_t k = exc.cracks_before; k < m.dem.cracks.size(); ++k)
           n += m.dem.cracks[k].position.template head<2>().norm() > r0;
         return n;
       }
@@ -415,9 +388,9 @@ namespace demfem::coupling
       {
         std::map<std::string, std::string> md = m.save_state();
         std::vector<double>                r, f;
-        for (const auto &x : ref)
+        for (const auto &x : exc.ref)
           r.insert(r.end(), x.data(), x.data() + dim);
-        for (const auto &x : fex)
+        for (const auto &x : exc.removed_forces)
           f.insert(f.end(), x.data(), x.data() + dim);
         std::ostringstream fr;
         fr << std::setprecision(17);
@@ -433,7 +406,7 @@ namespace demfem::coupling
         md["run.phase_t0"]      = encode_doubles({phase_t0});
         md["run.phases"]        = phases_to_text(phases);
         md["run.excavated"]     = excavated ? "1" : "0";
-        md["run.cracks_before"] = std::to_string(cracks_before);
+        md["run.cracks_before"] = std::to_string(exc.cracks_before);
         md["run.ref"]           = encode_doubles(r);
         md["run.fex"]           = encode_doubles(f);
         std::vector<double> sb; // row by row
@@ -476,10 +449,10 @@ namespace demfem::coupling
           {
             throw dem::InputError("restart: checkpoint " + file + ": " + e.what());
           }
-        excavated     = geti("run.excavated") != 0;
-        cracks_before = std::size_t(geti("run.cracks_before"));
-        ref           = vecs("run.ref");
-        fex           = vecs("run.fex");
+        excavated          = geti("run.excavated") != 0;
+        exc.cracks_before  = std::size_t(geti("run.cracks_before"));
+        exc.ref            = vecs("run.ref");
+        exc.removed_forces = vecs("run.fex");
         const auto sb = decode_doubles(meta_get(md, "run.stress_before", file), "stress");
         if (sb.size() != dim * dim)
           throw dem::InputError("restart: checkpoint " + file + ": damaged entry");
@@ -530,40 +503,10 @@ namespace demfem::coupling
 
       void excavate(int start)
       {
-        auto        &P = m.dem.particles;
-        const double a = p.tunnel_radius;
         if (start == 0)
           {
-            ref.assign(P.size() ? *std::max_element(P.id.begin(), P.id.end()) + 1 : 0,
-                       Vec<dim>::Zero());
-            for (std::size_t i = 0; i < P.size(); ++i)
-              ref[P.id[i]] = P.x[i];
-            std::vector<char> rm(P.size(), 0);
-            for (std::size_t i = 0; i < P.size(); ++i)
-              // 3D: through the slab. Grains slaved to the continuum (a
-              // section's end layers) stay: the continuum's own tunnel is
-              // excavated by releasing its wall traction.
-              rm[i] = P.x[i].template head<2>().norm() < a &&
-                      !(P.fixity[i] & dem::fix_translation);
-            // Forces the removed grains exerted on the remaining ones, by id.
-            fex.assign(ref.size(), Vec<dim>::Zero());
-            for (int g = 0; g < m.dem.n_groups(); ++g)
-              {
-                const auto &grp = m.dem.group(g);
-                for (std::size_t k = 0; k < grp.size(); ++k)
-                  if (!grp.is_wall[k])
-                    {
-                      const auto i = grp.end1[k], j = grp.end2[k];
-                      if (rm[i] && !rm[j])
-                        fex[P.id[j]] += grp.force[k];
-                      else if (rm[j] && !rm[i])
-                        fex[P.id[i]] -= grp.force[k];
-                    }
-              }
-            m.dem.remove_particles(rm);
-            m.dem.reset_energy_baseline();
-            excavated     = true;
-            cracks_before = m.dem.cracks.size();
+            exc       = excavation::remove_tunnel_grains(m.dem, p.tunnel_radius);
+            excavated = true;
           }
         for (int s = std::max(1, start); s <= p.stages; ++s)
           {
@@ -574,8 +517,7 @@ namespace demfem::coupling
             m.set_excavation_release(rem);
             if (!resuming) // a resumed stage has its loads in the checkpoint
               {
-                for (std::size_t i = 0; i < P.size(); ++i)
-                  P.f_ext[i] = rem * fex[P.id[i]];
+                excavation::apply_removed_forces(m.dem, exc, rem);
                 m.dem.reset_energy_baseline();
               }
             cycle(200, p.phase_step_limit, [](std::int64_t) {});
@@ -707,15 +649,15 @@ namespace demfem::coupling
         r.cracks_tensile           = cracks(0);
         r.cracks_shear             = cracks(1);
         r.cracks_by_type           = excavation::cracks_by_type(m.dem);
-        r.cracks_before_excavation = cracks_before;
+        r.cracks_before_excavation = exc.cracks_before;
         r.cracks_near_interface    = near_interface();
         r.region_too_small         = r.cracks_near_interface > 0;
         r.dem_region_radius        = p.region.radius;
         r.mean_grain_diameter      = p.region.mean_diameter();
         r.damage_zone_depth =
-            excavation::damage_zone_depth(m.dem, cracks_before, p.tunnel_radius);
+            excavation::damage_zone_depth(m.dem, exc.cracks_before, p.tunnel_radius);
         r.damage_zone_depth_max =
-            excavation::largest_crack_depth(m.dem, cracks_before, p.tunnel_radius);
+            excavation::largest_crack_depth(m.dem, exc.cracks_before, p.tunnel_radius);
         r.interface_force_imbalance_max = m.imbalance_max();
         r.wall_convergence_mean         = convergence(&r.n_wall_particles);
         r.wall_time_s =
