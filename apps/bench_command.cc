@@ -14,12 +14,12 @@
 // a strain of order 1e-5 over a benchmark run). Pairs that come within the
 // skin later get a linear contact (the usual default law).
 #include "apps/commands.h"
-#include "dem/flat_joint_law.h"
-#include "dem/genesis.h"
-#include "dem/linear_law.h"
-#include "dem/material_file.h"
-#include "dem/model.h"
-#include "dem/property_rules.h"
+#include "dem/laws/flat_joint_law.h"
+#include "dem/specimen/genesis.h"
+#include "dem/laws/linear_law.h"
+#include "dem/specimen/material_file.h"
+#include "dem/engine/model.h"
+#include "dem/specimen/property_rules.h"
 
 #include <nlohmann/json.hpp>
 #include <omp.h>
@@ -261,7 +261,7 @@ namespace
 
     // Radii: the single-group scene draws uniform radii in [0.8, 1.2] r0 with
     // its own generator (the figures in docs/bench.md); a material draws
-    // from its size distribution (dem/genesis.h), shuffled so that the
+    // from its size distribution (dem/specimen/genesis.h), shuffled so that the
     // pieces mix. Lattice spacing a = 2 x the mean radius.
     std::mt19937_64     gen(12345);
     std::vector<double> radii;
@@ -319,7 +319,7 @@ namespace
     // Laws: linear contacts for pairs detected by the skin, then a bonded flat
     // joint on every pair with gap < 0.1 r (the material's installation gap
     // if larger); stiffnesses per contact by the deformability method (memo
-    // Eq. 40, kn = E*/L), strengths drawn per contact (dem/property_rules.h).
+    // Eq. 40, kn = E*/L), strengths drawn per contact (dem/specimen/property_rules.h).
     const auto fj    = flat_joint_params<dim>(p);
     const int  g_lin = model.template add_law<LinearLaw<dim>>(
         {}, "bench linear", linear_rule<dim>({p.lnm_emod, p.lnm_krat}, p.lnm_fric));

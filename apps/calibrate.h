@@ -1,9 +1,9 @@
 #pragma once
 // Settings shared by the parts of `demfem calibrate` (calibrate_command.cc
 // reads and validates them; calibrate_run.cc runs the genesis and the tests).
-#include "dem/genesis.h"
-#include "dem/lab_tests.h"
-#include "dem/smooth_joint_law.h"
+#include "dem/specimen/genesis.h"
+#include "dem/specimen/lab_tests.h"
+#include "dem/laws/smooth_joint_law.h"
 
 #include <array>
 #include <memory>

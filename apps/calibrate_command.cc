@@ -11,8 +11,8 @@
 #include "apps/commands.h"
 #include "apps/output_dir.h"
 #include "apps/prm_cli.h"
-#include "dem/lab_tests.h"
-#include "dem/memory_budget.h"
+#include "dem/specimen/lab_tests.h"
+#include "dem/specimen/memory_budget.h"
 
 #include <algorithm>
 #include <chrono>

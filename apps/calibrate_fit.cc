@@ -8,9 +8,9 @@
 // with the stiffnesses fixed, as a PFC user calibrates by hand.
 #include "apps/calibrate.h"
 #include "apps/calibrate_output.h"
-#include "dem/checkpoint.h"
-#include "dem/envelope.h"
-#include "dem/vtk_output.h"
+#include "dem/io/checkpoint.h"
+#include "dem/specimen/envelope.h"
+#include "dem/io/vtk_output.h"
 
 #include <nlopt.hpp>
 

@@ -1,6 +1,6 @@
 // Output helpers of `demfem calibrate` (see calibrate_output.h).
 #include "apps/calibrate_output.h"
-#include "dem/json_number.h"
+#include "dem/io/json_number.h"
 
 #include <algorithm>
 #include <cmath>

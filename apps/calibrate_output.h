@@ -2,7 +2,7 @@
 // Output helpers of `demfem calibrate`: JSON objects built in order
 // (nlohmann-json underneath; non-finite numbers become null), the history
 // CSV and dependency-free SVG plots (stress-strain curve, strength envelope).
-#include "dem/lab_tests.h"
+#include "dem/specimen/lab_tests.h"
 
 #include <nlohmann/json.hpp>
 

@@ -3,16 +3,16 @@
 // packing, fistPkg §4.2), so the tests do not see each other's damage.
 #include "apps/calibrate.h"
 #include "apps/calibrate_output.h"
-#include "dem/checkpoint.h"
-#include "dem/contact_bond_law.h"
-#include "dem/envelope.h"
-#include "dem/flat_joint_law.h"
-#include "dem/joint_insertion.h"
-#include "dem/linear_law.h"
-#include "dem/measurement.h"
-#include "dem/parallel_bond_law.h"
-#include "dem/smooth_joint_law.h"
-#include "dem/vtk_output.h"
+#include "dem/io/checkpoint.h"
+#include "dem/laws/contact_bond_law.h"
+#include "dem/specimen/envelope.h"
+#include "dem/laws/flat_joint_law.h"
+#include "dem/specimen/joint_insertion.h"
+#include "dem/laws/linear_law.h"
+#include "dem/measure/measurement.h"
+#include "dem/laws/parallel_bond_law.h"
+#include "dem/laws/smooth_joint_law.h"
+#include "dem/io/vtk_output.h"
 
 #include <unistd.h>
 
@@ -231,7 +231,7 @@ namespace demfem::apps
       return o.str();
     }
 
-    // Peaks of a triaxial series and their envelopes (dem/envelope.h).
+    // Peaks of a triaxial series and their envelopes (dem/specimen/envelope.h).
     struct Envelope
     {
       std::vector<double> sigma_3, sigma_1; // compression positive [Pa]
@@ -292,7 +292,7 @@ namespace demfem::apps
   // A fresh copy of the specimen right after genesis, so that every test
   // starts from the same material without repeating the packing: the
   // same law groups are created and the state comes from an HDF5
-  // checkpoint (dem/checkpoint.h restores it bit for bit).
+  // checkpoint (dem/io/checkpoint.h restores it bit for bit).
   template <int dim>
   std::unique_ptr<dem::Specimen<dim>> clone_specimen(const dem::Specimen<dim> &s,
                                                      const std::string        &checkpoint)
@@ -512,7 +512,7 @@ namespace demfem::apps
         if (t.name == "triaxial series")
           {
             // One test per confining pressure (Pc = 0: unconfined), then the
-            // envelopes through the peaks (dem/envelope.h).
+            // envelopes through the peaks (dem/specimen/envelope.h).
             Envelope          e;
             std::vector<Json> points;
             for (double Pc : s.confining_pressures)

@@ -5,7 +5,7 @@
 // contact-plane components (memo Eq. 58, Fn > 0 tension).
 #include "apps/cli.h"
 #include "apps/commands.h"
-#include "dem/law_registry.h"
+#include "dem/engine/law_registry.h"
 
 #include <cmath>
 #include <cstdio>

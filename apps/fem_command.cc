@@ -8,7 +8,7 @@
 #include "apps/commands.h"
 #include "apps/output_dir.h"
 #include "apps/prm_cli.h"
-#include "dem/material_file.h"
+#include "dem/specimen/material_file.h"
 #include "fem/elastic_problem.h"
 
 #include <filesystem>
@@ -113,7 +113,7 @@ namespace demfem::apps
           AssertThrow(
               std::filesystem::is_regular_file(material),
               ExcMessage("Continuum/material file: '" + material + "' does not exist"));
-          // Errors name the material file and its key (dem/material_file.h).
+          // Errors name the material file and its key (dem/specimen/material_file.h).
           s.young_modulus = dem::read_material_number(material, "E");
           s.poisson_ratio = dem::read_material_number(material, "nu");
         }

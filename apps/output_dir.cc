@@ -4,7 +4,7 @@
 
 #include "apps/cli.h"
 #include "apps/prm_cli.h"
-#include "dem/vtk_output.h"
+#include "dem/io/vtk_output.h"
 
 #include <fcntl.h>
 #include <signal.h>

@@ -1,7 +1,7 @@
 // Closed forms, Pareto front, CSV and SVG chart of `demfem study`.
 #include "apps/study.h"
 #include "common/atomic_file.h"
-#include "dem/types.h"
+#include "dem/engine/types.h"
 
 #include <algorithm>
 #include <cmath>

@@ -22,8 +22,8 @@
 #include "apps/study.h"
 #include "common/atomic_file.h"
 #include "common/json_number.h"
-#include "dem/types.h"
-#include "dem/vtk_output.h"
+#include "dem/engine/types.h"
+#include "dem/io/vtk_output.h"
 
 #include <algorithm>
 #include <cmath>

@@ -11,7 +11,7 @@
 #include "apps/cli.h"
 #include "apps/prm_cli.h"
 #include "apps/study.h"
-#include "dem/material_file.h"
+#include "dem/specimen/material_file.h"
 
 #include <cmath>
 #include <filesystem>
@@ -40,7 +40,7 @@ namespace demfem::apps::study
         }
     }
 
-    /// Checks that a material file named by `key` exists (dem/material_file.h
+    /// Checks that a material file named by `key` exists (dem/specimen/material_file.h
     /// reads it and names the file and its own key in its errors).
     void check_exists(const std::string &key, const std::string &file)
     {

@@ -1,10 +1,10 @@
 #include "coupling/dem_region.h"
 
-#include "dem/memory_budget.h"
-#include "dem/property_rules.h"
+#include "dem/specimen/memory_budget.h"
+#include "dem/specimen/property_rules.h"
 
-#include "dem/flat_joint_law.h"
-#include "dem/linear_law.h"
+#include "dem/laws/flat_joint_law.h"
+#include "dem/laws/linear_law.h"
 
 #include <algorithm>
 #include <cmath>

@@ -21,7 +21,7 @@
 // flat joint (kn = E*/L, memo Eq. 40; 3D: Nr x Nal elements, memo §1.4),
 // which carries no force when installed, and grains left without a bond
 // (rattlers) are removed.
-#include "dem/model.h"
+#include "dem/engine/model.h"
 
 #include <array>
 #include <cstdint>
@@ -69,7 +69,7 @@ namespace demfem::coupling
     void   validate(const std::string &where, int dim = 2) const;
     double mean_diameter() const { return 0.5 * (d_lo + d_hi); }
     /// Refuse a region whose estimated memory exceeds this [bytes] (<= 0:
-    /// half the machine's memory; dem/memory_budget.h).
+    /// half the machine's memory; dem/specimen/memory_budget.h).
     double memory_limit = 0;
     /// Target porosity of the packing of dimension dim.
     double target_porosity(int dim) const { return dim == 2 ? porosity : porosity_3d; }

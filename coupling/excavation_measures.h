@@ -17,7 +17,7 @@
 // * Wall convergence: mean inward radial displacement, since the excavation,
 //   of the grains whose reference centre lies within one mean diameter of
 //   the wall.
-#include "dem/model.h"
+#include "dem/engine/model.h"
 
 #include <nlohmann/json.hpp>
 

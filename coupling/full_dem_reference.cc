@@ -1,8 +1,8 @@
 #include "coupling/full_dem_reference.h"
 
 #include "coupling/excavation_measures.h"
-#include "dem/json_number.h"
-#include "dem/vtk_output.h"
+#include "dem/io/json_number.h"
+#include "dem/io/vtk_output.h"
 
 #include <algorithm>
 #include <chrono>

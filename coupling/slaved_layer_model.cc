@@ -6,7 +6,7 @@
 #include <deal.II/fe/mapping_q.h>
 #include <deal.II/grid/grid_tools.h>
 
-#include "dem/linear_law.h"
+#include "dem/laws/linear_law.h"
 
 #include <algorithm>
 #include <cmath>

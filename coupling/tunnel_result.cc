@@ -1,6 +1,6 @@
 #include "coupling/tunnel_result.h"
 
-#include "dem/json_number.h"
+#include "dem/io/json_number.h"
 
 #include <Eigen/Eigenvalues>
 

@@ -3,7 +3,7 @@
 // asked (docs/tunnel.md, "Run status and exit codes"; docs/architecture.md,
 // "Outputs and run status"). No deal.II here: the study, the summary writer
 // and the tests read results without the continuum's headers.
-#include "dem/types.h"
+#include "dem/engine/types.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,8 +1,8 @@
 #include "coupling/tunnel_run.h"
 
 #include "coupling/excavation_measures.h"
-#include "dem/checkpoint.h"
-#include "dem/vtk_output.h"
+#include "dem/io/checkpoint.h"
+#include "dem/io/vtk_output.h"
 
 #include <chrono>
 #include <cmath>

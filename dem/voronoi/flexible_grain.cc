@@ -1,7 +1,7 @@
 // Finite-element mesh of flexible Voronoi grains (dem/voronoi/flexible_grain.h).
 #include "dem/voronoi/flexible_grain.h"
 
-#include "dem/types.h"
+#include "dem/engine/types.h"
 
 #include <algorithm>
 #include <cmath>

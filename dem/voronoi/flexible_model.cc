@@ -1,7 +1,7 @@
 // Flexible Voronoi particle model (dem/voronoi/flexible_model.h).
 #include "dem/voronoi/flexible_model.h"
 
-#include "dem/types.h"
+#include "dem/engine/types.h"
 
 #include <algorithm>
 #include <cmath>

@@ -31,7 +31,7 @@
 // Storage: structure of arrays over contacts and over their points (CSR
 // offsets); `update` allocates nothing and loops over contacts (it adds to
 // the grains' force arrays, so it is serial; threads would colour contacts
-// as dem/contact_group.cc does).
+// as dem/engine/contact_group.cc does).
 #include "dem/voronoi/softening_law.h"
 #include "dem/voronoi/tessellation.h"
 

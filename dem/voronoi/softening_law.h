@@ -37,9 +37,9 @@
 // Mohr-Coulomb law with a residual friction. Smaller fracture energies
 // (snap-back) are rejected.
 //
-// Sign conventions as dem/contact_law.h: u_n > 0 and F_n > 0 are opening
+// Sign conventions as dem/engine/contact_law.h: u_n > 0 and F_n > 0 are opening
 // and tension; F_s is the shear force on grain B along the contact tangent.
-#include "dem/types.h"
+#include "dem/engine/types.h"
 
 #include <cmath>
 #include <string>

@@ -15,7 +15,7 @@
 // does not lose digits to the distance of the packing from the origin.
 #include "dem/voronoi/tessellation.h"
 
-#include "dem/types.h"
+#include "dem/engine/types.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Regular_triangulation_2.h>

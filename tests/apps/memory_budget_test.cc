@@ -1,4 +1,4 @@
-// Bounded memory (dem/memory_budget.h): a specimen or region whose estimated
+// Bounded memory (dem/specimen/memory_budget.h): a specimen or region whose estimated
 // memory exceeds the limit is refused before anything is allocated or
 // written, naming the key that sets the grain size and the limit's key.
 #include "run_command.h"

@@ -9,7 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include "coupling/coupled_model.h"
-#include "dem/particle_stress.h"
+#include "dem/measure/particle_stress.h"
 #include "helpers.h"
 
 #include <cmath>
@@ -58,7 +58,7 @@ namespace
     out.centre = region_stress(m.dem, dem::Vec<2>::Zero(), 0.6);
     {
       // The per-grain averaged stress written to the particles VTK (grain
-      // stress x the region's solid fraction, dem/particle_stress.h),
+      // stress x the region's solid fraction, dem/measure/particle_stress.h),
       // volume-weighted over the grains centred in the same disk.
       const auto  sg = dem::grain_stresses(m.dem, 1 - m.groups.porosity);
       const auto &P  = m.dem.particles;

@@ -1,8 +1,8 @@
 // Linear contact-bond and linear parallel-bond laws: elastic response of the
 // two-grain test (flat-joint memo §2.1.2-2.1.3, Eq. 56-61), breakage on both
 // sides of every strength threshold, and Coulomb slip after breakage.
-#include "dem/contact_bond_law.h"
-#include "dem/parallel_bond_law.h"
+#include "dem/laws/contact_bond_law.h"
+#include "dem/laws/parallel_bond_law.h"
 
 #include <catch2/catch.hpp>
 

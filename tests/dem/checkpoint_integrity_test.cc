@@ -1,9 +1,9 @@
-// Checkpoint integrity (dem/checkpoint.h, format version 4): every dataset
+// Checkpoint integrity (dem/io/checkpoint.h, format version 4): every dataset
 // carries a Fletcher32 checksum, so a damaged byte is refused on reading,
 // naming the dataset and the file, and the model is left unchanged.
-#include "dem/checkpoint.h"
-#include "dem/linear_law.h"
-#include "dem/model.h"
+#include "dem/io/checkpoint.h"
+#include "dem/laws/linear_law.h"
+#include "dem/engine/model.h"
 
 #include <catch2/catch.hpp>
 #include <unistd.h>

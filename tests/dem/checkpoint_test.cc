@@ -1,10 +1,10 @@
-// HDF5 checkpoints (dem/checkpoint.h): a restarted run continues bit for bit,
+// HDF5 checkpoints (dem/io/checkpoint.h): a restarted run continues bit for bit,
 // writes are atomic and keep the previous file (docs/architecture.md, "Checkpoints and restart"), and a restart
 // with different contact-law parameters is refused.
-#include "dem/checkpoint.h"
-#include "dem/flat_joint_law.h"
-#include "dem/linear_law.h"
-#include "dem/model.h"
+#include "dem/io/checkpoint.h"
+#include "dem/laws/flat_joint_law.h"
+#include "dem/laws/linear_law.h"
+#include "dem/engine/model.h"
 
 #include <catch2/catch.hpp>
 #include <omp.h>

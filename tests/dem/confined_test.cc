@@ -4,8 +4,8 @@
 // fixed) the lateral/axial stress-increment ratio is the closed form of the
 // specimen's own Poisson ratio; the confined modulus equals the unconfined
 // one in the elastic range.
-#include "dem/genesis.h"
-#include "dem/lab_tests.h"
+#include "dem/specimen/genesis.h"
+#include "dem/specimen/lab_tests.h"
 
 #include <catch2/catch.hpp>
 

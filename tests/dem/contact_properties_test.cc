@@ -1,10 +1,10 @@
 // Per-contact property blocks (docs/architecture.md, "Per-contact
 // properties"): the deformability rule, strength draws, one group per law,
 // the run-time property API, checkpoints, crack types.
-#include "dem/checkpoint.h"
-#include "dem/genesis.h"
-#include "dem/property_rules.h"
-#include "dem/smooth_joint_law.h"
+#include "dem/io/checkpoint.h"
+#include "dem/specimen/genesis.h"
+#include "dem/specimen/property_rules.h"
+#include "dem/laws/smooth_joint_law.h"
 
 #include <catch2/catch.hpp>
 #include <omp.h>

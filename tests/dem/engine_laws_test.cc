@@ -1,9 +1,9 @@
 // Engine + law integration: the contact laws driven through Model::step
 // (detection, memo §1.3 kinematics, scatter, integration, crack records).
-#include "dem/flat_joint_law.h"
-#include "dem/linear_law.h"
-#include "dem/model.h"
-#include "dem/smooth_joint_law.h"
+#include "dem/laws/flat_joint_law.h"
+#include "dem/laws/linear_law.h"
+#include "dem/engine/model.h"
+#include "dem/laws/smooth_joint_law.h"
 
 #include <catch2/catch.hpp>
 #include <omp.h>

@@ -1,6 +1,6 @@
 // Engine-level tests: contact detection, integration, time step, stability.
-#include "dem/linear_law.h"
-#include "dem/model.h"
+#include "dem/laws/linear_law.h"
+#include "dem/engine/model.h"
 
 #include <catch2/catch.hpp>
 
@@ -231,7 +231,7 @@ TEST_CASE("reordering particles by cell does not change the physics", "[engine][
   CHECK(diff <= 1e-9 * moved);
 }
 
-#include "dem/flat_joint_law.h"
+#include "dem/laws/flat_joint_law.h"
 
 TEST_CASE("cracks follow the material after breakage (fistPkg §3.4)", "[engine][cracks]")
 {

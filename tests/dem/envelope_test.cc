@@ -1,7 +1,7 @@
-// Strength envelopes (dem/envelope.h): both fits recover the parameters of a
+// Strength envelopes (dem/specimen/envelope.h): both fits recover the parameters of a
 // synthetic series exactly (to round-off), and refuse sets without an
 // envelope.
-#include "dem/envelope.h"
+#include "dem/specimen/envelope.h"
 
 #include <catch2/catch.hpp>
 

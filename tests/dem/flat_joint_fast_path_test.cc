@@ -1,11 +1,11 @@
 // The 3D flat-joint update has a fast path for contacts whose elements are
-// all bonded and not slipping (update_bonded_elements_3d in dem/flat_joint_elements.h, the state
+// all bonded and not slipping (update_bonded_elements_3d in dem/laws/flat_joint_elements.h, the state
 // of intact material). It must give bitwise the results of the general
 // element loop, and must hand over to it (having written nothing) when an
 // element breaks. The general loop is forced here by marking element 0 as
 // "bonded, was slipping" (code 3 + 4): for a bonded element the general loop
 // then does the same arithmetic and only adds a slip_end event.
-#include "dem/flat_joint_law.h"
+#include "dem/laws/flat_joint_law.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,6 +1,6 @@
 // Flat-joint law (memo 000 §1.4-1.13) driven directly with contact-plane
 // increments; expected numbers from memo §2.1 (Eq. 53-66) and closed forms.
-#include "dem/flat_joint_law.h"
+#include "dem/laws/flat_joint_law.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,9 +1,9 @@
 // Material genesis (fistPkg §4): packing to the material pressure, fabric,
 // force-free bonded start, flat-jointed microstructure (§2.6.2), radius-
 // multiplier validity, reproducibility and input errors.
-#include "dem/flat_joint_law.h"
-#include "dem/genesis.h"
-#include "dem/linear_law.h"
+#include "dem/laws/flat_joint_law.h"
+#include "dem/specimen/genesis.h"
+#include "dem/laws/linear_law.h"
 
 #include <catch2/catch.hpp>
 

@@ -3,8 +3,8 @@
 // frictionless flat joints (memo Eq. 67). Phase 1 rotates the central grain
 // counter-clockwise with all other grains fixed; phase 2 stops it and frees
 // the rotation of the surrounding grains.
-#include "dem/flat_joint_law.h"
-#include "dem/model.h"
+#include "dem/laws/flat_joint_law.h"
+#include "dem/engine/model.h"
 
 #include <catch2/catch.hpp>
 #include <omp.h>

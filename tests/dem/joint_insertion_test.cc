@@ -1,7 +1,7 @@
 // Smooth-jointed interface inserted into a bonded material (fistPkg §2.8).
-#include "dem/flat_joint_law.h"
-#include "dem/joint_insertion.h"
-#include "dem/linear_law.h"
+#include "dem/laws/flat_joint_law.h"
+#include "dem/specimen/joint_insertion.h"
+#include "dem/laws/linear_law.h"
 
 #include <catch2/catch.hpp>
 

@@ -2,9 +2,9 @@
 // the measured constants, the plane-stress -> plane-strain map, and the
 // agreement of wall-based, measurement-based and gauge-based quantities and
 // of the Brazilian formula (Eq. 24) with the elastic disk solution.
-#include "dem/genesis.h"
-#include "dem/lab_tests.h"
-#include "dem/measurement.h"
+#include "dem/specimen/genesis.h"
+#include "dem/specimen/lab_tests.h"
+#include "dem/measure/measurement.h"
 
 #include <catch2/catch.hpp>
 

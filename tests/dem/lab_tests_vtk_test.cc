@@ -1,9 +1,9 @@
-// VTK writers (dem/vtk_output.h): files re-read with VTK's own XML reader;
+// VTK writers (dem/io/vtk_output.h): files re-read with VTK's own XML reader;
 // arrays present with one tuple per point/cell, finite values, connectivity
 // in range (no VTK reader checks it, docs/architecture.md, "VTK files"), and the .pvd paths relative.
-#include "dem/linear_law.h"
-#include "dem/model.h"
-#include "dem/vtk_output.h"
+#include "dem/laws/linear_law.h"
+#include "dem/engine/model.h"
+#include "dem/io/vtk_output.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,6 +1,6 @@
 // The registry maps PFC keywords to laws and rejects bad input clearly.
-#include "dem/flat_joint_law.h"
-#include "dem/law_registry.h"
+#include "dem/laws/flat_joint_law.h"
+#include "dem/engine/law_registry.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,7 +1,7 @@
-// The material file read back (dem/material_file.h): the committed 2D Lac du
+// The material file read back (dem/specimen/material_file.h): the committed 2D Lac du
 // Bonnet material.json gives the microparameters its calibration used, and
 // a broken file is refused naming the file and the key.
-#include "dem/material_file.h"
+#include "dem/specimen/material_file.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,8 +1,8 @@
-// Per-grain averaged stress (dem/particle_stress.h), as written to the particles VTK.
-#include "dem/linear_law.h"
-#include "dem/model.h"
-#include "dem/particle_stress.h"
-#include "dem/vtk_output.h"
+// Per-grain averaged stress (dem/measure/particle_stress.h), as written to the particles VTK.
+#include "dem/laws/linear_law.h"
+#include "dem/engine/model.h"
+#include "dem/measure/particle_stress.h"
+#include "dem/io/vtk_output.h"
 
 #include <vtkDataArray.h>
 #include <vtkNew.h>

@@ -1,7 +1,7 @@
 // Smooth-joint law (seed 001): dilation (Eq. 12), breakage (Eq. 13-15),
 // sliding along a dipping joint (Eq. 3-6), surface assignment by the sign of
 // n_c . n_j, energies (Eq. 16-17) and property validation.
-#include "dem/smooth_joint_law.h"
+#include "dem/laws/smooth_joint_law.h"
 
 #include <catch2/catch.hpp>
 

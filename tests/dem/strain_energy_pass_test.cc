@@ -3,8 +3,8 @@
 // block is in cache. The group total must then be the energy of the current
 // state: equal to the per-contact sum after the step, and recomputed, not
 // taken from the pass, once a state has been changed by hand.
-#include "dem/flat_joint_law.h"
-#include "dem/model.h"
+#include "dem/laws/flat_joint_law.h"
+#include "dem/engine/model.h"
 
 #include <catch2/catch.hpp>
 #include <omp.h>

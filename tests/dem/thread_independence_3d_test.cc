@@ -3,9 +3,9 @@
 // contacts per block, blocks shared among threads), the 3D flat-joint fast
 // path and, once elements break, the general loop. One and two threads must
 // give the same bits.
-#include "dem/flat_joint_law.h"
-#include "dem/linear_law.h"
-#include "dem/model.h"
+#include "dem/laws/flat_joint_law.h"
+#include "dem/laws/linear_law.h"
+#include "dem/engine/model.h"
 
 #include <catch2/catch.hpp>
 #include <omp.h>

@@ -5,7 +5,7 @@
 // boundary nodes), the small-strain limit against plane-strain Hooke's law,
 // zero force under a large rigid motion, and the shape functions used to
 // move contact velocities and forces between points and nodes.
-#include "dem/types.h"
+#include "dem/engine/types.h"
 #include "dem/voronoi/flexible_grain.h"
 #include "dem/voronoi/tessellation.h"
 

@@ -2,7 +2,7 @@
 // Newton's third law of the contact and element forces, no force under a
 // rigid translation, and the flexible model tending to the rigid one as the
 // grains' Young's modulus grows.
-#include "dem/types.h"
+#include "dem/engine/types.h"
 #include "dem/voronoi/flexible_model.h"
 #include "dem/voronoi/tessellation.h"
 

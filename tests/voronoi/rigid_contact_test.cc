@@ -2,7 +2,7 @@
 // geometry from the tessellation of two disks, two-grain normal, shear and
 // bending load against the closed forms of the three-point contact, large
 // rigid rotation, per-point strengths, and the one-point, zero-offset
-// reduction to the point-contact (linear) law of dem/linear_law.h.
+// reduction to the point-contact (linear) law of dem/laws/linear_law.h.
 //
 // Closed forms (small displacements, edge of length L, thickness t, area
 // A = L t, points at s = -L/2, 0, L/2 with areas A/6, 2A/3, A/6, point
@@ -22,8 +22,8 @@
 //    I = 2 (A/6)(L/2)^2 = A L^2 / 12 = t L^3 / 12: the Lobatto (Simpson)
 //    weights integrate s^2 exactly, so the three-point contact has the
 //    bending stiffness of the continuous edge.
-#include "dem/linear_law.h"
-#include "dem/types.h"
+#include "dem/laws/linear_law.h"
+#include "dem/engine/types.h"
 #include "dem/voronoi/rigid_contact.h"
 #include "dem/voronoi/tessellation.h"
 
@@ -312,7 +312,7 @@ TEST_CASE("Rigid Voronoi contact: one point at the reference point is the point 
   // Equal radii: the Laguerre edge is the PCM plane (delta = 0). With one
   // point of area A at x_r, no strength (a frictional contact) and
   // kn A, ks A as the point stiffnesses, the model must reproduce the
-  // linear law (dem/linear_law.h) applied at the PCM contact point.
+  // linear law (dem/laws/linear_law.h) applied at the PCM contact point.
   auto m                      = elastic();
   m.tensile_strength          = 0;
   m.cohesion                  = 0;

@@ -3,7 +3,7 @@
 // dissipated energy to full separation against G A, unloading and crack
 // closure, the coupling of the damages, and the brittle limit against the
 // brittle tension cut-off / Mohr-Coulomb law.
-#include "dem/types.h"
+#include "dem/engine/types.h"
 #include "dem/voronoi/softening_law.h"
 
 #include <catch2/catch.hpp>

@@ -4,7 +4,7 @@
 // bisector, cells agree with a brute-force nearest-power-distance search,
 // a square lattice gives square cells, and empty (hidden, outside) cells are
 // reported.
-#include "dem/types.h"
+#include "dem/engine/types.h"
 #include "dem/voronoi/tessellation.h"
 
 #include <catch2/catch.hpp>

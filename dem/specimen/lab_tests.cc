@@ -1,0 +1,656 @@
+// Laboratory tests and property extraction (see lab_tests.h; fistPkg
+// §5.2, §5.4-5.7).
+#include "dem/specimen/lab_tests.h"
+
+#include <array>
+
+#include "dem/laws/linear_law.h"
+#include "dem/measure/measurement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+namespace demfem::dem
+{
+  void LabTestParams::validate(const std::string &where, int /*dim*/) const
+  {
+    const double inf = HUGE_VAL;
+    check_range(where, "confining pressure", Pc, 0, inf);
+    check_range(where, "strain rate", strain_rate, 0, inf, true, false);
+    check_range(where, "load fraction", load_fraction, 0, 1, true, true);
+    check_range(where, "strain limit", strain_limit, 0, 1, true, false);
+    check_range(where, "step limit", double(step_limit), 1, inf);
+    check_range(where, "history interval", history_interval, 1, 1e9);
+    check_range(where, "equilibrium ratio limit", ratio_limit, 0, 1, true, false);
+    check_range(where, "seating step limit", double(seat_step_limit), 0, inf);
+    check_range(where, "grip thickness", grip_thickness, 0, 0.5, true, true);
+    check_range(where, "platen friction", platen_friction, 0, inf);
+    check_range(where, "fit window low", fit_lo, 0, 1, false, true);
+    check_range(where, "fit window high", fit_hi, fit_lo, 1, true, false);
+    check_range(where, "crack initiation fraction", crack_initiation_fraction, 0, 1, true,
+                false);
+  }
+
+  const char *test_kind_name(TestKind k)
+  {
+    switch (k)
+      {
+      case TestKind::compression:
+        return "compression";
+      case TestKind::brazilian:
+        return "brazilian";
+      default:
+        return "direct_tension";
+      }
+  }
+
+  double ls_slope(const std::vector<double> &x, const std::vector<double> &y)
+  {
+    const std::size_t n = std::min(x.size(), y.size());
+    if (n < 2)
+      return std::numeric_limits<double>::quiet_NaN();
+    double mx = 0, my = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      mx += x[i], my += y[i];
+    mx /= n, my /= n;
+    double sxy = 0, sxx = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      sxy += (x[i] - mx) * (y[i] - my), sxx += (x[i] - mx) * (x[i] - mx);
+    return sxx > 0 ? sxy / sxx : std::numeric_limits<double>::quiet_NaN();
+  }
+
+  namespace
+  {
+    template <int dim>
+    class Runner
+    {
+    public:
+      static constexpr int ax = dim - 1; // axial direction (fistPkg Fig. 20)
+
+      Runner(Specimen<dim> &s, const LabTestParams &p, const LabCallbacks<dim> &cb)
+          : s_(s)
+          , m_(s.model)
+          , p_(p)
+          , cb_(cb)
+          , crack_base_(s.model.cracks.size())
+      {
+        r_.kind = p.kind;
+        // Far enough that no grain reaches a removed wall during the test.
+        far_ = 0;
+        for (int a = 0; a < dim; ++a)
+          far_ = std::max(far_, 2 * s.vessel.length(m_.walls, a));
+      }
+
+      LabTestResult run()
+      {
+        if (p_.kind == TestKind::compression)
+          setup_compression();
+        else if (p_.kind == TestKind::brazilian)
+          setup_brazilian();
+        else
+          setup_tension();
+        load();
+        extract();
+        if (cb_.snapshot)
+          cb_.snapshot(s_, "end");
+        return r_;
+      }
+
+    private:
+      Specimen<dim>                        &s_;
+      Model<dim>                           &m_;
+      const LabTestParams                  &p_;
+      const LabCallbacks<dim>              &cb_;
+      LabTestResult                         r_;
+      std::size_t                           crack_base_, counted_ = 0;
+      std::size_t                           n_ten_ = 0, n_shear_ = 0;
+      std::array<std::size_t, n_bond_types> n_type_{}; // by BondType
+      double                                far_ = 0;
+      // Confined compression: the servo of the seating keeps the lateral
+      // walls at Pc through the loading phase.
+      std::unique_ptr<Servo<dim>> servo_;
+      std::vector<std::uint32_t>  gauge_, grip_top_, grip_bottom_;
+      double                      L0_ = 0; // loading length (platen gap / grip distance)
+      double                      v_  = 0; // speed of each platen / grip
+      std::int64_t                step0_ = 0;
+      double                      time0_ = 0;
+
+      void count_cracks()
+      {
+        for (; crack_base_ + counted_ < m_.cracks.size(); ++counted_)
+          {
+            const auto &c = m_.cracks[crack_base_ + counted_];
+            (c.mode == 0 ? n_ten_ : n_shear_)++;
+            if (c.type != BondType::none)
+              ++n_type_[static_cast<int>(c.type)];
+          }
+      }
+
+      void remove_walls(int a)
+      {
+        s_.vessel.translate_outward(m_.walls, a, far_);
+        s_.vessel.set_velocity(m_.walls, a, 0);
+      }
+
+      // Ratio-average equilibrium (ft_eq), optionally with the servo on.
+      void equilibrate(Servo<dim> *servo)
+      {
+        const std::int64_t start = m_.step_count();
+        for (std::int64_t n = 0; n < p_.seat_step_limit; ++n)
+          {
+            if (servo)
+              servo->update(m_);
+            m_.step();
+            if (n % 100 == 99)
+              {
+                const double ratio = m_.unbalanced_ratio();
+                const bool   ok    = (!servo || servo->within_tolerance(m_)) &&
+                                (!(ratio > p_.ratio_limit)); // NaN (no force) is at rest
+                if (cb_.progress)
+                  {
+                    LabProgress g;
+                    g.phase         = "seating";
+                    g.step          = n + 1;
+                    g.stress        = servo ? servo->pressure(m_, ax) : 0;
+                    g.fraction_done = double(n) / p_.seat_step_limit;
+                    cb_.progress(g);
+                  }
+                if (ok)
+                  break;
+              }
+          }
+        if (servo)
+          servo->stop(m_);
+        r_.seating_steps = m_.step_count() - start;
+      }
+
+      ServoParams servo_params(double H) const
+      {
+        ServoParams sp = p_.servo;
+        if (!(sp.v_limit > 0)) // Table 10 default: 10 eps_rate H
+          sp.v_limit = 10 * p_.strain_rate * H;
+        return sp;
+      }
+
+      void start_loading()
+      {
+        // Grain displacements and strains are reset after seating (§5.5).
+        m_.particles.x0 = m_.particles.x;
+        s_.vessel.reset_strain_reference(m_.walls);
+        m_.reset_energy_baseline();
+        step0_ = m_.step_count();
+        time0_ = m_.time();
+        for (int i = 0; i < 3; ++i)
+          for (auto g : grains_in(m_, s_.vessel.regions[i]))
+            gauge_.push_back(g);
+        std::sort(gauge_.begin(), gauge_.end());
+        gauge_.erase(std::unique(gauge_.begin(), gauge_.end()), gauge_.end());
+        count_cracks();
+        counted_base_ten_   = n_ten_;
+        counted_base_type_  = n_type_;
+        counted_base_shear_ = n_shear_;
+      }
+      std::size_t counted_base_ten_ = 0, counted_base_shear_ = 0;
+      std::array<std::size_t, n_bond_types> counted_base_type_{};
+
+      void setup_compression()
+      {
+        const double H = s_.vessel.length(m_.walls, ax);
+        r_.area        = s_.vessel.area(m_.walls, ax);
+        if (p_.ctype == CompressionType::unconfined)
+          for (int a = 0; a < dim - 1; ++a)
+            remove_walls(a);
+        m_.reset_energy_baseline();
+        if (p_.Pc > 0 || p_.ctype == CompressionType::confined)
+          {
+            // Seating: every wall present (unconfined: the platens only)
+            // servo-controlled to Pc, an isotropic start for the confined
+            // and the uniaxial-strain tests.
+            servo_ = std::make_unique<Servo<dim>>(s_.vessel, servo_params(H));
+            for (int a = 0; a < dim; ++a)
+              if (a == ax || p_.ctype != CompressionType::unconfined)
+                servo_->set_pressure(a, p_.Pc);
+            equilibrate(servo_.get());
+          }
+        else
+          equilibrate(nullptr);
+        L0_ = s_.vessel.length(m_.walls, ax);
+        v_  = 0.5 * p_.strain_rate * L0_; // Table 10: v = eps_rate h / 2
+        start_loading();
+        s_.vessel.set_velocity(m_.walls, ax, -v_);
+        if (servo_holds_confinement())
+          servo_->set_velocity(ax, -v_); // the lateral walls stay on Pc
+        else
+          servo_.reset(); // lateral walls fixed (uniaxial strain) or removed
+      }
+
+      bool servo_holds_confinement() const
+      {
+        return p_.kind == TestKind::compression &&
+               p_.ctype == CompressionType::confined && servo_;
+      }
+
+      // Largest |P_a - Pc| / Pc over the servo-controlled lateral walls (the
+      // cylinder's one wall is axis 0).
+      double confining_deviation() const
+      {
+        double    d     = 0;
+        const int n_lat = s_.vessel.cylinder() ? 1 : dim - 1;
+        for (int a = 0; a < n_lat; ++a)
+          d = std::max(d, std::abs(servo_->pressure(m_, a) - p_.Pc) / p_.Pc);
+        return d;
+      }
+
+      void setup_brazilian()
+      {
+        // Carve the disk (2D) or the cylinder with its axis along y (3D) of
+        // radius R = min(W, H)/2 centred on the vessel (§5.6, Fig. 29).
+        const Vec<dim> c = s_.vessel.center;
+        const double   R =
+            0.5 * std::min(s_.vessel.length(m_.walls, 0), s_.vessel.length(m_.walls, ax));
+        r_.t = dim == 2 ? 1.0 : s_.vessel.length(m_.walls, 1);
+        std::vector<char> remove(m_.particles.size(), 0);
+        for (std::size_t i = 0; i < m_.particles.size(); ++i)
+          {
+            Vec<dim> d = m_.particles.x[i] - c;
+            if (dim == 3)
+              d[1] = 0;
+            remove[i] = d.norm() + m_.particles.radius[i] > R;
+          }
+        m_.remove_particles(remove);
+        for (int a = 0; a < dim - 1; ++a)
+          remove_walls(a);
+        // Platens (the axial walls) touch the disk: frictionless (the grain-
+        // wall group), stiffness from the vessel's effective modulus.
+        double top = -HUGE_VAL, bottom = HUGE_VAL;
+        for (std::size_t i = 0; i < m_.particles.size(); ++i)
+          {
+            top    = std::max(top, m_.particles.x[i][ax] + m_.particles.radius[i]);
+            bottom = std::min(bottom, m_.particles.x[i][ax] - m_.particles.radius[i]);
+          }
+        // The platens are symmetric about the vessel centre: centre the disk
+        // between them (a rigid shift), then close them onto it.
+        const double shift = c[ax] - 0.5 * (top + bottom);
+        for (std::size_t i = 0; i < m_.particles.size(); ++i)
+          m_.particles.x[i][ax] += shift;
+        const double L = s_.vessel.length(m_.walls, ax);
+        s_.vessel.translate_outward(m_.walls, ax, 0.5 * ((top - bottom) - L));
+        r_.R = 0.5 * (top - bottom);
+        if (p_.platen_friction > 0)
+          platen_friction();
+        m_.invalidate_contacts();
+        m_.reset_energy_baseline();
+        seat_brazilian();
+        equilibrate(nullptr);
+        L0_ = s_.vessel.length(m_.walls, ax);
+        v_  = 0.5 * p_.strain_rate * L0_; // Table 11: v = eps_rate g0 / 2
+        start_loading();
+        s_.vessel.set_velocity(m_.walls, ax, -v_);
+      }
+
+      // Seating of the Brazilian disk: the platens first touch one or two
+      // grains each, and a coarse 3D cylinder rocks about its axis on them
+      // (measured: 3000 grains, ~11 across, peak 0.11 MPa while the disk
+      // rotated, ended by the load-fraction rule). The platens close at the
+      // loading speed until the Eq. 22 load reaches F = P_m pi R t (the
+      // material pressure: the packing stress, low relative to the
+      // strength, fistPkg §4.2.1) or the loading step limit, then stop; the disk
+      // settles on a stable seat before loading starts.
+      void seat_brazilian()
+      {
+        const double Fseat = s_.material.Pm * M_PI * r_.R * r_.t;
+        if (!(Fseat > 0))
+          return;
+        const auto  &W  = m_.walls;
+        const double vs = 0.5 * p_.strain_rate * s_.vessel.length(W, ax);
+        s_.vessel.set_velocity(m_.walls, ax, -vs);
+        for (std::int64_t n = 0; n < p_.step_limit; ++n)
+          {
+            m_.step();
+            const double F = -0.5 * (W.wall_force(s_.vessel.lo[ax])[ax] -
+                                     W.wall_force(s_.vessel.hi[ax])[ax]);
+            if (F >= Fseat)
+              break;
+          }
+        s_.vessel.set_velocity(m_.walls, ax, 0);
+      }
+
+      // Grain-platen contacts: the grain-wall linear law with friction.
+      void platen_friction()
+      {
+        using Group    = ContactGroup<dim, LinearLaw<dim>>;
+        const auto *wg = dynamic_cast<const Group *>(&m_.group(s_.wall_group));
+        if (!wg)
+          throw InputError("lab test: platen friction needs a linear grain-wall law");
+        // The grain-wall group is frictionless with ks = 0 (§4.1): without a
+        // shear stiffness no shear force ever builds and the friction
+        // coefficient does nothing (a coarse 3D disk rotated between the
+        // platens and carried no load). The platen contacts keep the
+        // grain-wall kn of each contact, with the shear stiffness of the
+        // material's linear group, ks = kn / kappa*, and the platen friction.
+        const double         krat = s_.material.lnm_krat > 0 ? s_.material.lnm_krat : 1.0;
+        const double         friction      = p_.platen_friction;
+        typename Group::Rule wall_rule     = wg->rule;
+        typename LinearLaw<dim>::Params lp = wg->params;
+        lp.friction                        = friction;
+        lp.ks                              = lp.kn / krat;
+        const int g                        = m_.template add_law<LinearLaw<dim>>(
+            lp, "platen friction",
+            [wall_rule, krat, friction](const ContactGeometry<dim>     &geo,
+                                        typename LinearLaw<dim>::Props &q) {
+              if (wall_rule)
+                wall_rule(geo, q);
+              q.ks       = q.kn / krat;
+              q.friction = friction;
+            });
+        std::vector<ContactRef> walls;
+        for (int k = 0; k < m_.n_groups(); ++k)
+          for (std::size_t c = 0; c < m_.group(k).size(); ++c)
+            if (m_.group(k).is_wall[c])
+              walls.push_back({k, c});
+        // Reassign from the back so the indices of the rest stay valid.
+        for (auto it = walls.rbegin(); it != walls.rend(); ++it)
+          m_.reassign(*it, g);
+        m_.set_default_law(s_.linear_group, g);
+      }
+
+      void setup_tension()
+      {
+        r_.area = s_.vessel.area(m_.walls, ax);
+        for (int a = 0; a < dim; ++a)
+          remove_walls(a);
+        double top = -HUGE_VAL, bottom = HUGE_VAL;
+        for (std::size_t i = 0; i < m_.particles.size(); ++i)
+          {
+            top    = std::max(top, m_.particles.x[i][ax] + m_.particles.radius[i]);
+            bottom = std::min(bottom, m_.particles.x[i][ax] - m_.particles.radius[i]);
+          }
+        const double H  = top - bottom;
+        const double tg = p_.grip_thickness * H; // Table 12: t_g
+        for (std::uint32_t i = 0; i < m_.particles.size(); ++i)
+          if (m_.particles.x[i][ax] > top - tg)
+            grip_top_.push_back(i);
+          else if (m_.particles.x[i][ax] < bottom + tg)
+            grip_bottom_.push_back(i);
+        m_.reset_energy_baseline();
+        equilibrate(nullptr);
+        // Grip centres' distance is the gauge length of the platen strain.
+        L0_ = H - tg;
+        v_  = 0.5 * p_.strain_rate * L0_;
+        start_loading();
+        // Grip grains neither translate nor spin except the axial pull
+        // (glued to rigid platens, §5.7).
+        for (auto i : grip_top_)
+          hold(i, +v_);
+        for (auto i : grip_bottom_)
+          hold(i, -v_);
+        m_.reset_energy_baseline();
+      }
+
+      void hold(std::uint32_t i, double v)
+      {
+        m_.particles.fixity[i] = fix_all;
+        m_.particles.v[i].setZero();
+        m_.particles.v[i][ax] = v;
+        m_.particles.w[i].setZero();
+      }
+
+      Tensor<dim> region_average() const
+      {
+        Tensor<dim> s     = Tensor<dim>::Zero();
+        double      V     = 0;
+        const int   first = p_.kind == TestKind::brazilian ? 1 : 0;
+        const int   last  = p_.kind == TestKind::brazilian ? 1 : 2;
+        for (int i = first; i <= last; ++i)
+          {
+            const auto &reg = s_.vessel.regions[i];
+            s += reg.volume() * region_stress(m_, reg);
+            V += reg.volume();
+          }
+        return V > 0 ? Tensor<dim>(s / V) : s;
+      }
+
+      HistoryRow record()
+      {
+        count_cracks();
+        HistoryRow h;
+        h.step           = m_.step_count() - step0_;
+        h.time           = m_.time() - time0_;
+        h.cracks_tension = n_ten_ - counted_base_ten_;
+        h.cracks_shear   = n_shear_ - counted_base_shear_;
+        const Tensor<dim> eg =
+            gauge_.size() > dim ? gauge_strain(m_, gauge_) : Tensor<dim>::Zero();
+        h.gauge_axial_strain    = eg(ax, ax);
+        h.lateral_strain        = (eg.trace() - eg(ax, ax)) / (dim - 1);
+        h.volumetric_strain     = eg.trace();
+        const Tensor<dim> sr    = region_average();
+        h.region_axial_stress   = sr(ax, ax);
+        h.region_lateral_stress = (sr.trace() - sr(ax, ax)) / (dim - 1);
+        if (p_.kind == TestKind::compression)
+          {
+            h.axial_strain = s_.vessel.wall_strain(m_.walls, ax);
+            // Wall-based axial stress over the initial cross-section (fn. 39).
+            const auto &W  = m_.walls;
+            h.axial_force  = 0.5 * (W.wall_force(s_.vessel.lo[ax])[ax] -
+                                   W.wall_force(s_.vessel.hi[ax])[ax]);
+            h.axial_stress = h.axial_force / r_.area;
+            double lateral = 0; // deviator = |sigma_a - sigma_r| (Table 10)
+            if (p_.ctype != CompressionType::unconfined)
+              {
+                for (int a = 0; a < dim - 1; ++a)
+                  lateral += s_.vessel.wall_stress(W, a);
+                lateral /= dim - 1;
+              }
+            h.lateral_wall_stress = lateral;
+            h.load                = lateral - h.axial_stress;
+          }
+        else if (p_.kind == TestKind::brazilian)
+          {
+            const auto  &W = m_.walls;
+            const double g = s_.vessel.length(W, ax);
+            h.axial_strain = (g - L0_) / L0_; // Eq. 23
+            // Eq. 22: F_a = (F_bottom - F_top)/2 along y, tension positive.
+            h.axial_force  = 0.5 * (W.wall_force(s_.vessel.lo[ax])[ax] -
+                                   W.wall_force(s_.vessel.hi[ax])[ax]);
+            h.axial_stress = -brazilian_strength(-h.axial_force, r_.R, r_.t);
+            h.load         = -h.axial_force;
+          }
+        else
+          {
+            h.axial_strain = 2 * v_ * h.time / L0_;
+            // Force the specimen exerts on the grips, both ends averaged.
+            double Ftop = 0, Fbot = 0;
+            for (auto i : grip_top_)
+              Ftop += m_.particles.f[i][ax];
+            for (auto i : grip_bottom_)
+              Fbot += m_.particles.f[i][ax];
+            h.axial_force  = 0.5 * (Fbot - Ftop);
+            h.axial_stress = h.axial_force / r_.area;
+            h.load         = h.axial_stress;
+          }
+        return h;
+      }
+
+      void load()
+      {
+        const std::int64_t nmax    = p_.step_limit;
+        r_.ended_by                = "step limit";
+        double      peak           = -HUGE_VAL;
+        std::size_t cracks_at_peak = 0;
+        const bool  track_pc       = servo_holds_confinement() && p_.Pc > 0;
+        if (track_pc)
+          r_.confining_deviation = r_.confining_deviation_to_peak = 0;
+        for (std::int64_t n = 1; n <= nmax; ++n)
+          {
+            if (servo_holds_confinement())
+              servo_->update(m_);
+            m_.step();
+            if (n % p_.history_interval != 0 && n != nmax)
+              continue;
+            const HistoryRow h = record();
+            r_.history.push_back(h);
+            const std::size_t cracks = h.cracks_tension + h.cracks_shear;
+            if (track_pc)
+              r_.confining_deviation =
+                  std::max(r_.confining_deviation, confining_deviation());
+            if (h.load > peak)
+              {
+                peak           = h.load;
+                cracks_at_peak = cracks;
+                r_.peak_row    = r_.history.size() - 1;
+                if (track_pc)
+                  r_.confining_deviation_to_peak = r_.confining_deviation;
+                if (cb_.snapshot)
+                  cb_.snapshot(s_, "peak");
+              }
+            double done = std::abs(h.axial_strain) / p_.strain_limit;
+            if (peak > 0 && h.load < peak)
+              done = std::max(done, (peak - h.load) / (peak * (1 - p_.load_fraction)));
+            if (cb_.progress)
+              {
+                LabProgress g;
+                g.phase         = test_kind_name(p_.kind);
+                g.step          = h.step;
+                g.stress        = h.axial_stress;
+                g.strain        = h.axial_strain;
+                g.cracks        = cracks;
+                g.fraction_done = std::min(1.0, done);
+                cb_.progress(g);
+              }
+            // Post-peak end (Table 10-12 load factor): only when the material
+            // broke after the peak, so that neither start-up noise nor the
+            // inertial spike of the platens starting at full speed (with a
+            // few weak bonds broken during it) can end the test.
+            // The mean of the last three rows filters platen chatter.
+            const std::size_t nh = r_.history.size();
+            const double      recent =
+                nh < 3 ? h.load
+                            : (r_.history[nh - 1].load + r_.history[nh - 2].load +
+                          r_.history[nh - 3].load) /
+                             3;
+            if (cracks > cracks_at_peak && peak > 0 && recent < p_.load_fraction * peak)
+              {
+                r_.ended_by = "post-peak";
+                break;
+              }
+            if (std::abs(h.axial_strain) >= p_.strain_limit)
+              {
+                r_.ended_by = "strain limit";
+                break;
+              }
+          }
+        if (servo_)
+          servo_->stop(m_);
+        for (int a = 0; a < dim; ++a)
+          s_.vessel.set_velocity(m_.walls, a, 0);
+        for (auto i : grip_top_)
+          m_.particles.v[i].setZero();
+        for (auto i : grip_bottom_)
+          m_.particles.v[i].setZero();
+        r_.loading_steps = m_.step_count() - step0_;
+      }
+
+      // Crack-damage stress: axial stress at the most compacted state
+      // (smallest gauge volumetric strain, tension positive) before the
+      // peak; from there on dilatancy outruns the elastic compaction. NaN
+      // when the volume is smallest at the peak row itself (no reversal).
+      double volumetric_reversal_stress() const
+      {
+        const auto &H   = r_.history;
+        std::size_t min = 0;
+        for (std::size_t i = 1; i <= r_.peak_row; ++i)
+          if (H[i].volumetric_strain < H[min].volumetric_strain)
+            min = i;
+        return min < r_.peak_row ? std::abs(H[min].axial_stress)
+                                 : std::numeric_limits<double>::quiet_NaN();
+      }
+
+      void extract()
+      {
+        const auto &H = r_.history;
+        if (H.empty())
+          return;
+        const HistoryRow &pk = H[r_.peak_row];
+        r_.peak_load         = pk.load;
+        r_.peak_strain       = std::abs(pk.axial_strain);
+        r_.peak              = std::abs(pk.axial_stress);
+        if (p_.kind == TestKind::brazilian)
+          {
+            r_.peak_force = -pk.axial_force;
+            r_.peak       = brazilian_strength(r_.peak_force, r_.R, r_.t); // Eq. 24
+          }
+        r_.cracks_tension_peak = pk.cracks_tension;
+        r_.cracks_shear_peak   = pk.cracks_shear;
+        r_.cracks_tension      = H.back().cracks_tension;
+        r_.cracks_shear        = H.back().cracks_shear;
+        // As counted by the last history row (record() counts the cracks).
+        for (int t = 0; t < n_bond_types; ++t)
+          r_.cracks_by_type[t] = n_type_[t] - counted_base_type_[t];
+        const double n_peak    = double(pk.cracks_tension + pk.cracks_shear);
+        const double threshold = std::max(1.0, p_.crack_initiation_fraction * n_peak);
+        for (std::size_t i = 0; i <= r_.peak_row; ++i)
+          if (H[i].cracks_tension + H[i].cracks_shear >= threshold)
+            {
+              r_.crack_initiation      = std::abs(H[i].axial_stress);
+              r_.crack_initiation_load = H[i].load;
+              break;
+            }
+        if (p_.kind == TestKind::direct_tension)
+          {
+            r_.peak_region = -HUGE_VAL;
+            for (const auto &h : H)
+              r_.peak_region = std::max(r_.peak_region, h.region_axial_stress);
+          }
+        if (p_.kind != TestKind::compression)
+          return;
+        r_.peak_region  = std::abs(pk.region_axial_stress);
+        r_.crack_damage = volumetric_reversal_stress();
+        // Elastic constants from the loading branch between fit_lo and
+        // fit_hi of the peak deviator (fistPkg §5.2): strains gauge based
+        // (the specimen itself, free of the grain-platen compliance), axial
+        // stress wall based.
+        std::vector<double> ea, er, sa, ew;
+        for (std::size_t i = 0; i <= r_.peak_row; ++i)
+          if (H[i].load >= p_.fit_lo * r_.peak_load &&
+              H[i].load <= p_.fit_hi * r_.peak_load)
+            {
+              ea.push_back(H[i].gauge_axial_strain);
+              er.push_back(H[i].lateral_strain);
+              sa.push_back(H[i].axial_stress);
+              ew.push_back(H[i].axial_strain);
+            }
+        const double E  = ls_slope(ea, sa);  // Eq. 18/19: d sigma_a / d eps_a
+        const double nu = -ls_slope(ea, er); // -d eps_r / d eps_a
+        r_.E_wall       = ls_slope(ew, sa);
+        if (p_.ctype == CompressionType::uniaxial_strain)
+          {
+            r_.E = E; // constrained modulus
+            return;
+          }
+        if (dim == 3)
+          r_.E = E, r_.nu = nu;
+        else
+          {
+            r_.E_ps = E, r_.nu_ps = nu;
+            plane_stress_to_plane_strain(E, nu, r_.E, r_.nu);
+          }
+      }
+    };
+  } // namespace
+
+  template <int dim>
+  LabTestResult run_lab_test(Specimen<dim> &s, const LabTestParams &p,
+                             const LabCallbacks<dim> &cb)
+  {
+    p.validate("lab test", dim);
+    Runner<dim> r(s, p, cb);
+    return r.run();
+  }
+
+  template LabTestResult run_lab_test<2>(Specimen<2> &, const LabTestParams &,
+                                         const LabCallbacks<2> &);
+  template LabTestResult run_lab_test<3>(Specimen<3> &, const LabTestParams &,
+                                         const LabCallbacks<3> &);
+} // namespace demfem::dem

@@ -1,0 +1,179 @@
+#pragma once
+// Laboratory tests on a specimen built by dem/specimen/genesis.h (fistPkg §5.4-5.7):
+// compression (confined / unconfined / uniaxial strain, seating then
+// loading, Table 10), diametral compression (Brazilian, §5.6, Table 11,
+// Eq. 22-24) and direct tension with grip grains (§5.7, Table 12), each a
+// single loading stage that ends when the stress falls below a fraction of
+// its peak or at a strain limit; and the properties of §5.2 (Eq. 18-20,
+// docs/architecture.md, "Plane-stress and plane-strain constants"). Sign convention:
+// tension positive in the history; reported strengths are magnitudes.
+#include "dem/specimen/genesis.h"
+#include "dem/specimen/servo.h"
+
+#include <array>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace demfem::dem
+{
+  enum class TestKind
+  {
+    compression,
+    brazilian,
+    direct_tension
+  };
+  /// Lateral boundary of a compression test (fistPkg §5.5, Table 10). All
+  /// are seated by the servo at Pc (unconfined: axially only, the lateral
+  /// walls removed); during loading the lateral walls are
+  enum class CompressionType
+  {
+    confined,       ///< servo-controlled at Pc (triaxial: sigma_3 = Pc held)
+    unconfined,     ///< removed
+    uniaxial_strain ///< fixed (oedometric: lateral strain held at zero)
+  };
+
+  /// One recorded step (tension positive, SI units).
+  struct HistoryRow
+  {
+    std::int64_t step               = 0; ///< loading-phase step
+    double       time               = 0; ///< loading-phase time [s]
+    double       axial_strain       = 0; ///< platen/grip based (Eq. 23 for Brazilian)
+    double       lateral_strain     = 0; ///< gauge based (mean of the lateral components)
+    double       gauge_axial_strain = 0;
+    double       volumetric_strain  = 0;    ///< gauge based (trace)
+    double       axial_stress       = 0;    ///< wall (platen/grip) based [Pa]
+    double       region_axial_stress   = 0; ///< measurement-region based [Pa]
+    double       region_lateral_stress = 0; ///< measurement-region based [Pa]
+    /// Compression with lateral walls: mean wall-based stress of the lateral
+    /// walls (tension positive) [Pa]; 0 for the unconfined test.
+    double      lateral_wall_stress = 0;
+    double      axial_force         = 0; ///< Brazilian: Eq. 22 (tension positive) [N]
+    std::size_t cracks_tension = 0, cracks_shear = 0;
+    /// The loading measure the test ends on (compression: deviator
+    /// magnitude; Brazilian: |F_a|; tension: axial stress) [Pa or N].
+    double load = 0;
+  };
+
+  /// What a progress callback receives.
+  struct LabProgress
+  {
+    const char  *phase         = "";
+    std::int64_t step          = 0;
+    double       stress        = 0; ///< current load measure (see HistoryRow::load)
+    double       strain        = 0;
+    std::size_t  cracks        = 0;
+    double       fraction_done = 0; ///< rough: max(strain / limit, post-peak drop)
+  };
+
+  struct LabTestParams
+  {
+    TestKind        kind        = TestKind::compression;
+    CompressionType ctype       = CompressionType::unconfined;
+    double          Pc          = 0;   ///< confining pressure (compression positive) [Pa]
+    double          strain_rate = 0.1; ///< axial strain rate (> 0) [1/s] (§5.4)
+    double       load_fraction  = 0.7; ///< ends when load < fraction * peak (Table 10-12)
+    double       strain_limit   = 0.02;    ///< ends at |axial strain| above this
+    std::int64_t step_limit     = 2000000; ///< loading-phase step limit
+    int          history_interval = 50;    ///< steps between history rows
+    // seating (compression) / set-up (Brazilian) equilibrium
+    ServoParams  servo;                  ///< v_limit 0: automatic (§Table 10: 10 a H)
+    double       ratio_limit     = 1e-4; ///< ft_eq ratio limit for seating
+    std::int64_t seat_step_limit = 100000;
+    double       grip_thickness  = 0.1; ///< direct tension: t_g / H
+    /// Brazilian platen friction. fistPkg §5.6 uses frictionless platens;
+    /// a small 2D disk between frictionless platens can slide out sideways
+    /// (neutral equilibrium), so a friction coefficient may be given.
+    double platen_friction = 0;
+    /// Window of the modulus fit, as fractions of the peak load (loading
+    /// branch before the peak): E and nu are least-squares slopes in it.
+    double fit_lo = 0.1, fit_hi = 0.5;
+    /// Crack-initiation stress: load when the crack count first reaches this
+    /// fraction of the count at peak.
+    double crack_initiation_fraction = 0.01;
+
+    void validate(const std::string &where, int dim) const;
+  };
+
+  struct LabTestResult
+  {
+    TestKind                kind = TestKind::compression;
+    std::vector<HistoryRow> history;
+    std::int64_t            seating_steps = 0, loading_steps = 0;
+    std::string             ended_by;     ///< "post-peak", "strain limit", "step limit"
+    std::size_t             peak_row = 0; ///< history index of the peak
+    double                  peak = 0; ///< compression: peak axial stress magnitude [Pa];
+                                      ///< Brazilian: BTS (Eq. 24); tension: peak stress
+    double peak_load             = 0; ///< peak of HistoryRow::load
+    double peak_force            = 0; ///< Brazilian: F_max [N]
+    double peak_strain           = 0; ///< |axial strain| at the peak
+    double crack_initiation      = 0; ///< axial-stress magnitude at crack initiation [Pa]
+    double crack_initiation_load = 0; ///< load measure at crack initiation
+    /// Elastic constants of the loading branch (compression only):
+    /// 3D: Eq. 18 (E, nu); 2D: Eq. 19 plane stress (E_ps, nu_ps) and the
+    /// plane-strain pair (docs/architecture.md) in (E, nu). Uniaxial strain: E holds the
+    /// constrained modulus and nu = 0.
+    double      E = 0, nu = 0, E_ps = 0, nu_ps = 0;
+    double      E_wall = 0; ///< modulus from platen strain (incl. contact compliance)
+    std::size_t cracks_tension_peak = 0, cracks_shear_peak = 0;
+    std::size_t cracks_tension = 0, cracks_shear = 0; ///< at the end
+    /// Cracks of the loading phase by what broke (index: BondType), at the
+    /// end: material cracks (contact / parallel bond, flat joint) apart
+    /// from joint cracks (smooth joint).
+    std::array<std::size_t, n_bond_types> cracks_by_type{};
+    /// Confined compression (Pc > 0): largest relative deviation
+    /// |P_a - Pc| / Pc of the servo-controlled lateral wall pressures P_a
+    /// over the history rows of the loading phase (to the end, past the
+    /// peak) and up to the peak row; NaN for the other tests.
+    double confining_deviation         = std::numeric_limits<double>::quiet_NaN();
+    double confining_deviation_to_peak = std::numeric_limits<double>::quiet_NaN();
+    /// Crack-damage stress (Martin & Chandler): axial-stress magnitude at the
+    /// reversal of the volumetric strain (gauge based), i.e. at the most
+    /// compacted state before the peak; NaN if the volume only grows.
+    double crack_damage = std::numeric_limits<double>::quiet_NaN();
+    /// Peak stress in the measurement regions (fistPkg §5.7), magnitude:
+    /// direct tension: largest region-averaged axial tension over the
+    /// loading; compression: region axial stress at the peak row; NaN for
+    /// the Brazilian test (its stress field is not uniform).
+    double peak_region = std::numeric_limits<double>::quiet_NaN();
+    double R = 0, t = 0; ///< Brazilian disk radius and thickness [m]
+    double area = 0;     ///< cross-section used for the axial stress [m^2]
+  };
+
+  /// Callbacks: progress (every history row) and state snapshots, called
+  /// with label "peak" at every row that sets a new peak and "end" once.
+  template <int dim>
+  struct LabCallbacks
+  {
+    std::function<void(const LabProgress &)>                        progress;
+    std::function<void(const Specimen<dim> &, const std::string &)> snapshot;
+  };
+
+  /// Runs one test on `s` (modified: carved, walls moved, bonds broken).
+  template <int dim>
+  LabTestResult run_lab_test(Specimen<dim> &s, const LabTestParams &p,
+                             const LabCallbacks<dim> &cb = {});
+
+  /// Plane-stress (Eq. 19) to plane-strain constants for the continuum
+  /// (docs/architecture.md, "Plane-stress and plane-strain constants"): nu = nu'/(1 +
+  /// nu'), E = E' (1 - nu^2).
+  inline void plane_stress_to_plane_strain(double E_ps, double nu_ps, double &E,
+                                           double &nu)
+  {
+    nu = nu_ps / (1 + nu_ps);
+    E  = E_ps * (1 - nu * nu);
+  }
+
+  /// Brazilian tensile strength, fistPkg Eq. 24: sigma_t = F_max / (pi R t)
+  /// (2D: t = 1).
+  inline double brazilian_strength(double F_max, double R, double t)
+  {
+    return F_max / (M_PI * R * t);
+  }
+
+  /// Least-squares slope of y(x) over the points (both of equal size >= 2).
+  double ls_slope(const std::vector<double> &x, const std::vector<double> &y);
+
+  const char *test_kind_name(TestKind k);
+} // namespace demfem::dem

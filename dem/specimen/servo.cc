@@ -1,0 +1,144 @@
+// Servomechanism on the vessel walls (fistPkg §5.3, Table 9).
+#include "dem/specimen/servo.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace demfem::dem
+{
+  template <int dim>
+  Servo<dim>::Servo(const Vessel<dim> &vessel, const ServoParams &p)
+      : vessel_(vessel)
+      , p_(p)
+  {
+    check_range("servo", "alpha", p.alpha, 0, 1, true, true);
+    check_range("servo", "v_limit", p.v_limit, 0, HUGE_VAL, true);
+    check_range("servo", "tol", p.tol, 0, 1, true, true);
+    on_.fill(false);
+    target_.fill(0);
+    velocity_.fill(0);
+  }
+
+  template <int dim>
+  void Servo<dim>::set_pressure(int a, double P)
+  {
+    on_[a]     = true;
+    target_[a] = P;
+    // The cylinder's lateral axes share one wall: keep them consistent.
+    if (vessel_.cylinder() && a < dim - 1)
+      for (int b = 0; b < dim - 1; ++b)
+        {
+          on_[b]     = true;
+          target_[b] = P;
+        }
+  }
+
+  template <int dim>
+  void Servo<dim>::set_velocity(int a, double v)
+  {
+    on_[a]       = false;
+    velocity_[a] = v;
+    if (vessel_.cylinder() && a < dim - 1)
+      for (int b = 0; b < dim - 1; ++b)
+        {
+          on_[b]       = false;
+          velocity_[b] = v;
+        }
+  }
+
+  template <int dim>
+  double Servo<dim>::pressure(const Model<dim> &m, int a) const
+  {
+    return -vessel_.wall_stress(m.walls, a);
+  }
+
+  template <int dim>
+  void Servo<dim>::update(Model<dim> &m) const
+  {
+    // Summed normal stiffness of the contacts on each wall pair (Itasca
+    // 2008 §3.10.5: G = alpha A / (k_n N_c dt)).
+    std::array<double, dim> kn;
+    kn.fill(0);
+    for (int g = 0; g < m.n_groups(); ++g)
+      {
+        const auto &grp = m.group(g);
+        for (std::size_t k = 0; k < grp.size(); ++k)
+          {
+            if (!grp.is_wall[k] || !grp.active(k))
+              continue;
+            const int wall = m.walls.facet_wall[grp.end2[k]];
+            for (int a = 0; a < dim; ++a)
+              if (wall == vessel_.lo[a] || wall == vessel_.hi[a] ||
+                  (a == 0 && wall == vessel_.side))
+                kn[a] += grp.stiffness(k, m.particles).kn;
+          }
+      }
+    double dt = m.timestep();
+    if (dt <= 0)
+      dt = m.safety_factor * m.critical_timestep();
+    // Isotropic mode: moving every wall by dx changes the mean pressure by
+    // dx (1/n) sum k_a / A_a; close alpha of the mean error per step.
+    double v_iso = 0;
+    if (p_.isotropic && dt > 0)
+      {
+        double err = 0, k = 0;
+        int    n = 0;
+        for (int a = 0; a < dim; ++a)
+          if (on_[a])
+            {
+              err += pressure(m, a) - target_[a];
+              k += kn[a] / vessel_.area(m.walls, a);
+              ++n;
+            }
+        if (n > 0)
+          v_iso = k > 0 ? p_.alpha * (err / n) / (k / n * dt)
+                        : (err > 0 ? p_.v_limit : -p_.v_limit);
+        v_iso = std::clamp(v_iso, -p_.v_limit, p_.v_limit);
+      }
+    for (int a = 0; a < dim; ++a)
+      {
+        if (vessel_.cylinder() && a > 0 && a < dim - 1)
+          continue; // lateral axes share the cylinder wall (handled by a = 0)
+        double v = velocity_[a];
+        if (on_[a] && p_.isotropic)
+          {
+            vessel_.set_velocity(m.walls, a, v_iso);
+            continue;
+          }
+        if (on_[a])
+          {
+            const double err = pressure(m, a) - target_[a]; // > 0: too much, open
+            if (kn[a] > 0 && dt > 0)
+              {
+                // Each wall of a pair moves by v: the pair's stiffness halves.
+                const double G = p_.alpha * vessel_.area(m.walls, a) / (kn[a] * dt);
+                v              = G * err;
+              }
+            else
+              v = err > 0 ? p_.v_limit : -p_.v_limit;
+            v = std::clamp(v, -p_.v_limit, p_.v_limit);
+          }
+        vessel_.set_velocity(m.walls, a, v);
+      }
+  }
+
+  template <int dim>
+  bool Servo<dim>::within_tolerance(const Model<dim> &m) const
+  {
+    for (int a = 0; a < dim; ++a)
+      if (on_[a] && std::abs(pressure(m, a) - target_[a]) > p_.tol * std::abs(target_[a]))
+        return false;
+    return true;
+  }
+
+  template <int dim>
+  void Servo<dim>::stop(Model<dim> &m) const
+  {
+    for (int a = 0; a < dim; ++a)
+      if (!(vessel_.cylinder() && a > 0 && a < dim - 1))
+        vessel_.set_velocity(m.walls, a, 0.0);
+  }
+
+  template class Servo<2>;
+  template class Servo<3>;
+} // namespace demfem::dem
