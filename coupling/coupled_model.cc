@@ -483,128 +483,33 @@ namespace demfem::coupling
     ++n_accum;
   }
 
-  std::string encode_doubles(const std::vector<double> &v)
-  {
-    static const char *hex = "0123456789abcdef";
-    std::string        s;
-    s.reserve(16 * v.size());
-    for (double x : v)
-      {
-        std::uint64_t b;
-        std::memcpy(&b, &x, sizeof b);
-        for (int k = 15; k >= 0; --k)
-          s += hex[(b >> (4 * k)) & 0xf];
-      }
-    return s;
-  }
-
-  std::vector<double> decode_doubles(const std::string &s, const std::string &what)
-  {
-    if (s.size() % 16 != 0)
-      throw dem::InputError("checkpoint: damaged entry '" + what + "'");
-    std::vector<double> v(s.size() / 16);
-    for (std::size_t i = 0; i < v.size(); ++i)
-      {
-        std::uint64_t b = 0;
-        for (int k = 0; k < 16; ++k)
-          {
-            const char c = s[16 * i + k];
-            const int  d = (c >= '0' && c <= '9')   ? c - '0'
-                           : (c >= 'a' && c <= 'f') ? c - 'a' + 10
-                                                    : -1;
-            if (d < 0)
-              throw dem::InputError("checkpoint: damaged entry '" + what + "'");
-            b = (b << 4) | std::uint64_t(d);
-          }
-        std::memcpy(&v[i], &b, sizeof b);
-      }
-    return v;
-  }
-
   template <int dim>
-  std::map<std::string, std::string> CoupledModel<dim>::save_state() const
+  void CoupledModel<dim>::serialize(dem::StateArchive &ar)
   {
-    std::vector<double> a;
-    for (const auto &x : accum)
-      for (int c = 0; c < dim; ++c)
-        a.push_back(x[c]);
-    std::vector<double> scalars = {accum_contacts[0],
-                                   accum_contacts[1],
-                                   accum_abs,
-                                   double(n_accum),
-                                   load_factor,
-                                   imb_max,
-                                   imb_last,
-                                   last_fem_ke,
-                                   double(fem_growth),
-                                   double(n_steps),
-                                   applied_factor,
-                                   far_moving ? 1.0 : 0.0,
-                                   last_force[0],
-                                   last_force[1],
-                                   residual,
-                                   last_residual,
-                                   double(residual_growth)};
-    if constexpr (dim == 3) // the 2D layout, then the z components, the release
-      scalars.insert(scalars.end(), {accum_contacts[2], last_force[2], release});
-    return {{"coupling.variant", variant() + " " + kp.scheme},
-            {"coupling.accum", encode_doubles(a)},
-            {"coupling.scalars", encode_doubles(scalars)},
-            {"coupling.reached", encode_doubles(u_reached)},
-            {"coupling.continuum", encode_doubles(fem_->save_state())}};
-  }
-
-  template <int dim>
-  void CoupledModel<dim>::load_state(const std::map<std::string, std::string> &meta)
-  {
-    auto raw = [&](const std::string &k) {
-      const auto it = meta.find(k);
-      if (it == meta.end())
-        throw dem::InputError("checkpoint: no entry '" + k +
-                              "' (not written by demfem tunnel?)");
-      return it->second;
-    };
-    auto get = [&](const std::string &k) { return decode_doubles(raw(k), k); };
-    if (raw("coupling.variant") != variant() + " " + kp.scheme)
-      throw dem::InputError("checkpoint: written by the '" + raw("coupling.variant") +
-                            "' coupling, this run uses '" + variant() + " " + kp.scheme +
-                            "'");
-    const auto a = get("coupling.accum"), s = get("coupling.scalars");
-    const auto reached = get("coupling.reached");
-    if (a.size() != dim * accum.size() || s.size() != (dim == 2 ? 17u : 20u) ||
-        reached.size() != u_reached.size())
-      throw dem::InputError("checkpoint: the coupling interface differs (" +
-                            std::to_string(a.size() / dim) +
-                            " coupling nodes in the file, " +
-                            std::to_string(accum.size()) + " here)");
-    fem_->load_state(get("coupling.continuum"));
-    for (std::size_t k = 0; k < accum.size(); ++k)
-      for (int c = 0; c < dim; ++c)
-        accum[k][c] = a[dim * k + c];
-    accum_contacts[0] = s[0];
-    accum_contacts[1] = s[1];
-    accum_abs         = s[2];
-    n_accum           = static_cast<unsigned int>(s[3]);
-    load_factor       = s[4];
-    imb_max           = s[5];
-    imb_last          = s[6];
-    last_fem_ke       = s[7];
-    fem_growth        = static_cast<int>(s[8]);
-    n_steps           = static_cast<std::int64_t>(s[9]);
-    applied_factor    = s[10];
-    far_moving        = s[11] != 0;
-    last_force[0]     = s[12];
-    last_force[1]     = s[13];
-    if constexpr (dim == 3)
-      {
-        accum_contacts[2] = s[17];
-        last_force[2]     = s[18];
-        release           = s[19];
-      }
-    residual        = s[14];
-    last_residual   = s[15];
-    residual_growth = static_cast<int>(s[16]);
-    u_reached       = reached;
+    std::vector<double> continuum;
+    if (!ar.loading())
+      continuum = fem_->save_state();
+    ar.io("continuum.state", continuum); // its own layout, checked by load_state
+    if (ar.loading())
+      fem_->load_state(continuum);
+    ar.io("coupling.window_nodal_forces", accum, accum.size());
+    ar.io("coupling.window_contact_force", accum_contacts);
+    ar.io("coupling.window_force_abs", accum_abs);
+    ar.io("coupling.window_steps", n_accum);
+    ar.io("coupling.load_factor", load_factor);
+    ar.io("coupling.release", release);
+    ar.io("coupling.imbalance_max", imb_max);
+    ar.io("coupling.imbalance_last", imb_last);
+    ar.io("coupling.continuum_kinetic_energy_last", last_fem_ke);
+    ar.io("coupling.continuum_growth_steps", fem_growth);
+    ar.io("coupling.steps", n_steps);
+    ar.io("coupling.applied_load_factor", applied_factor);
+    ar.io("coupling.far_field_moving", far_moving);
+    ar.io("coupling.interface_force", last_force);
+    ar.io("coupling.residual", residual);
+    ar.io("coupling.residual_last", last_residual);
+    ar.io("coupling.residual_growth_steps", residual_growth);
+    ar.io("coupling.interface_displacement_reached", u_reached, u_reached.size());
   }
 
   template <int dim>

@@ -54,6 +54,7 @@
 #include <deal.II/distributed/tria.h>
 
 #include "coupling/dem_region.h"
+#include "dem/io/state_archive.h"
 #include "fem/explicit_dynamics.h"
 #include "fem/static_interface.h"
 
@@ -105,8 +106,6 @@ namespace demfem::coupling
   /// Doubles as hex text of their bytes (checkpoint metadata strings):
   /// bit-exact, so a restarted run continues bit for bit
   /// (docs/architecture.md, "Checkpoints and restart").
-  std::string         encode_doubles(const std::vector<double> &v);
-  std::vector<double> decode_doubles(const std::string &s, const std::string &what);
 
   /// 3D slab of the 2D problem (plane strain through walls):
   /// the continuum is the annulus extruded over 0 <= z <= t (t =
@@ -189,10 +188,13 @@ namespace demfem::coupling
 
     /// Checkpoint state besides dem's own (dem::write_checkpoint): the
     /// continuum vectors and the coupling's accumulators and counters, as
-    /// metadata strings ("coupling.*"). Serial runs only. load_state expects
-    /// a model built from the same parameters (after build and set_insitu).
-    std::map<std::string, std::string> save_state() const;
-    void        load_state(const std::map<std::string, std::string> &meta);
+    /// named entries "coupling.*" / "continuum.*" (dem/io/state_archive.h),
+    /// one function for saving and loading. Serial runs only. Loading
+    /// expects a model built from the same parameters (after build and
+    /// set_insitu) and checks the sizes.
+    void serialize(dem::StateArchive &ar);
+    /// "variant scheme": stored with a checkpoint, compared on restart.
+    std::string checkpoint_tag() const { return variant() + " " + scheme(); }
     std::size_t n_fem_dofs() const;
 
     /// Coupling nodes (continuum vertices) and their displacements, same

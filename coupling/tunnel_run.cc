@@ -384,63 +384,62 @@ namespace demfem::coupling
               << " (target " << p.ratio_tolerance << ")" << std::endl;
       }
 
+      // The workflow's numbers in a checkpoint (dem/io/state_archive.h): one
+      // function for saving and loading. `step`: the DEM step of the
+      // checkpoint (history.csv is trimmed to it on restart).
+      void serialize(dem::StateArchive &ar, std::int64_t &n, double &ke_peak,
+                     std::int64_t &step)
+      {
+        ar.io("run.phase_index", phase_index);
+        ar.io("run.iteration", n);
+        ar.io("run.step", step);
+        ar.io("run.kinetic_energy_peak", ke_peak);
+        ar.io("run.phase_start_time", phase_t0);
+        ar.io("run.excavated", excavated);
+        ar.io("run.cracks_before_excavation", exc.cracks_before);
+        ar.io("run.positions_at_excavation", exc.ref);
+        ar.io("run.removed_grain_forces", exc.removed_forces);
+        ar.io("run.region_stress_before", stress_before);
+      }
+
       void checkpoint(std::int64_t n, double ke_peak)
       {
-        std::map<std::string, std::string> md = m.save_state();
-        std::vector<double>                r, f;
-        for (const auto &x : exc.ref)
-          r.insert(r.end(), x.data(), x.data() + dim);
-        for (const auto &x : exc.removed_forces)
-          f.insert(f.end(), x.data(), x.data() + dim);
-        std::ostringstream fr;
+        // Text in the metadata, numbers as named datasets.
+        std::map<std::string, std::string> md;
+        std::ostringstream                 fr;
         fr << std::setprecision(17);
         for (const auto &x : frames)
           fr << x.first << " " << x.second[0] << " " << x.second[1] << " " << x.second[2]
              << " " << x.second[3] << "\n";
-        md["prm"]               = p.prm_text;
-        md["run.phase"]         = phase;
-        md["run.phase_index"]   = std::to_string(phase_index);
-        md["run.n"]             = std::to_string(n);
-        md["run.step"]          = std::to_string(m.dem.step_count());
-        md["run.ke_peak"]       = encode_doubles({ke_peak});
-        md["run.phase_t0"]      = encode_doubles({phase_t0});
-        md["run.phases"]        = phases_to_text(phases);
-        md["run.excavated"]     = excavated ? "1" : "0";
-        md["run.cracks_before"] = std::to_string(exc.cracks_before);
-        md["run.ref"]           = encode_doubles(r);
-        md["run.fex"]           = encode_doubles(f);
-        std::vector<double> sb; // row by row
-        for (int a = 0; a < dim; ++a)
-          for (int b = 0; b < dim; ++b)
-            sb.push_back(stress_before(a, b));
-        md["run.stress_before"] = encode_doubles(sb);
-        md["run.frames"]        = fr.str();
+        md["prm"]              = p.prm_text;
+        md["coupling.variant"] = m.checkpoint_tag();
+        md["run.phase"]        = phase;
+        md["run.phases"]       = phases_to_text(phases);
+        md["run.frames"]       = fr.str();
+        dem::NamedArrays state;
+        auto             ar   = dem::StateArchive::saving(state);
+        std::int64_t     step = m.dem.step_count();
+        m.serialize(ar);
+        serialize(ar, n, ke_peak, step);
         save_history();
         last_checkpoint = dir + "/checkpoint.h5";
-        dem::write_checkpoint(m.dem, last_checkpoint, md);
+        dem::write_checkpoint(m.dem, last_checkpoint, md, state);
       }
 
       void restore(const std::string &file)
       {
         std::map<std::string, std::string> md;
-        dem::read_checkpoint(m.dem, file, &md);
-        m.load_state(md);
-        auto geti = [&](const std::string &k) {
-          return std::stoll(meta_get(md, k, file));
-        };
-        auto vecs = [&](const std::string &k) {
-          const auto            v = decode_doubles(meta_get(md, k, file), k);
-          std::vector<Vec<dim>> r(v.size() / dim);
-          for (std::size_t i = 0; i < r.size(); ++i)
-            for (int c = 0; c < dim; ++c)
-              r[i][c] = v[dim * i + c];
-          return r;
-        };
-        phase       = meta_get(md, "run.phase", file);
-        phase_index = int(geti("run.phase_index"));
-        resume_n    = geti("run.n");
-        resume_peak = decode_doubles(meta_get(md, "run.ke_peak", file), "ke_peak").at(0);
-        phase_t0 = decode_doubles(meta_get(md, "run.phase_t0", file), "phase_t0").at(0);
+        dem::NamedArrays                   state;
+        dem::read_checkpoint(m.dem, file, &md, &state);
+        if (meta_get(md, "coupling.variant", file) != m.checkpoint_tag())
+          throw dem::InputError("restart: checkpoint " + file + " was written by the '" +
+                                meta_get(md, "coupling.variant", file) +
+                                "' coupling, this run uses '" + m.checkpoint_tag() + "'");
+        auto         ar   = dem::StateArchive::loading(state, file);
+        std::int64_t step = 0;
+        m.serialize(ar);
+        serialize(ar, resume_n, resume_peak, step);
+        phase = meta_get(md, "run.phase", file);
         try
           {
             phases = phases_from_text(meta_get(md, "run.phases", file));
@@ -449,16 +448,6 @@ namespace demfem::coupling
           {
             throw dem::InputError("restart: checkpoint " + file + ": " + e.what());
           }
-        excavated          = geti("run.excavated") != 0;
-        exc.cracks_before  = std::size_t(geti("run.cracks_before"));
-        exc.ref            = vecs("run.ref");
-        exc.removed_forces = vecs("run.fex");
-        const auto sb = decode_doubles(meta_get(md, "run.stress_before", file), "stress");
-        if (sb.size() != dim * dim)
-          throw dem::InputError("restart: checkpoint " + file + ": damaged entry");
-        for (int a = 0; a < dim; ++a)
-          for (int b = 0; b < dim; ++b)
-            stress_before(a, b) = sb[dim * a + b];
         std::istringstream fr(meta_get(md, "run.frames", file));
         std::string        line;
         frames.clear();
@@ -476,7 +465,6 @@ namespace demfem::coupling
         // directory's file when it continues the run, else from the file next
         // to the checkpoint (a restart into a new directory gets the whole
         // history, header included).
-        const std::int64_t    step = geti("run.step");
         std::filesystem::path source(dir + "/history.csv");
         if (!std::filesystem::exists(source))
           source = std::filesystem::absolute(file).parent_path() / "history.csv";

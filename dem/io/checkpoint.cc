@@ -1,8 +1,8 @@
 #include "dem/io/checkpoint.h"
 
+#include "dem/io/hdf5_io.h"
 #include "dem/laws/contact_bond_law.h"
 #include "dem/laws/flat_joint_law.h"
-#include "dem/io/hdf5_io.h"
 #include "dem/laws/linear_law.h"
 #include "dem/laws/parallel_bond_law.h"
 #include "dem/laws/smooth_joint_law.h"
@@ -24,7 +24,7 @@ namespace demfem::dem
     //    the crack type.
     // 4: Fletcher32 checksums on every dataset, strings stored as checksummed
     //    bytes, a checksum trailer over the whole file (dem/io/hdf5_io.h).
-    constexpr int format_version = 4;
+    constexpr int format_version = 5; // 5: /state (named state of the caller's objects)
 
     // ----------------------------------------------------------------------
     // Law parameters. Params are stored as an opaque blob (with its size) and
@@ -615,6 +615,29 @@ namespace demfem::dem
       return md;
     }
 
+    void write_state(const Ctx &c, hid_t file, const NamedArrays &state)
+    {
+      Handle                   g = make_group(c, file, "state");
+      std::vector<std::string> names;
+      for (const auto &[name, values] : state)
+        {
+          if (name.empty() || name.find('/') != std::string::npos)
+            c.fail("state entry name '" + name + "' is empty or has a '/'");
+          names.push_back(name);
+          write_data<double>(c, g, name, values.data(), values.size(), 1);
+        }
+      write_strings(c, g, "names", names);
+    }
+
+    NamedArrays read_state(const Ctx &c, hid_t file)
+    {
+      Handle      g = open_group(c, file, "state");
+      NamedArrays state;
+      for (const auto &name : read_strings(c, g, "names"))
+        read_data<double>(c, g, name, state[name], 1);
+      return state;
+    }
+
     /// Reads every dataset once: InputError naming the first whose
     /// Fletcher32 checksum fails; a structure too damaged to walk is an
     /// error too when `walk_errors`.
@@ -684,26 +707,31 @@ namespace demfem::dem
 
   template <int dim>
   void write_checkpoint(const Model<dim> &model, const std::string &path,
-                        const std::map<std::string, std::string> &metadata)
+                        const std::map<std::string, std::string> &metadata,
+                        const NamedArrays                        &state)
   {
     write_atomically(path, [&](hid_t file, const Ctx &c) {
       write_metadata(c, file, metadata);
+      write_state(c, file, state);
       ModelCheckpoint<dim>::write(model, file, c);
     });
   }
 
   template <int dim>
   void read_checkpoint(Model<dim> &model, const std::string &path,
-                       std::map<std::string, std::string> *metadata)
+                       std::map<std::string, std::string> *metadata, NamedArrays *state)
   {
     QuietHdf5 quiet;
     const Ctx c{path, true};
     int       checksum = 0;
     Handle    file     = open_for_reading(c, &checksum);
     auto      md       = read_metadata(c, file, nullptr, checksum);
+    auto      named    = read_state(c, file);
     ModelCheckpoint<dim>::read(model, file, c);
     if (metadata)
       *metadata = std::move(md);
+    if (state)
+      *state = std::move(named);
   }
 
   void verify_checkpoint(const std::string &path)
@@ -727,11 +755,13 @@ namespace demfem::dem
   }
 
   template void write_checkpoint<2>(const Model<2> &, const std::string &,
-                                    const std::map<std::string, std::string> &);
+                                    const std::map<std::string, std::string> &,
+                                    const NamedArrays &);
   template void write_checkpoint<3>(const Model<3> &, const std::string &,
-                                    const std::map<std::string, std::string> &);
+                                    const std::map<std::string, std::string> &,
+                                    const NamedArrays &);
   template void read_checkpoint<2>(Model<2> &, const std::string &,
-                                   std::map<std::string, std::string> *);
+                                   std::map<std::string, std::string> *, NamedArrays *);
   template void read_checkpoint<3>(Model<3> &, const std::string &,
-                                   std::map<std::string, std::string> *);
+                                   std::map<std::string, std::string> *, NamedArrays *);
 } // namespace demfem::dem

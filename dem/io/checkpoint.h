@@ -12,14 +12,18 @@
 // and their parameters match. Metadata strings (e.g. the .prm text) travel
 // with the checkpoint for the caller to compare.
 //
-// Every dataset carries a Fletcher32 checksum (format version 4), verified
-// on reading: a damaged file is refused naming the dataset.
+// Every dataset carries a Fletcher32 checksum, verified on reading: a
+// damaged file is refused naming the dataset. Format version 5: the named
+// state of the objects around the model (dem/io/state_archive.h) is stored
+// as datasets /state/<name>, one per entry.
 //
 // File layout (HDF5, one file): datasets format/version/dim on the root;
-// /metadata (keys, values); /model (scalars); /particles; /walls;
+// /metadata (keys, values); /state (names, one dataset per name);
+// /model (scalars); /particles; /walls;
 // /groups/<g> (law, params, per-contact arrays, state); /cracks. Vector
 // arrays are n x dim datasets.
 #include "dem/engine/model.h"
+#include "dem/io/state_archive.h"
 
 #include <map>
 #include <string>
@@ -31,9 +35,11 @@ namespace demfem::dem
   /// kept as `path.prev`, and the new file is renamed over `path`. On any
   /// failure the existing files are untouched and std::runtime_error is
   /// thrown naming the file.
+  /// `state`: named arrays of the caller's objects (StateArchive::saving).
   template <int dim>
   void write_checkpoint(const Model<dim> &model, const std::string &path,
-                        const std::map<std::string, std::string> &metadata);
+                        const std::map<std::string, std::string> &metadata,
+                        const NamedArrays                        &state = {});
 
   /// Restores the state saved in `path` into `model`, which must already
   /// hold the same contact-law groups (same count, law names and parameters,
@@ -41,9 +47,12 @@ namespace demfem::dem
   /// dimension or a damaged/missing file throws InputError naming the file
   /// and what differs; the model is then left unchanged. The metadata
   /// written with the checkpoint is returned in `*metadata` (if non-null).
+  /// The named state written with it is returned in `*state` (if
+  /// non-null), for StateArchive::loading.
   template <int dim>
   void read_checkpoint(Model<dim> &model, const std::string &path,
-                       std::map<std::string, std::string> *metadata);
+                       std::map<std::string, std::string> *metadata,
+                       NamedArrays                        *state = nullptr);
 
   /// Reads every dataset of a checkpoint once, so that a damaged file is
   /// refused before a model is built for it: InputError naming the file and

@@ -1,4 +1,4 @@
-// Checkpoint integrity (dem/io/checkpoint.h, format version 4): every dataset
+// Checkpoint integrity (dem/io/checkpoint.h, format version 5): every dataset
 // carries a Fletcher32 checksum, so a damaged byte is refused on reading,
 // naming the dataset and the file, and the model is left unchanged.
 #include "dem/io/checkpoint.h"
