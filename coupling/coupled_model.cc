@@ -337,16 +337,14 @@ namespace demfem::coupling
         dnorm += (t - u_reached[i]) * (t - u_reached[i]);
         tnorm += t * t;
       }
-    last_residual = residual;
-    residual      = tnorm > 0 ? std::sqrt(dnorm / tnorm) : 0.0;
-    residual_growth =
-        (residual > 1.2 * last_residual && last_residual > 0) ? residual_growth + 1 : 0;
-    if (!std::isfinite(residual) || residual_growth >= 15)
+    residual = tnorm > 0 ? std::sqrt(dnorm / tnorm) : 0.0;
+    if (residual_growth.update(residual)) // common/growth_monitor.h
       {
         std::ostringstream msg;
         msg << "the quasi-static coupling diverged at step " << n_steps
             << ": the interface residual |u* - u| / |u*| = " << residual
-            << " grew by more than 20 % per window for " << residual_growth
+            << " grew by more than " << 100 * (instability::interface_residual.factor - 1)
+            << " % per window for " << residual_growth.streak
             << " windows; likely cause: Coupling/relaxation (" << kp.relaxation
             << ") too large for the stiffness contrast between the grains and the "
                "continuum (try 0.3), or Coupling/subcycles ("
@@ -416,13 +414,11 @@ namespace demfem::coupling
     // Divergence of the continuum: non-finite or exponentially growing
     // kinetic energy (same criterion as the DEM engine).
     const double ke = fem_->kinetic_energy();
-    fem_growth      = (ke > 1.5 * last_fem_ke && ke > 0) ? fem_growth + 1 : 0;
-    last_fem_ke     = ke;
-    if (!std::isfinite(ke) || fem_growth >= 15)
+    if (continuum_growth.update(ke)) // common/growth_monitor.h
       {
         std::ostringstream msg;
         msg << "the continuum diverged at step " << n_steps << " (kinetic energy " << ke
-            << " J, growing for " << fem_growth << " steps): continuum step "
+            << " J, growing for " << continuum_growth.streak << " steps): continuum step "
             << kp.subcycles * dt_ << " s vs its critical step " << fem_crit
             << " s; likely cause: Coupling/timestep safety (" << kp.safety
             << ") or Coupling/subcycles too large, or a stiffness contrast between the "
@@ -500,15 +496,15 @@ namespace demfem::coupling
     ar.io("coupling.release", release);
     ar.io("coupling.imbalance_max", imb_max);
     ar.io("coupling.imbalance_last", imb_last);
-    ar.io("coupling.continuum_kinetic_energy_last", last_fem_ke);
-    ar.io("coupling.continuum_growth_steps", fem_growth);
+    ar.io("coupling.continuum_kinetic_energy_last", continuum_growth.last);
+    ar.io("coupling.continuum_growth_steps", continuum_growth.streak);
     ar.io("coupling.steps", n_steps);
     ar.io("coupling.applied_load_factor", applied_factor);
     ar.io("coupling.far_field_moving", far_moving);
     ar.io("coupling.interface_force", last_force);
     ar.io("coupling.residual", residual);
-    ar.io("coupling.residual_last", last_residual);
-    ar.io("coupling.residual_growth_steps", residual_growth);
+    ar.io("coupling.residual_last", residual_growth.last);
+    ar.io("coupling.residual_growth_steps", residual_growth.streak);
     ar.io("coupling.interface_displacement_reached", u_reached, u_reached.size());
   }
 

@@ -53,6 +53,7 @@
 // dt = safety x DEM critical step (no continuum limit).
 #include <deal.II/distributed/tria.h>
 
+#include "common/growth_monitor.h"
 #include "coupling/dem_region.h"
 #include "dem/io/state_archive.h"
 #include "fem/explicit_dynamics.h"
@@ -264,9 +265,9 @@ namespace demfem::coupling
     double                     load_factor = 0, dt_ = 0, dem_crit = 0, fem_crit = 0;
     double                     release = 1; // section: tunnel-wall traction left
     double                     imb_max = 0, imb_last = 0;
-    double                     last_fem_ke = 0;
-    int                        fem_growth  = 0;
-    std::int64_t               n_steps     = 0;
+    /// Divergence of the continuum (common/growth_monitor.h).
+    instability::GrowthMonitor continuum_growth{instability::continuum_kinetic_energy};
+    std::int64_t               n_steps = 0;
     /// In-situ stress (in plane) and the continuum's far-field strain (3D:
     /// plane strain, e_zz = e_xz = e_yz = 0).
     Eigen::Matrix2d                 sigma0 = Eigen::Matrix2d::Zero();
@@ -283,8 +284,9 @@ namespace demfem::coupling
     mutable std::unique_ptr<fem::StaticInterfaceResponse<dim>> static_;
     dealii::FullMatrix<double>                                 flex;
     std::vector<double>                                        u_far, u_reached;
-    double residual = 0, last_residual = 0;
-    int    residual_growth = 0;
+    double                                                     residual = 0;
+    /// Divergence of the quasi-static relaxation (common/growth_monitor.h).
+    instability::GrowthMonitor residual_growth{instability::interface_residual};
   };
 
   /// The model of CouplingParams::variant ("slaved-layer" or "wall-facets").

@@ -526,41 +526,21 @@ namespace demfem::dem
       }
     const double v_roundoff = std::numeric_limits<double>::epsilon() * xmax / dt_;
     const double ke_floor   = 0.5 * free_mass * v_roundoff * v_roundoff;
-    const bool   grew       = ke > 1.5 * last_ke_ && ke > ke_floor;
-    growth_steps_           = grew ? growth_steps_ + 1 : 0;
-    if (grew)
-      growth_log_[growth_n_++ % growth_log_.size()] = std::log(ke / last_ke_);
-    else
-      growth_n_ = 0;
-    last_ke_ = ke;
-    // An unstable integration amplifies by a constant factor per step; a
-    // start from rest grows as a power of time, t^k, whose ratio per step
-    // (1 + 1/n)^k falls steadily. A load applied a few elements from free
-    // grains (a 3D section's tunnel-wall traction, ramped from rest) drives
-    // them as t^8 or so: ratios 8.9, 4.0, 2.7, ... still above 1.5 after 15
-    // steps (measured), yet the last five log-ratios average 0.2-0.35 times
-    // the first five. Growth is an instability when the last five of 15
-    // consecutive growth steps grow at least half as fast (in log) as the
-    // first five. (After a restart in mid-streak the ratios of the streak
-    // are not in the checkpoint: detection waits for 15 new ones.)
-    bool unstable = false;
-    if (growth_steps_ >= 15 && growth_n_ >= 15)
-      {
-        const std::size_t m     = growth_log_.size();
-        double            first = 0, last = 0;
-        for (int k = 0; k < 5; ++k)
-          {
-            first += growth_log_[(growth_n_ - 15 + k) % m];
-            last += growth_log_[(growth_n_ - 5 + k) % m];
-          }
-        unstable = last >= 0.5 * first;
-      }
+    // Growth of a constant ratio per step above that floor: the rule and its
+    // thresholds are common/growth_monitor.h (dem_kinetic_energy).
+    const bool unstable = ke_growth_.update(ke, ke_floor);
     if (unstable)
       {
         std::ostringstream msg;
-        msg << "kinetic energy grew by more than 1.5x per step for 15 steps (now " << ke
-            << " J at step " << step_ << "): numerical instability. Time step " << dt_
-            << " s, critical estimate " << critical_timestep()
+        if (std::isfinite(ke))
+          msg << "kinetic energy grew by more than "
+              << instability::dem_kinetic_energy.factor << "x per step for "
+              << instability::dem_kinetic_energy.steps << " steps (now " << ke
+              << " J at step " << step_ << "): numerical instability.";
+        else
+          msg << "non-finite kinetic energy at step " << step_
+              << ": numerical instability.";
+        msg << " Time step " << dt_ << " s, critical estimate " << critical_timestep()
             << " s; likely causes: time step above critical, too little damping, or a "
                "stiffness contrast between coupled parts.";
         throw InstabilityError(msg.str());

@@ -2,6 +2,7 @@
 // The DEM model: particles, walls, contacts grouped by law, contact
 // detection, central-difference integration with local damping, critical
 // time step, crack records and energy/stability monitoring.
+#include "common/growth_monitor.h"
 #include "dem/engine/contact_group.h"
 #include "dem/engine/neighbor_grid.h"
 
@@ -220,16 +221,13 @@ namespace demfem::dem
     bool                  auto_dt_      = true;
     bool                  need_rebuild_ = true;
     std::vector<Vec<dim>> x_at_rebuild_, wall_at_rebuild_;
-    std::int64_t          step_         = 0;
-    double                time_         = 0;
-    double                last_ke_      = 0;
-    int                   growth_steps_ = 0;
-    /// Log-ratios of the kinetic energy over the current growth streak
-    /// (ring, the latest 15) and the streak's length in it.
-    std::array<double, 15> growth_log_{};
-    int                    growth_n_       = 0;
-    bool                   baseline_valid_ = false;
-    double                 energy0_ = 0, work_in_ = 0;
-    void                   check_energy_balance();
+    std::int64_t          step_ = 0;
+    double                time_ = 0;
+    /// Kinetic-energy growth (common/growth_monitor.h); its last value and
+    /// streak are checkpointed.
+    instability::GrowthMonitor ke_growth_{instability::dem_kinetic_energy};
+    bool                       baseline_valid_ = false;
+    double                     energy0_ = 0, work_in_ = 0;
+    void                       check_energy_balance();
   };
 } // namespace demfem::dem

@@ -38,11 +38,10 @@ namespace demfem::dem
         return;
       }
     // Damping and slip only remove energy, so kinetic + strain energy cannot
-    // exceed the initial energy plus the work put in. Central-difference
-    // round-off of the balance is O((w dt)^2) < 100% below the critical step;
-    // a factor 2 (plus a tiny absolute floor) separates it from divergence.
+    // exceed the initial energy plus the work put in, up to the factor of
+    // common/growth_monitor.h (plus a tiny absolute floor).
     const double budget = std::max(energy0_ + work_in_, 0.0);
-    if (e > 2 * budget + 1e-12 * (1 + budget))
+    if (e > instability::energy_balance_factor * budget + 1e-12 * (1 + budget))
       {
         std::ostringstream msg;
         msg << "energy balance violated at step " << step_ << ": kinetic + strain energy "

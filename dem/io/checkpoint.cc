@@ -205,8 +205,8 @@ namespace demfem::dem
         write_rows<double>(c, g, "x_at_rebuild", m.x_at_rebuild_);
         write_rows<double>(c, g, "wall_at_rebuild", m.wall_at_rebuild_);
         // energy monitor (memo §1.12 stability checks)
-        write_scalar<double>(c, g, "last_kinetic_energy", m.last_ke_);
-        write_scalar<int>(c, g, "growth_steps", m.growth_steps_);
+        write_scalar<double>(c, g, "last_kinetic_energy", m.ke_growth_.last);
+        write_scalar<int>(c, g, "growth_steps", m.ke_growth_.streak);
         write_scalar<std::uint8_t>(c, g, "baseline_valid", m.baseline_valid_);
         write_scalar<double>(c, g, "energy0", m.energy0_);
         write_scalar<double>(c, g, "work_in", m.work_in_);
@@ -561,13 +561,13 @@ namespace demfem::dem
       m.check_timestep = check_dt;
       for (int a = 0; a < dim; ++a)
         m.gravity[a] = grav[a];
-      m.x_at_rebuild_    = std::move(x_rebuild);
-      m.wall_at_rebuild_ = std::move(wall_rebuild);
-      m.last_ke_         = last_ke;
-      m.growth_steps_    = growth;
-      m.baseline_valid_  = baseline;
-      m.energy0_         = energy0;
-      m.work_in_         = work_in;
+      m.x_at_rebuild_     = std::move(x_rebuild);
+      m.wall_at_rebuild_  = std::move(wall_rebuild);
+      m.ke_growth_.last   = last_ke;
+      m.ke_growth_.streak = growth;
+      m.baseline_valid_   = baseline;
+      m.energy0_          = energy0;
+      m.work_in_          = work_in;
     }
   };
 
