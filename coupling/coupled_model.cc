@@ -12,6 +12,7 @@
 #include "fem/mesh.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -442,8 +443,11 @@ namespace demfem::coupling
   template <int dim>
   void CoupledModel<dim>::step()
   {
+    using clock   = std::chrono::steady_clock;
+    const auto t0 = clock::now();
     if (n_steps % kp.subcycles == 0)
       continuum_step();
+    const auto t1 = clock::now();
     if (!static_)
       dem.step();
     else
@@ -466,6 +470,7 @@ namespace demfem::coupling
               << ") too small for the DEM to respond within a window (try 200).";
           throw dem::InstabilityError(msg.str());
         }
+    const auto t2 = clock::now();
     ++n_steps;
     for (auto &x : nodal)
       x.setZero();
@@ -477,6 +482,12 @@ namespace demfem::coupling
       }
     accum_contacts += last_force;
     ++n_accum;
+    const auto seconds = [](clock::duration d) {
+      return std::chrono::duration<double>(d).count();
+    };
+    times.continuum += seconds(t1 - t0);
+    times.dem += seconds(t2 - t1);
+    times.interface += seconds(clock::now() - t2);
   }
 
   template <int dim>

@@ -194,6 +194,15 @@ namespace demfem::coupling
     /// expects a model built from the same parameters (after build and
     /// set_insitu) and checks the sizes.
     void serialize(dem::StateArchive &ar);
+    /// Wall time spent in the parts of step() since construction [s]: the
+    /// continuum step (with the interface motion it imposes), the DEM step,
+    /// gathering the interface forces (where the steps go, docs/study.md).
+    struct StepTimes
+    {
+      double continuum = 0, dem = 0, interface = 0;
+    };
+    const StepTimes &step_times() const { return times; }
+
     /// "variant scheme": stored with a checkpoint, compared on restart.
     std::string checkpoint_tag() const { return variant() + " " + scheme(); }
     std::size_t n_fem_dofs() const;
@@ -285,6 +294,7 @@ namespace demfem::coupling
     dealii::FullMatrix<double>                                 flex;
     std::vector<double>                                        u_far, u_reached;
     double                                                     residual = 0;
+    StepTimes                                                  times;
     /// Divergence of the quasi-static relaxation (common/growth_monitor.h).
     instability::GrowthMonitor residual_growth{instability::interface_residual};
   };

@@ -204,6 +204,17 @@ namespace demfem::coupling
                         {"kinetic_energy_ratio", json_number(ph.kinetic_energy_ratio)},
                         {"interface_residual", json_number(ph.interface_residual)}});
     j["phases"] = phases;
+    J costs     = J::array();
+    for (const auto &ph : r.phases)
+      costs.push_back({{"name", ph.name},
+                       {"steps", ph.steps},
+                       {"wall_time_s", json_number(ph.wall_time_s)},
+                       {"continuum_s", json_number(ph.continuum_s)},
+                       {"dem_s", json_number(ph.dem_s)},
+                       {"interface_s", json_number(ph.interface_s)},
+                       {"criterion_s", json_number(ph.criterion_s)},
+                       {"output_s", json_number(ph.output_s)}});
+    j["phase_costs"] = costs;
     return j;
   }
 
@@ -216,7 +227,9 @@ namespace demfem::coupling
     for (const auto &ph : phases)
       s << ph.steps << " " << ph.time_start << " " << ph.time_end << " " << ph.timestep
         << " " << ph.unbalanced_ratio << " " << ph.kinetic_energy_ratio << " "
-        << ph.interface_residual << " " << ph.equilibrated << " " << ph.name << "\n";
+        << ph.interface_residual << " " << ph.equilibrated << " " << ph.wall_time_s << " "
+        << ph.continuum_s << " " << ph.dem_s << " " << ph.interface_s << " "
+        << ph.criterion_s << " " << ph.output_s << " " << ph.name << "\n";
     return s.str();
   }
 
@@ -230,7 +243,8 @@ namespace demfem::coupling
         PhaseRecord        ph;
         if (!(l >> ph.steps >> ph.time_start >> ph.time_end >> ph.timestep >>
               ph.unbalanced_ratio >> ph.kinetic_energy_ratio >> ph.interface_residual >>
-              ph.equilibrated))
+              ph.equilibrated >> ph.wall_time_s >> ph.continuum_s >> ph.dem_s >>
+              ph.interface_s >> ph.criterion_s >> ph.output_s))
           throw std::invalid_argument("damaged phase record '" + line + "'");
         l >> std::ws;
         std::getline(l, ph.name);

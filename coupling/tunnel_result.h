@@ -26,6 +26,13 @@ namespace demfem::coupling
     double unbalanced_ratio = 0, kinetic_energy_ratio = 0, interface_residual = 0;
     /// Ended by the equilibrium criterion, not by its step limit.
     bool equilibrated = false;
+    /// Where the wall time went [s] (summary.json "phase_costs"; not part of
+    /// the results: a restarted phase counts from the restart): the whole
+    /// phase, the continuum steps, the DEM steps, gathering the interface
+    /// forces, the equilibrium criterion, outputs (history, VTK,
+    /// checkpoints).
+    double wall_time_s = 0, continuum_s = 0, dem_s = 0, interface_s = 0, criterion_s = 0,
+           output_s = 0;
   };
 
   /// summary.json "status", most severe first. Exit codes:

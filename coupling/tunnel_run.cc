@@ -313,6 +313,14 @@ namespace demfem::coupling
           phase_t0 = m.dem.time();
         bool         equilibrated = false;
         std::int64_t n_end        = n0 - 1;
+        // Where the wall time goes (PhaseRecord costs; docs/study.md).
+        using clock            = std::chrono::steady_clock;
+        const auto wall0       = clock::now();
+        const auto times0      = m.step_times();
+        double     criterion_s = 0, output_s = 0;
+        const auto since = [](clock::time_point t) {
+          return std::chrono::duration<double>(clock::now() - t).count();
+        };
         for (std::int64_t n = n0; n <= limit; ++n)
           {
             // Step boundary: the state is "about to run iteration n".
@@ -323,7 +331,11 @@ namespace demfem::coupling
                     tunnel_stop_requested != 0 || s0 - step0 == p.stop_at_step;
                 if (stop || (p.checkpoint_interval > 0 && n > 1 &&
                              s0 % p.checkpoint_interval == 0))
-                  checkpoint(n, ke_peak);
+                  {
+                    const auto t = clock::now();
+                    checkpoint(n, ke_peak);
+                    output_s += since(t);
+                  }
                 if (stop)
                   {
                     out << "demfem tunnel: interrupted at step " << s0
@@ -335,12 +347,19 @@ namespace demfem::coupling
             m.step();
             n_end        = n;
             const auto s = m.dem.step_count();
-            if (s % p.history_interval == 0)
-              record();
-            if (p.vtk_interval > 0 && s % p.vtk_interval == 0)
-              write_frame();
+            if (s % p.history_interval == 0 ||
+                (p.vtk_interval > 0 && s % p.vtk_interval == 0))
+              {
+                const auto t = clock::now();
+                if (s % p.history_interval == 0)
+                  record();
+                if (p.vtk_interval > 0 && s % p.vtk_interval == 0)
+                  write_frame();
+                output_s += since(t);
+              }
             if (n % 100 == 0)
               {
+                const auto   tc = clock::now();
                 const double ke = m.continuum_kinetic_energy();
                 ke_peak         = std::max(ke_peak, ke);
                 const double ur = m.dem.unbalanced_ratio();
@@ -357,12 +376,12 @@ namespace demfem::coupling
                 // window ended excavation stages early: measured convergence
                 // 0.0037 m instead of 0.0086 m with subcycles = 800).
                 const std::int64_t windows = 2 * p.coupling.subcycles;
-                if (n >= std::max(min_steps, windows) && ur < p.ratio_tolerance &&
-                    ke <= 1e-4 * ke_peak && m.interface_residual() < p.ratio_tolerance)
-                  {
-                    equilibrated = true;
-                    break;
-                  }
+                equilibrated               = n >= std::max(min_steps, windows) &&
+                               ur < p.ratio_tolerance && ke <= 1e-4 * ke_peak &&
+                               m.interface_residual() < p.ratio_tolerance;
+                criterion_s += since(tc);
+                if (equilibrated)
+                  break;
               }
           }
         progress_line(m.dem.unbalanced_ratio());
@@ -377,6 +396,13 @@ namespace demfem::coupling
         ph.kinetic_energy_ratio = ke_peak > 0 ? ke / ke_peak : 0.0;
         ph.interface_residual   = m.interface_residual();
         ph.equilibrated         = equilibrated;
+        const auto &times       = m.step_times();
+        ph.wall_time_s          = since(wall0);
+        ph.continuum_s          = times.continuum - times0.continuum;
+        ph.dem_s                = times.dem - times0.dem;
+        ph.interface_s          = times.interface - times0.interface;
+        ph.criterion_s          = criterion_s;
+        ph.output_s             = output_s;
         phases.push_back(ph);
         if (!equilibrated)
           out << "warning: phase '" << phase << "' ended at its step limit (" << n_end

@@ -157,6 +157,8 @@ TEST_CASE("run status: phase records survive a checkpoint bit for bit",
   r.phases[0].unbalanced_ratio     = 1.0 / 3.0;
   r.phases[1].kinetic_energy_ratio = 9.449943734351944e-05;
   r.phases[1].equilibrated         = false;
+  r.phases[1].wall_time_s          = 12.25;
+  r.phases[1].dem_s                = 1.0 / 3.0;
   const auto back                  = phases_from_text(phases_to_text(r.phases));
   REQUIRE(back.size() == 2);
   for (std::size_t k = 0; k < 2; ++k)
@@ -167,6 +169,8 @@ TEST_CASE("run status: phase records survive a checkpoint bit for bit",
       CHECK(back[k].unbalanced_ratio == r.phases[k].unbalanced_ratio);
       CHECK(back[k].kinetic_energy_ratio == r.phases[k].kinetic_energy_ratio);
       CHECK(back[k].equilibrated == r.phases[k].equilibrated);
+      CHECK(back[k].wall_time_s == r.phases[k].wall_time_s);
+      CHECK(back[k].dem_s == r.phases[k].dem_s);
     }
   CHECK_THROWS_AS(phases_from_text("12 x\n"), std::invalid_argument);
 }
