@@ -5,6 +5,7 @@
 // pre-analysis.
 #include <deal.II/base/parameter_handler.h>
 
+#include "apps/tunnel_prm.h"
 #include "coupling/full_dem_reference.h"
 #include "coupling/tunnel_run.h"
 
@@ -16,15 +17,6 @@
 
 namespace demfem::apps::study
 {
-  /// The keys of the tunnel .prm, shared by `demfem tunnel` and
-  /// `demfem study`; 'DEM region/radius' accepts 'auto'.
-  void declare_tunnel_parameters(dealii::ParameterHandler &prm);
-  /// Reads them; region.radius < 0 means 'auto'. Not validated (per run).
-  /// allow_3d: Problem/dimension = 3 accepted (demfem tunnel); the study
-  /// refuses it with a message.
-  coupling::TunnelParams read_tunnel_settings(dealii::ParameterHandler &prm,
-                                              bool allow_3d = false);
-
   /// The `Study` subsection: the values to sweep and the right-sizing
   /// criterion. An empty list keeps the value of the tunnel keys.
   struct Settings

@@ -289,7 +289,7 @@ namespace demfem::apps
     try
       {
         ParameterHandler prm;
-        study::declare_tunnel_parameters(prm);
+        declare_tunnel_parameters(prm);
         study::declare_study_parameters(prm);
         std::string file;
         const auto  action = read_parameters(argc, argv, prm, usage, file);
@@ -303,7 +303,7 @@ namespace demfem::apps
             prm.print_parameters(std::cout, ParameterHandler::Text);
             return 0;
           }
-        coupling::TunnelParams base = study::read_tunnel_settings(prm);
+        coupling::TunnelParams base = read_tunnel_settings(prm);
         prm.enter_subsection("DEM region");
         const std::string material = prm.get("material file");
         prm.leave_subsection();

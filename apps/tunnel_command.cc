@@ -76,18 +76,18 @@ namespace demfem::apps
     /// Async-signal-safe: only sets the flag the run polls at step boundaries.
     extern "C" void on_stop_signal(int sig) { coupling::tunnel_stop_requested = sig; }
 
-    /// The tunnel keys (shared with `demfem study`, apps/study_prm.cc) and
+    /// The tunnel keys (apps/tunnel_prm.h, shared with `demfem study`) and
     /// the right-sizing keys of the Study subsection, used when
     /// 'DEM region/radius = auto' (right-sizing).
     void declare_parameters(ParameterHandler &prm)
     {
-      study::declare_tunnel_parameters(prm);
+      declare_tunnel_parameters(prm);
       study::declare_study_parameters(prm);
     }
 
     coupling::TunnelParams read_settings(ParameterHandler &prm, bool &radius_auto)
     {
-      coupling::TunnelParams s = study::read_tunnel_settings(prm, true);
+      coupling::TunnelParams s = read_tunnel_settings(prm, true);
       radius_auto              = s.region.radius < 0;
       if (radius_auto) // Kirsch pre-analysis (right-sizing)
         {
