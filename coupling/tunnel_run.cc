@@ -1,6 +1,7 @@
 #include "coupling/tunnel_run.h"
 
 #include "coupling/excavation_measures.h"
+#include "coupling/tunnel_frames.h"
 #include "dem/io/checkpoint.h"
 #include "dem/io/vtk_output.h"
 
@@ -73,13 +74,6 @@ namespace demfem::coupling
       return s.str();
     }
 
-    std::string frame_name(const std::string &series, int frame, const char *ext)
-    {
-      std::ostringstream s;
-      s << series << "_" << std::setw(4) << std::setfill('0') << frame << ext;
-      return s.str();
-    }
-
     /// Thrown at a step boundary after the stop checkpoint was written.
     struct Interrupted
     {
@@ -127,9 +121,8 @@ namespace demfem::coupling
       // history.csv is kept here and written whole (temporary file + rename)
       // at every frame, checkpoint and at the end: a kill leaves the last
       // complete file, never a torn row.
-      std::ostringstream                                       history;
-      int                                                      frame = 0;
-      std::vector<std::pair<double, std::vector<std::string>>> frames;
+      std::ostringstream history;
+      TunnelFrames<dim>  frames{dir}; // after dir: initialized from it
       // Positions and removed grains' forces by id at the excavation, and the
       // cracks before it (coupling/excavation_measures.h).
       excavation::Record<dim>               exc;
@@ -207,47 +200,8 @@ namespace demfem::coupling
       void write_frame()
       {
         save_history();
-        if (!p.write_vtk)
-          return;
-        const double t  = m.dem.time();
-        const auto   pf = frame_name("particles", frame, ".vtp");
-        const auto   bf = frame_name("bonds", frame, ".vtp");
-        const auto   cf = frame_name("cracks", frame, ".vtp");
-        const auto   uf = frame_name("continuum", frame, ".vtu");
-        // averaged_stress as continuum-equivalent stress: the grain stress
-        // times the region's solid fraction after packing (particle_stress.h),
-        // comparable with the continuum's stress_* arrays.
-        const double solid =
-            m.groups.porosity > 0 && m.groups.porosity < 1 ? 1 - m.groups.porosity : 1.0;
-        dem::vtkout::write_particles(dir + "/" + pf, m.dem, solid);
-        dem::vtkout::write_contacts(dir + "/" + bf, m.dem);
-        dem::vtkout::write_cracks(dir + "/" + cf, m.dem.current_cracks());
-        dem::vtkout::write_text_atomically(dir + "/" + uf, m.continuum_vtu());
-        frames.push_back({t, {pf, bf, cf, uf}});
-        ++frame;
-        // One .pvd per series and a combined one (parts of a time step).
-        const char *series[] = {"particles", "bonds", "cracks", "continuum"};
-        for (int s = 0; s < 4; ++s)
-          {
-            std::ostringstream x;
-            x << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" "
-                 "version=\"0.1\">\n"
-                 "<Collection>\n";
-            for (const auto &f : frames)
-              x << "<DataSet timestep=\"" << std::setprecision(17) << f.first
-                << "\" part=\"0\" file=\"" << f.second[s] << "\"/>\n";
-            x << "</Collection>\n</VTKFile>\n";
-            dem::vtkout::write_text_atomically(dir + "/" + series[s] + ".pvd", x.str());
-          }
-        std::ostringstream x;
-        x << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n"
-             "<Collection>\n";
-        for (const auto &f : frames)
-          for (int s = 0; s < 4; ++s)
-            x << "<DataSet timestep=\"" << std::setprecision(17) << f.first
-              << "\" part=\"" << s << "\" file=\"" << f.second[s] << "\"/>\n";
-        x << "</Collection>\n</VTKFile>\n";
-        dem::vtkout::write_text_atomically(dir + "/tunnel.pvd", x.str());
+        if (p.write_vtk)
+          frames.write(m);
       }
 
       void record()
@@ -432,16 +386,11 @@ namespace demfem::coupling
       {
         // Text in the metadata, numbers as named datasets.
         std::map<std::string, std::string> md;
-        std::ostringstream                 fr;
-        fr << std::setprecision(17);
-        for (const auto &x : frames)
-          fr << x.first << " " << x.second[0] << " " << x.second[1] << " " << x.second[2]
-             << " " << x.second[3] << "\n";
         md["prm"]              = p.prm_text;
         md["coupling.variant"] = m.checkpoint_tag();
         md["run.phase"]        = phase;
         md["run.phases"]       = phases_to_text(phases);
-        md["run.frames"]       = fr.str();
+        md["run.frames"]       = frames.to_text();
         dem::NamedArrays state;
         auto             ar   = dem::StateArchive::saving(state);
         std::int64_t     step = m.dem.step_count();
@@ -474,18 +423,7 @@ namespace demfem::coupling
           {
             throw dem::InputError("restart: checkpoint " + file + ": " + e.what());
           }
-        std::istringstream fr(meta_get(md, "run.frames", file));
-        std::string        line;
-        frames.clear();
-        while (std::getline(fr, line))
-          {
-            std::istringstream       ls(line);
-            double                   t;
-            std::vector<std::string> f(4);
-            ls >> t >> f[0] >> f[1] >> f[2] >> f[3];
-            frames.push_back({t, f});
-          }
-        frame    = int(frames.size());
+        frames.from_text(meta_get(md, "run.frames", file));
         resuming = true;
         // history.csv: the rows up to the checkpoint's step, from this
         // directory's file when it continues the run, else from the file next
