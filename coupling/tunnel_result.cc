@@ -29,10 +29,6 @@ namespace demfem::coupling
       return s.str();
     }
 
-    /// A phase ends at equilibrium when the continuum's kinetic energy is down
-    /// to this fraction of its peak in the phase (with the DEM ratio and the
-    /// interface residual below the equilibrium ratio): tunnel_run.cc.
-    constexpr double kinetic_energy_target = 1e-4;
   } // namespace
 
   std::string status_name(RunStatus s)

@@ -13,6 +13,11 @@
 
 namespace demfem::coupling
 {
+  /// A phase ends at equilibrium when the continuum's kinetic energy is down
+  /// to this fraction of its peak in the phase (with the DEM's unbalanced
+  /// ratio and the interface residual below Coupling/equilibrium ratio).
+  inline constexpr double kinetic_energy_target = 1e-4;
+
   /// One cycling phase of the workflow (in-situ, each excavation stage,
   /// final equilibrium) as it ended.
   struct PhaseRecord

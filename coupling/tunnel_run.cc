@@ -249,7 +249,7 @@ namespace demfem::coupling
       bool warned_region_too_small = false;
 
       // Cycles until equilibrium (DEM ratio below tolerance and the
-      // continuum's kinetic energy down to 1e-4 of its peak in this phase)
+      // continuum's kinetic energy down to kinetic_energy_target of its peak)
       // or `limit` steps; `load` sets the load factor per step.
       template <class Load>
       void cycle(std::int64_t min_steps, std::int64_t limit, Load load)
@@ -331,7 +331,8 @@ namespace demfem::coupling
                 // 0.0037 m instead of 0.0086 m with subcycles = 800).
                 const std::int64_t windows = 2 * p.coupling.subcycles;
                 equilibrated               = n >= std::max(min_steps, windows) &&
-                               ur < p.ratio_tolerance && ke <= 1e-4 * ke_peak &&
+                               ur < p.ratio_tolerance &&
+                               ke <= kinetic_energy_target * ke_peak &&
                                m.interface_residual() < p.ratio_tolerance;
                 criterion_s += since(tc);
                 if (equilibrated)
