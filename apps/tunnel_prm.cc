@@ -171,7 +171,12 @@ namespace demfem::apps
     prm.declare_entry("ramp steps", "2000", Patterns::Integer(1),
                       "Steps of the in-situ load ramp");
     prm.declare_entry("step limit", "20000", Patterns::Integer(1),
-                      "Step limit of each equilibrium phase / excavation stage");
+                      "Step limit of each equilibrium phase / excavation stage (the "
+                      "cost budget)");
+    prm.declare_entry("phase time limit", "0", Patterns::Double(0),
+                      "Model time [s] each equilibrium phase / excavation stage may "
+                      "take before it is reported not equilibrated (0: none); a "
+                      "physical limit, the same for every time step");
     prm.leave_subsection();
 
     prm.enter_subsection("Output");
@@ -322,6 +327,7 @@ namespace demfem::apps
     s.ratio_tolerance  = prm.get_double("equilibrium ratio");
     s.ramp_steps       = prm.get_integer("ramp steps");
     s.phase_step_limit = prm.get_integer("step limit");
+    s.phase_time_limit = prm.get_double("phase time limit");
     AssertThrow(s.ratio_tolerance > 0,
                 ExcMessage("Coupling/equilibrium ratio must be > 0"));
     prm.leave_subsection();

@@ -307,6 +307,9 @@ namespace demfem::coupling
                        dealii::Utilities::fixed_power<2>(held[2] - dem_sum[2]));
     imb_last = accum_abs > 0 ? diff / (inv * accum_abs) : 0.0;
     imb_max  = std::max(imb_max, imb_last);
+    // The quasi-static scheme relaxes its interface instead.
+    if (!static_ && affine_installation())
+      hold_grains_on_affine_path(load_factor - applied_factor);
     if (static_)
       quasi_static_step(f);
     else
@@ -371,39 +374,66 @@ namespace demfem::coupling
   }
 
   template <int dim>
+  void CoupledModel<dim>::hold_grains_on_affine_path(const double dl)
+  {
+    // The load-factor increment dl is applied over this continuum window
+    // (k DEM steps); the grains follow the same affine strain rate.
+    auto &P      = dem.particles;
+    install_rate = dl / (kp.subcycles * dt_) * eps0;
+    if (dl != 0 && installing_grains.empty())
+      {
+        for (std::size_t i = 0; i < P.size(); ++i)
+          if (P.fixity[i] == dem::fix_none)
+            {
+              installing_grains.push_back(static_cast<double>(i));
+              P.fixity[i] = dem::fix_translation;
+            }
+      }
+    if (dl == 0 && !installing_grains.empty())
+      {
+        // Released at rest: the relaxation from the affine state starts
+        // without the installation's (quasi-static) velocities.
+        for (double g : installing_grains)
+          {
+            const auto i = static_cast<std::size_t>(g);
+            P.fixity[i]  = dem::fix_none;
+            P.v[i].setZero();
+          }
+        installing_grains.clear();
+      }
+  }
+
+  template <int dim>
   void CoupledModel<dim>::explicit_step()
   {
-    // Far-field displacement ramp u = lambda eps0 x: the fixed dofs move with
-    // the load-factor increment over this continuum step.
+    // In-situ installation u = lambda eps0 x: the load-factor increment is
+    // applied over this continuum step.
     const double dl = load_factor - applied_factor;
     if (dl != 0 || far_moving)
       {
+        // The whole continuum follows the homogeneous in-situ strain
+        // (affine velocity on every node, the far field included; the
+        // dynamic part stays the response to the grains): a far-field
+        // displacement alone would reach the region only after a wave
+        // crossed R and load it dynamically (measured with a far-field ramp
+        // of 2000 steps: 12 cracks at safety 0.8, 328 at 0.4; a 3D
+        // section's end layers pushed outwards first, 950 tensile cracks).
         const double                          rate = dl / (kp.subcycles * dt_);
         const Eigen::Matrix<double, dim, dim> e    = rate * eps0;
-        if (section())
+        if (section() || affine_installation())
           {
-            // A section's tunnel-wall traction acts next to the grains: the
-            // far-field displacement would reach them only after a wave
-            // crossed R (measured: during a 2000-step ramp the wall pushed
-            // the end layers outwards first, 950 tensile cracks around the
-            // tunnel in the end layers). The whole continuum follows the
-            // homogeneous in-situ strain instead (affine velocity; the
-            // dynamic part stays the response to the grains).
             dealii::Tensor<2, dim> L;
             for (int i = 0; i < dim; ++i)
               for (int j = 0; j < dim; ++j)
                 L[i][j] = e(i, j);
             fem_->set_affine_velocity(L);
           }
-        else
+        else // the far field alone (wall_facet_model.h)
           fem_->set_fixed_velocity([e](const dealii::Point<dim> &x) {
             dealii::Tensor<1, dim> v;
             for (int i = 0; i < dim; ++i)
-              {
-                v[i] = e(i, 0) * x[0] + e(i, 1) * x[1];
-                if constexpr (dim == 3)
-                  v[i] += e(i, 2) * x[2];
-              }
+              for (int j = 0; j < dim; ++j)
+                v[i] += e(i, j) * x[j];
             return v;
           });
         far_moving     = dl != 0;
@@ -448,6 +478,11 @@ namespace demfem::coupling
     if (n_steps % kp.subcycles == 0)
       continuum_step();
     const auto t1 = clock::now();
+    for (double g : installing_grains) // on the affine path (in-situ installation)
+      {
+        const auto i       = static_cast<std::size_t>(g);
+        dem.particles.v[i] = install_rate * dem.particles.x[i];
+      }
     if (!static_)
       dem.step();
     else
@@ -517,6 +552,8 @@ namespace demfem::coupling
     ar.io("coupling.residual_last", residual_growth.last);
     ar.io("coupling.residual_growth_steps", residual_growth.streak);
     ar.io("coupling.interface_displacement_reached", u_reached, u_reached.size());
+    ar.io("coupling.install_rate", install_rate);
+    ar.io("coupling.installing_grains", installing_grains);
   }
 
   template <int dim>

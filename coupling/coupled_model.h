@@ -27,12 +27,25 @@
 // independently of the nodal distribution); the relative difference is
 // recorded as interface_force_imbalance.
 //
-// In-situ stress. The continuum starts unstressed; its far-field boundary
-// (fixed, r = R) is moved to u = lambda eps0 x, eps0 the plane-strain strain
-// of sigma0 in the continuum, with the load factor lambda ramped from 0 to 1.
-// A region whose constants match the continuum's then carries sigma0 exactly
-// (homogeneous field); the fixed far field differs from a traction far field
-// by O((a/R)^2) for the excavation.
+// In-situ stress, installed kinematically (docs/tunnel.md, "In-situ stress
+// installation"). Everything starts unstressed; while the load factor lambda
+// rises from 0 to 1 the whole model follows the homogeneous in-situ strain
+// field u = lambda eps0 x (eps0 the plane-strain strain of sigma0 in the
+// continuum): every continuum node gets the affine velocity
+// (d lambda/dt) eps0 x on top of its dynamic velocity (the far field is
+// fixed at u = lambda eps0 x), and every free grain's translation is held
+// on the same affine path (its rotation stays free). No wave is launched
+// from the far field and the grains carry no inertial load, so the state at
+// lambda = 1 does not depend on the ramp's length or the time step. At
+// lambda = 1 the grains are released at rest and the model relaxes the
+// non-affine part (the grains' own rearrangement) to equilibrium. A region
+// whose constants match the continuum's then carries sigma0 (homogeneous
+// field); the fixed far field differs from a traction far field by
+// O((a/R)^2) for the excavation. The quasi-static scheme has no continuum
+// dynamics to shock: its interface relaxes towards lambda u_far + F f and
+// the grains stay free (holding them on the affine path while the relaxed
+// interface lags behind made the slaved layer unstable, measured).
+
 //
 // Quasi-static scheme (Coupling/scheme = quasi-static). The continuum has
 // no inertia: its response at the coupling nodes is
@@ -253,6 +266,10 @@ namespace demfem::coupling
     /// explicit step must also resolve the coupling nodes oscillating on
     /// the grains' contacts (default: none).
     virtual void add_attached_stiffness(std::vector<double> &k) const { (void)k; }
+    /// Whether the in-situ stress is installed on the affine path (above;
+    /// default). false: the far field alone is moved to u = lambda eps0 x
+    /// and the grains stay free (the wall-facet variant, wall_facet_model.h).
+    virtual bool affine_installation() const { return true; }
     /// Fraction of the coupled continuum limit a sub-cycled window k dt may
     /// use (the interface forces of a window act on the next one: a lag).
     virtual double window_limit_fraction() const { return 1.0; }
@@ -283,9 +300,17 @@ namespace demfem::coupling
     Eigen::Matrix<double, dim, dim> eps0   = Eigen::Matrix<double, dim, dim>::Zero();
     double                          applied_factor = 0;
     bool                            far_moving     = false;
-    dealii::Tensor<2, dim>          insitu_strain() const;
-    void                            continuum_step();
-    void                            explicit_step();
+    /// Kinematic in-situ installation: the affine strain rate of the
+    /// current continuum window and the grains held on the affine path
+    /// (free grains when it began; their translation fixity is restored
+    /// when lambda stops changing).
+    Eigen::Matrix<double, dim, dim> install_rate =
+        Eigen::Matrix<double, dim, dim>::Zero();
+    std::vector<double>    installing_grains;
+    void                   hold_grains_on_affine_path(double dl);
+    dealii::Tensor<2, dim> insitu_strain() const;
+    void                   continuum_step();
+    void                   explicit_step();
     void quasi_static_step(const std::vector<dealii::Tensor<1, dim>> &f);
     // Quasi-static scheme: static response, flexibility (dim n x dim n),
     // far-field response and the coupling displacement reached at the

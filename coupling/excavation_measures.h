@@ -16,7 +16,7 @@
 //   it scatters between packings far more than the zone it bounds.
 // * Wall convergence: mean inward radial displacement, since the excavation,
 //   of the grains whose reference centre lies within one mean diameter of
-//   the wall.
+//   the wall and that are still attached to the rock mass.
 #include "dem/engine/model.h"
 
 #include <nlohmann/json.hpp>
@@ -190,20 +190,41 @@ namespace demfem::coupling::excavation
     return n;
   }
 
+  /// Whether each grain touches another grain through an active contact
+  /// (a bond or a contact carrying force): grains that are not are detached
+  /// from the rock mass (a grain flying into the opening).
+  template <int dim>
+  std::vector<char> attached_grains(const dem::Model<dim> &m)
+  {
+    std::vector<char> on(m.particles.size(), 0);
+    for (int g = 0; g < m.n_groups(); ++g)
+      {
+        const auto &grp = m.group(g);
+        for (std::size_t k = 0; k < grp.size(); ++k)
+          if (!grp.is_wall[k] && grp.active(k))
+            on[grp.end1[k]] = on[grp.end2[k]] = 1;
+      }
+    return on;
+  }
+
   /// Mean inward radial displacement (in the xy plane) of the grains whose
-  /// reference centre lies within d of the wall r = a (their count in n;
-  /// rows x, y, z, ux, uy, uz with z = 0 in 2D).
+  /// reference centre lies within d of the wall r = a and that are still
+  /// attached to the rock mass (attached_grains; their count in n; rows x,
+  /// y, z, ux, uy, uz with z = 0 in 2D). A detached grain flies on at
+  /// constant speed (nothing damps it): counted, one grain of the default
+  /// example raised the mean from 3.2 mm to 8.9 mm while the wall stood.
   template <int dim>
   double wall_convergence(const dem::Model<dim> &m, const std::vector<dem::Vec<dim>> &ref,
                           double a, double d, std::size_t *n = nullptr,
                           std::vector<std::array<double, 6>> *rows = nullptr)
   {
-    const auto &P = m.particles;
-    double      s = 0;
-    std::size_t c = 0;
+    const auto             &P        = m.particles;
+    const std::vector<char> attached = attached_grains(m);
+    double                  s        = 0;
+    std::size_t             c        = 0;
     for (std::size_t i = 0; i < P.size(); ++i)
       {
-        if (std::size_t(P.id[i]) >= ref.size())
+        if (std::size_t(P.id[i]) >= ref.size() || !attached[i])
           continue;
         const dem::Vec<dim> &X = ref[P.id[i]];
         const double         r = X.template head<2>().norm();

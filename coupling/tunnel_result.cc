@@ -115,9 +115,13 @@ namespace demfem::coupling
         for (const auto &ph : r.phases)
           if (!ph.equilibrated)
             fail(RunStatus::not_equilibrated,
-                 "phase '" + ph.name + "' ended at its step limit (" +
-                     std::to_string(ph.steps) +
-                     " steps, Coupling/step limit): unbalanced "
+                 "phase '" + ph.name + "' ended at its " +
+                     (ended_at_time_limit(ph, r.phase_time_limit)
+                          ? "time limit (" + g(ph.time_end - ph.time_start) +
+                                " s, Coupling/phase time limit)"
+                          : "step limit (" + std::to_string(ph.steps) +
+                                " steps, Coupling/step limit)") +
+                     ": unbalanced "
                      "ratio " +
                      g(ph.unbalanced_ratio) + ", continuum kinetic energy " +
                      g(ph.kinetic_energy_ratio) + " of its peak, interface residual " +

@@ -40,6 +40,14 @@ namespace demfem::coupling
            output_s = 0;
   };
 
+  /// Whether a phase that did not equilibrate was stopped by the physical
+  /// limit `time_limit` (Coupling/phase time limit; 0: none) rather than by
+  /// its step limit.
+  inline bool ended_at_time_limit(const PhaseRecord &ph, double time_limit)
+  {
+    return time_limit > 0 && ph.time_end - ph.time_start >= time_limit * (1 - 1e-12);
+  }
+
   /// summary.json "status", most severe first. Exit codes:
   /// docs/tunnel.md, "Run status and exit codes".
   enum class RunStatus
@@ -93,6 +101,7 @@ namespace demfem::coupling
     double region_stress_before_zz = 0; ///< 3D: szz of the same region
     double in_situ_error           = 0;
     double in_situ_tolerance       = 0;
+    double phase_time_limit        = 0; ///< Coupling/phase time limit [s] (0: none)
     double ratio_tolerance         = 0;
     double mean_grain_diameter     = 0;
     /// Stopped on request (signal): a checkpoint was written, no summary.

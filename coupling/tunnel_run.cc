@@ -162,7 +162,7 @@ namespace demfem::coupling
                    "dem_strain_energy,continuum_kinetic_energy,cracks,cracks_tensile,"
                    "cracks_shear,interface_force_imbalance,wall_convergence_mean,"
                    "ring_force_x,ring_force_y,interface_residual") +
-               (dim == 3 ? ",ring_force_z\n" : "\n");
+               (dim == 3 ? ",ring_force_z" : "") + ",damage_zone_depth\n";
       }
 
       void save_history()
@@ -218,7 +218,12 @@ namespace demfem::coupling
                 << num(F[0]) << "," << num(F[1]) << "," << num(m.interface_residual());
         if constexpr (dim == 3)
           history << "," << num(F[dim - 1]);
-        history << "\n";
+        // The damage zone as it grows, stage by stage (excavation cracks).
+        history << ","
+                << num(excavated ? excavation::damage_zone_depth(m.dem, exc.cracks_before,
+                                                                 p.tunnel_radius)
+                                 : 0.0)
+                << "\n";
       }
 
       void progress_line(double ur)
@@ -299,7 +304,9 @@ namespace demfem::coupling
               }
             load(n);
             m.step();
-            n_end        = n;
+            n_end = n;
+            if (p.phase_time_limit > 0 && m.dem.time() - phase_t0 >= p.phase_time_limit)
+              break; // the physical limit (equilibrated stays false)
             const auto s = m.dem.step_count();
             if (s % p.history_interval == 0 ||
                 (p.vtk_interval > 0 && s % p.vtk_interval == 0))
@@ -360,9 +367,16 @@ namespace demfem::coupling
         ph.output_s             = output_s;
         phases.push_back(ph);
         if (!equilibrated)
-          out << "warning: phase '" << phase << "' ended at its step limit (" << n_end
-              << " steps) before equilibrium: unbalanced ratio " << ph.unbalanced_ratio
+          out << "warning: phase '" << phase << "' ended at its "
+              << (ph_time_limited(ph) ? "time limit (" : "step limit (") << n_end
+              << " steps, " << ph.time_end - ph.time_start
+              << " s) before equilibrium: unbalanced ratio " << ph.unbalanced_ratio
               << " (target " << p.ratio_tolerance << ")" << std::endl;
+      }
+
+      bool ph_time_limited(const PhaseRecord &ph) const
+      {
+        return ended_at_time_limit(ph, p.phase_time_limit);
       }
 
       // The workflow's numbers in a checkpoint (dem/io/state_archive.h): one
@@ -585,6 +599,7 @@ namespace demfem::coupling
         r.region_stress_before    = stress_before.template topLeftCorner<2, 2>();
         r.region_stress_before_zz = dim == 3 ? stress_before(dim - 1, dim - 1) : 0.0;
         r.in_situ_tolerance       = p.in_situ_tolerance;
+        r.phase_time_limit        = p.phase_time_limit;
         r.ratio_tolerance         = p.ratio_tolerance;
         r.phases                  = phases;
         r.checkpoint              = last_checkpoint;

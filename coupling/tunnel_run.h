@@ -34,6 +34,10 @@ namespace demfem::coupling
     double       in_situ_tolerance = 0.1;
     std::int64_t ramp_steps        = 2000;  ///< in-situ load ramp
     std::int64_t phase_step_limit  = 20000; ///< per equilibrium phase / stage
+    /// Model time an equilibrium phase / stage may take [s] (0: no limit):
+    /// the physical limit, independent of the time step; the step limit
+    /// is the cost budget.
+    double       phase_time_limit = 0;
     std::int64_t vtk_interval = 1000; ///< steps between VTK frames (0: phase ends only)
     std::int64_t history_interval = 100;
     bool         write_vtk        = true;
