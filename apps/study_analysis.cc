@@ -152,7 +152,7 @@ namespace demfem::apps::study
          "final_ratio,variant,scheme,relaxation,stiffness_contrast,breakable,"
          "cracks_total,cracks_excavation,cracks_tensile,cracks_shear,"
          "damage_zone_depth_m,reference_depth_m,cracks_rel_diff,agrees,"
-         "region_too_small,diagnosis\n";
+         "region_too_small,damaged_area_m2,notch_depth_m,notch_angle_deg,diagnosis\n";
     for (const auto &r : rows)
       {
         const bool ok  = r.status == "stable";
@@ -182,7 +182,9 @@ namespace demfem::apps::study
           << "," << num(r.cracks_diff, cmp) << ","
           << (cmp ? (r.agrees ? "yes" : "no") : "") << ","
           << (dmg ? (r.region_too_small ? "yes" : "no") : "") << ","
-          << quoted(r.diagnosis) << "\n";
+          << num(r.result.damage.damaged_area, dmg) << ","
+          << num(r.result.damage.notch_depth, dmg) << ","
+          << num(r.result.damage.notch_angle, dmg) << "," << quoted(r.diagnosis) << "\n";
       }
     write_file_atomically(file, o.str());
   }

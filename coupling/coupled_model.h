@@ -31,13 +31,14 @@
 // installation"). Everything starts unstressed; while the load factor lambda
 // rises from 0 to 1 the whole model follows the homogeneous in-situ strain
 // field u = lambda eps0 x (eps0 the plane-strain strain of sigma0 in the
-// continuum): every continuum node gets the affine velocity
-// (d lambda/dt) eps0 x on top of its dynamic velocity (the far field is
-// fixed at u = lambda eps0 x), and every free grain's translation is held
-// on the same affine path (its rotation stays free). No wave is launched
-// from the far field and the grains carry no inertial load, so the state at
-// lambda = 1 does not depend on the ramp's length or the time step. At
-// lambda = 1 the grains are released at rest and the model relaxes the
+// continuum): every continuum node moves with the affine velocity
+// (d lambda/dt) eps0 x, its dynamic part held at zero
+// (ExplicitDynamics::set_kinematic; the far field is fixed at
+// u = lambda eps0 x), and every free grain's translation is held on the
+// same affine path (its rotation stays free). No wave is launched and
+// nothing carries an inertial load, so the state at lambda = 1 does not
+// depend on the ramp's length, the time step or the sub-cycling. At
+// lambda = 1 the grains and the continuum are released at rest and the model relaxes the
 // non-affine part (the grains' own rearrangement) to equilibrium. A region
 // whose constants match the continuum's then carries sigma0 (homogeneous
 // field); the fixed far field differs from a traction far field by
@@ -179,6 +180,10 @@ namespace demfem::coupling
     /// Width of the continuum's overlap of the section's ends (and rim) [m].
     double end_overlap() const { return rp.radius - inner_radius(); }
     double get_load_factor() const { return load_factor; }
+    /// Whether grains are still held on the in-situ installation's path
+    /// (released at the first continuum step after lambda stopped
+    /// changing): no equilibrium can be declared before.
+    bool installing() const { return !installing_grains.empty(); }
 
     /// One DEM step (and a continuum update every `subcycles` DEM steps).
     /// Throws dem::InstabilityError with a diagnosis on divergence.

@@ -17,6 +17,7 @@
 // * Wall convergence: mean inward radial displacement, since the excavation,
 //   of the grains whose reference centre lies within one mean diameter of
 //   the wall and that are still attached to the rock mass.
+#include "coupling/damage_zone.h"
 #include "dem/engine/model.h"
 
 #include <nlohmann/json.hpp>
@@ -133,7 +134,7 @@ namespace demfem::coupling::excavation
   }
 
   /// Percentile of the crack distances that is the damage-zone depth.
-  constexpr double damage_depth_percentile = 0.9;
+  constexpr double damage_depth_percentile = DamageZone::percentile;
 
   /// In-plane distances from the wall r = a (tunnel along z in 3D) of the
   /// cracks with index >= from and in-plane centre distance <= r_max.
@@ -155,12 +156,24 @@ namespace demfem::coupling::excavation
   /// least q of the values at or below it; 0 for no value.
   inline double percentile(std::vector<double> d, double q)
   {
-    if (d.empty())
-      return 0;
-    const auto rank = static_cast<std::size_t>(std::ceil(q * d.size()));
-    const auto k    = std::min(d.size() - 1, rank > 0 ? rank - 1 : 0);
-    std::nth_element(d.begin(), d.begin() + k, d.end());
-    return d[k];
+    return nearest_rank_percentile(std::move(d), q);
+  }
+
+  /// The damage zone (coupling/damage_zone.h: percentile depth, sector
+  /// depths, notch, damaged area) of the cracks with index >= from and
+  /// in-plane centre distance <= r_max.
+  template <int dim>
+  DamageZone damage_zone(const dem::Model<dim> &m, std::size_t from, double a,
+                         double r_max = HUGE_VAL)
+  {
+    std::vector<std::array<double, 2>> xy;
+    for (std::size_t k = from; k < m.cracks.size(); ++k)
+      {
+        const auto &x = m.cracks[k].position;
+        if (x.template head<2>().norm() <= r_max)
+          xy.push_back({{x[0], x[1]}});
+      }
+    return measure_damage_zone(xy, a);
   }
 
   /// Damage-zone depth: the damage_depth_percentile of crack_depths.

@@ -381,10 +381,10 @@ namespace demfem::coupling
         r.evaluation_radius    = 0.5 * p.region.radius;
         if (excavated)
           {
-            r.damage_zone_depth = excavation::damage_zone_depth(m, exc.cracks_before, a,
-                                                                r.evaluation_radius);
-            r.damage_zone_depth_max = excavation::largest_crack_depth(
-                m, exc.cracks_before, a, r.evaluation_radius);
+            r.damage =
+                excavation::damage_zone(m, exc.cracks_before, a, r.evaluation_radius);
+            r.damage_zone_depth     = r.damage.depth;
+            r.damage_zone_depth_max = r.damage.depth_max;
             r.damage_zone_depth_all =
                 excavation::damage_zone_depth(m, exc.cracks_before, a);
             for (std::size_t k = exc.cracks_before; k < m.cracks.size(); ++k)
@@ -457,6 +457,7 @@ namespace demfem::coupling
         j["damage_zone_depth"]        = json_number(r.damage_zone_depth);
         j["damage_zone_depth_max"]    = json_number(r.damage_zone_depth_max);
         j["damage_zone_depth_all"]    = json_number(r.damage_zone_depth_all);
+        j["damage"]                   = r.damage.to_json();
         j["evaluation_radius_m"]      = json_number(r.evaluation_radius);
         j["cracks_beyond_evaluation"] = r.cracks_beyond_evaluation;
         j["wall_convergence_mean"]    = json_number(r.wall_convergence_mean);

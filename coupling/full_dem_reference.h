@@ -28,6 +28,7 @@
 // v_j = alpha (f_j - lambda F_j) / (k_j dt), k_j the normal stiffness of
 // the grain-facet contacts on it weighted by their barycentric weights
 // (floor: one grain-wall contact, 2 E*), the step limited to max_step.
+#include "coupling/damage_zone.h"
 #include "coupling/dem_region.h"
 
 #include <Eigen/Dense>
@@ -86,13 +87,13 @@ namespace demfem::coupling
     int             stages = 1; ///< excavation stages
     /// The material and packing of the embedded region; region.radius is
     /// the outer radius R of the DEM domain.
-    RegionParams        region;
-    double              min_radius_factor = 8;   ///< R >= this x a (boundary far from damage)
-    double              safety            = 0.8; ///< dt = safety x DEM critical
-    double              ratio_tolerance   = 1e-3;
-    std::int64_t        ramp_steps        = 2000;
-    std::int64_t        phase_step_limit  = 20000;
-    std::int64_t        history_interval  = 100;
+    RegionParams region;
+    double       min_radius_factor = 8;   ///< R >= this x a (boundary far from damage)
+    double       safety            = 0.8; ///< dt = safety x DEM critical
+    double       ratio_tolerance   = 1e-3;
+    std::int64_t ramp_steps        = 2000;
+    std::int64_t phase_step_limit  = 20000;
+    std::int64_t history_interval  = 100;
     MembraneServoParams servo;
 
     /// Throws dem::InputError naming the key (prefixed by `where`).
@@ -108,12 +109,14 @@ namespace demfem::coupling
     double       wall_time_s = 0, timestep = 0;
     std::size_t  cracks_total = 0, cracks_tensile = 0, cracks_shear = 0;
     std::size_t  cracks_before_excavation = 0, cracks_near_boundary = 0;
-    /// Damage-zone depth: largest distance from the wall of the excavation
-    /// cracks within the evaluation radius R/2 (beyond, the membrane and the
+    /// The damage zone (coupling/damage_zone.h) of the excavation cracks
+    /// within the evaluation radius R/2; damage_zone_depth is its
+    /// 90th-percentile depth (beyond R/2, the membrane and the
     /// in-situ cracks it causes influence the result: measured, a crack
     /// 2.26 m from the wall at r = 0.83 R, at a spot cracked during the
     /// in-situ ramp, broken by the excavation's unloading wave); the
     /// unfiltered value and the count of excavation cracks beyond R/2.
+    DamageZone  damage;
     double      damage_zone_depth        = 0;
     double      damage_zone_depth_max    = 0; ///< largest crack distance (r <= R/2)
     double      damage_zone_depth_all    = 0;

@@ -179,6 +179,7 @@ namespace demfem::coupling
     j["cracks_by_type"]                  = r.cracks_by_type;
     j["damage_zone_depth"]               = json_number(r.damage_zone_depth);
     j["damage_zone_depth_max"]           = json_number(r.damage_zone_depth_max);
+    j["damage"]                          = r.damage.to_json();
     j["cracks_before_excavation"]        = r.cracks_before_excavation;
     j["cracks_near_interface"]           = r.cracks_near_interface;
     j["region_too_small"]                = r.region_too_small;

@@ -3,6 +3,7 @@
 // asked (docs/tunnel.md, "Run status and exit codes"; docs/architecture.md,
 // "Outputs and run status"). No deal.II here: the study, the summary writer
 // and the tests read results without the continuum's headers.
+#include "coupling/damage_zone.h"
 #include "dem/engine/types.h"
 
 #include <nlohmann/json.hpp>
@@ -90,6 +91,7 @@ namespace demfem::coupling
     double      dem_region_radius     = 0;
     double      damage_zone_depth     = 0; ///< 90th-percentile crack distance [m]
     double      damage_zone_depth_max = 0; ///< largest crack distance [m]
+    DamageZone  damage; ///< the excavation's damage zone (summary "damage")
     double      wall_convergence_mean = 0; ///< mean inward radial displacement [m]
     double      interface_force_imbalance_max = 0;
     std::size_t n_wall_particles              = 0;

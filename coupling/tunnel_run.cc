@@ -337,7 +337,10 @@ namespace demfem::coupling
                 // window ended excavation stages early: measured convergence
                 // 0.0037 m instead of 0.0086 m with subcycles = 800).
                 const std::int64_t windows = 2 * p.coupling.subcycles;
-                equilibrated               = n >= std::max(min_steps, windows) &&
+                // While grains are held on the installation path, the
+                // unbalanced ratio and the (kinematic) continuum's kinetic
+                // energy are both zero: not an equilibrium.
+                equilibrated = !m.installing() && n >= std::max(min_steps, windows) &&
                                ur < p.ratio_tolerance &&
                                ke <= kinetic_energy_target * ke_peak &&
                                m.interface_residual() < p.ratio_tolerance;
@@ -622,10 +625,9 @@ namespace demfem::coupling
         r.region_too_small         = r.cracks_near_interface > 0;
         r.dem_region_radius        = p.region.radius;
         r.mean_grain_diameter      = p.region.mean_diameter();
-        r.damage_zone_depth =
-            excavation::damage_zone_depth(m.dem, exc.cracks_before, p.tunnel_radius);
-        r.damage_zone_depth_max =
-            excavation::largest_crack_depth(m.dem, exc.cracks_before, p.tunnel_radius);
+        r.damage = excavation::damage_zone(m.dem, exc.cracks_before, p.tunnel_radius);
+        r.damage_zone_depth             = r.damage.depth;
+        r.damage_zone_depth_max         = r.damage.depth_max;
         r.interface_force_imbalance_max = m.imbalance_max();
         r.wall_convergence_mean         = convergence(&r.n_wall_particles);
         r.wall_time_s =

@@ -261,7 +261,7 @@ namespace demfem::fem
       {
         const double acc =
             (f_ext(i) + boundary_factor * f_boundary(i) - work(i)) / mass(i);
-        v(i) = (c1 * v(i) + dt * acc) * c2;
+        v(i) = kinematic ? 0.0 : (c1 * v(i) + dt * acc) * c2;
       }
     for (std::size_t k = 0; k < fixed_dofs.size(); ++k)
       v(fixed_dofs[k]) = fixed_velocity.empty() ? 0.0 : fixed_velocity[k];

@@ -113,6 +113,11 @@ namespace demfem::fem
      *  section, whose tunnel-wall traction acts next to the grains). Zero
      *  by default. interface_velocities() include it. */
     void set_affine_velocity(const dealii::Tensor<2, dim> &L);
+    /** While on, the dynamic velocity stays zero: the body moves only with
+     *  the affine and prescribed velocities (a kinematic in-situ
+     *  installation; the forces it does not follow are relaxed when it is
+     *  switched off). Off by default. */
+    void set_kinematic(bool on) { kinematic = on; }
     /** The nodal forces held at the coupling vertices (same order). */
     std::vector<dealii::Tensor<1, dim>> interface_forces() const;
 
@@ -151,6 +156,7 @@ namespace demfem::fem
     dealii::Tensor<1, dim>                 boundary_sum;
     dealii::Tensor<2, dim>                 affine_rate;
     bool                                   has_affine = false;
+    bool                                   kinematic  = false;
     std::vector<dealii::Point<dim>>        dof_point;             // owned dofs, in order
     std::vector<unsigned char>             dof_component;         // same order
     double affine_velocity(std::size_t k) const;                  // of the k-th owned dof
