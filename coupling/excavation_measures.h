@@ -152,13 +152,6 @@ namespace demfem::coupling::excavation
     return d;
   }
 
-  /// Nearest-rank percentile q (0 < q <= 1) of d: the smallest value with at
-  /// least q of the values at or below it; 0 for no value.
-  inline double percentile(std::vector<double> d, double q)
-  {
-    return nearest_rank_percentile(std::move(d), q);
-  }
-
   /// The damage zone (coupling/damage_zone.h: percentile depth, sector
   /// depths, notch, damaged area) of the cracks with index >= from and
   /// in-plane centre distance <= r_max.
@@ -181,15 +174,8 @@ namespace demfem::coupling::excavation
   double damage_zone_depth(const dem::Model<dim> &m, std::size_t from, double a,
                            double r_max = HUGE_VAL)
   {
-    return percentile(crack_depths(m, from, a, r_max), damage_depth_percentile);
-  }
-
-  /// Largest distance from the wall of the same cracks.
-  template <int dim>
-  double largest_crack_depth(const dem::Model<dim> &m, std::size_t from, double a,
-                             double r_max = HUGE_VAL)
-  {
-    return percentile(crack_depths(m, from, a, r_max), 1.0);
+    return nearest_rank_percentile(crack_depths(m, from, a, r_max),
+                                   damage_depth_percentile);
   }
 
   /// Cracks (all, since the start) at a distance > r from the centre: near

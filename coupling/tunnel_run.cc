@@ -371,15 +371,11 @@ namespace demfem::coupling
         phases.push_back(ph);
         if (!equilibrated)
           out << "warning: phase '" << phase << "' ended at its "
-              << (ph_time_limited(ph) ? "time limit (" : "step limit (") << n_end
-              << " steps, " << ph.time_end - ph.time_start
+              << (ended_at_time_limit(ph, p.phase_time_limit) ? "time limit ("
+                                                              : "step limit (")
+              << n_end << " steps, " << ph.time_end - ph.time_start
               << " s) before equilibrium: unbalanced ratio " << ph.unbalanced_ratio
               << " (target " << p.ratio_tolerance << ")" << std::endl;
-      }
-
-      bool ph_time_limited(const PhaseRecord &ph) const
-      {
-        return ended_at_time_limit(ph, p.phase_time_limit);
       }
 
       // The workflow's numbers in a checkpoint (dem/io/state_archive.h): one
