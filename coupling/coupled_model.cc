@@ -186,24 +186,6 @@ namespace demfem::coupling
     fem_->set_coupling_vertices(points);
     accum.assign(points.size(), Vec<dim>::Zero());
     nodal.assign(points.size(), Vec<dim>::Zero());
-    if (kp.scheme == "quasi-static")
-      {
-        // Static response on the same mesh, far field and coupling nodes;
-        // the flexibility is computed once (dim n solves of the factorized K).
-        static_ = std::make_unique<fem::StaticInterfaceResponse<dim>>(
-            tria, fem::StaticSettings::from(es), points);
-        static_->setup();
-        flex = static_->flexibility();
-        u_far.assign(dim * points.size(), 0.0);
-        u_reached.assign(dim * points.size(), 0.0);
-        if (progress)
-          *progress << "quasi-static continuum: interface flexibility " << flex.m()
-                    << " x " << flex.n() << " in "
-                    << static_->cost().setup_seconds() +
-                           static_->cost().flexibility_seconds
-                    << " s, relaxation " << kp.relaxation << "\n";
-      }
-
     fem_crit = fem_->critical_time_step();
     {
       // Coupled limit of the continuum step (Gershgorin, as the continuum's
@@ -221,12 +203,13 @@ namespace demfem::coupling
           extra = std::max(extra, 2 * katt[k] / mass[k]);
       fem_crit = 2 / std::sqrt(4 / (fem_crit * fem_crit) + extra);
     }
+    // The scheme, once (coupling_scheme.h): explicit dynamics or the
+    // relaxed static response.
+    scheme_  = make_coupling_scheme<dim>(kp, *fem_, tria, es, points, fem_crit,
+                                        affine_installation(), progress);
     dem_crit = dem.critical_timestep();
-    // The quasi-static continuum has no inertia: only the DEM limits dt.
-    const double fem_limit = kp.scheme == "quasi-static"
-                                 ? HUGE_VAL
-                                 : window_limit_fraction() * fem_crit / kp.subcycles;
-    dt_                    = kp.safety * std::min(dem_crit, fem_limit);
+    dt_ =
+        kp.safety * std::min(dem_crit, scheme_->dem_step_limit(window_limit_fraction()));
     // A safety above 1 is allowed so that divergence can be shown to be
     // caught; the DEM's own refusal of a supercritical step would hide it.
     dem.check_timestep = kp.safety <= 1;
@@ -263,13 +246,7 @@ namespace demfem::coupling
         sig[dim - 1][dim - 1] = nu * s0.trace();
         fem_->set_boundary_traction_load(fem::boundary_id::tunnel_wall, sig);
       }
-    if (static_)
-      {
-        const auto r = static_->far_field_response(insitu_strain());
-        for (std::size_t k = 0; k < r.size(); ++k)
-          for (int c = 0; c < dim; ++c)
-            u_far[dim * k + c] = r[k][c];
-      }
+    scheme_->set_insitu_strain(insitu_strain());
   }
 
   template <int dim>
@@ -307,70 +284,20 @@ namespace demfem::coupling
                        dealii::Utilities::fixed_power<2>(held[2] - dem_sum[2]));
     imb_last = accum_abs > 0 ? diff / (inv * accum_abs) : 0.0;
     imb_max  = std::max(imb_max, imb_last);
-    // The quasi-static scheme relaxes its interface instead.
-    if (!static_ && affine_installation())
-      hold_grains_on_affine_path(load_factor - applied_factor);
-    if (static_)
-      quasi_static_step(f);
-    else
-      explicit_step();
+    // Grains follow the affine installation path only where the
+    // continuum does (coupling_scheme.h).
+    const double dl = load_factor - applied_factor;
+    if (scheme_->follows_affine_path())
+      hold_grains_on_affine_path(dl);
+    std::vector<Vec<dim>> u, v;
+    scheme_->advance({f, load_factor, dl, release, kp.subcycles * dt_, n_steps}, u, v);
+    applied_factor = load_factor;
+    move_interface(u, v);
     for (auto &a : accum)
       a.setZero();
     accum_contacts.setZero();
     accum_abs = 0;
     n_accum   = 0;
-  }
-
-  template <int dim>
-  void CoupledModel<dim>::quasi_static_step(const std::vector<dealii::Tensor<1, dim>> &f)
-  {
-    // Target u* = lambda u_far + F f, relaxed from the displacement the
-    // coupling nodes reached (the previous window's u_new).
-    const std::size_t   n = points.size();
-    std::vector<double> fv(dim * n), target(dim * n);
-    for (std::size_t k = 0; k < n; ++k)
-      for (int c = 0; c < dim; ++c)
-        fv[dim * k + c] = f[k][c];
-    double dnorm = 0, tnorm = 0;
-    for (std::size_t i = 0; i < dim * n; ++i)
-      {
-        double t = load_factor * u_far[i];
-        for (std::size_t j = 0; j < dim * n; ++j)
-          t += flex(i, j) * fv[j];
-        target[i] = t;
-        dnorm += (t - u_reached[i]) * (t - u_reached[i]);
-        tnorm += t * t;
-      }
-    residual = tnorm > 0 ? std::sqrt(dnorm / tnorm) : 0.0;
-    if (residual_growth.update(residual)) // common/growth_monitor.h
-      {
-        std::ostringstream msg;
-        msg << "the quasi-static coupling diverged at step " << n_steps
-            << ": the interface residual |u* - u| / |u*| = " << residual
-            << " grew by more than " << 100 * (instability::interface_residual.factor - 1)
-            << " % per window for " << residual_growth.streak
-            << " windows; likely cause: Coupling/relaxation (" << kp.relaxation
-            << ") too large for the stiffness contrast between the grains and the "
-               "continuum (try 0.3), or Coupling/subcycles ("
-            << kp.subcycles << ") too small for the DEM to respond within a window";
-        throw dem::InstabilityError(msg.str());
-      }
-    std::vector<Vec<dim>> u(n), v(n);
-    const double          window = kp.subcycles * dt_;
-    for (std::size_t k = 0; k < n; ++k)
-      {
-        Vec<dim> du;
-        for (int c = 0; c < dim; ++c)
-          {
-            const std::size_t i = dim * k + c;
-            u[k][c]             = u_reached[i];
-            du[c]               = kp.relaxation * (target[i] - u_reached[i]);
-            u_reached[i] += du[c];
-          }
-        v[k] = du / window;
-      }
-    applied_factor = load_factor;
-    move_interface(u, v);
   }
 
   template <int dim>
@@ -404,78 +331,6 @@ namespace demfem::coupling
   }
 
   template <int dim>
-  void CoupledModel<dim>::explicit_step()
-  {
-    // In-situ installation u = lambda eps0 x: the load-factor increment is
-    // applied over this continuum step.
-    const double dl = load_factor - applied_factor;
-    if (dl != 0 || far_moving)
-      {
-        // The whole continuum follows the homogeneous in-situ strain
-        // (affine velocity on every node, the far field included; the
-        // dynamic part stays the response to the grains): a far-field
-        // displacement alone would reach the region only after a wave
-        // crossed R and load it dynamically (measured with a far-field ramp
-        // of 2000 steps: 12 cracks at safety 0.8, 328 at 0.4; a 3D
-        // section's end layers pushed outwards first, 950 tensile cracks).
-        const double                          rate = dl / (kp.subcycles * dt_);
-        const Eigen::Matrix<double, dim, dim> e    = rate * eps0;
-        if (section() || affine_installation())
-          {
-            dealii::Tensor<2, dim> L;
-            for (int i = 0; i < dim; ++i)
-              for (int j = 0; j < dim; ++j)
-                L[i][j] = e(i, j);
-            fem_->set_affine_velocity(L);
-          }
-        else // the far field alone (wall_facet_model.h)
-          fem_->set_fixed_velocity([e](const dealii::Point<dim> &x) {
-            dealii::Tensor<1, dim> v;
-            for (int i = 0; i < dim; ++i)
-              for (int j = 0; j < dim; ++j)
-                v[i] += e(i, j) * x[j];
-            return v;
-          });
-        far_moving     = dl != 0;
-        applied_factor = load_factor;
-      }
-    fem_->set_boundary_load_factor(load_factor * release);
-    // While installing, the continuum follows the affine path exactly (no
-    // dynamic part): with its own dynamics the interface lagged the grains
-    // held on the path, and sub-cycled windows (k = 2, 4) cracked the region
-    // next to the slaved layer during the ramp (167 and 77 cracks, measured).
-    fem_->set_kinematic(affine_installation() && dl != 0);
-    fem_->step(kp.subcycles * dt_);
-
-    // Divergence of the continuum: non-finite or exponentially growing
-    // kinetic energy (same criterion as the DEM engine).
-    const double ke = fem_->kinetic_energy();
-    if (continuum_growth.update(ke)) // common/growth_monitor.h
-      {
-        std::ostringstream msg;
-        msg << "the continuum diverged at step " << n_steps << " (kinetic energy " << ke
-            << " J, growing for " << continuum_growth.streak << " steps): continuum step "
-            << kp.subcycles * dt_ << " s vs its critical step " << fem_crit
-            << " s; likely cause: Coupling/timestep safety (" << kp.safety
-            << ") or Coupling/subcycles too large, or a stiffness contrast between the "
-               "grains and the continuum";
-        throw dem::InstabilityError(msg.str());
-      }
-    const auto            u = fem_->interface_displacements();
-    const auto            v = fem_->interface_velocities();
-    std::vector<Vec<dim>> uu(u.size()), vv(v.size());
-    for (std::size_t k = 0; k < u.size(); ++k)
-      {
-        for (int c = 0; c < dim; ++c)
-          {
-            uu[k][c] = u[k][c];
-            vv[k][c] = v[k][c];
-          }
-      }
-    move_interface(uu, vv);
-  }
-
-  template <int dim>
   void CoupledModel<dim>::step()
   {
     using clock   = std::chrono::steady_clock;
@@ -488,28 +343,17 @@ namespace demfem::coupling
         const auto i       = static_cast<std::size_t>(g);
         dem.particles.v[i] = install_rate * dem.particles.x[i];
       }
-    if (!static_)
-      dem.step();
-    else
-      try
-        {
-          dem.step();
-        }
-      catch (const dem::InstabilityError &e)
-        {
-          // The relaxed static interface drives the grains: a diverging
-          // iteration shows first as a DEM instability (overlaps growing,
-          // the critical step falling below dt).
-          std::ostringstream msg;
-          msg << e.what() << " With the quasi-static coupling (interface residual "
-              << residual << ") the likely cause is Coupling/relaxation ("
-              << kp.relaxation
-              << ") too large for the stiffness contrast between the grains and the "
-                 "continuum (try 0.3) or Coupling/subcycles ("
-              << kp.subcycles
-              << ") too small for the DEM to respond within a window (try 200).";
-          throw dem::InstabilityError(msg.str());
-        }
+    try
+      {
+        dem.step();
+      }
+    catch (const dem::InstabilityError &e)
+      {
+        const std::string hint = scheme_->instability_hint();
+        if (hint.empty())
+          throw;
+        throw dem::InstabilityError(e.what() + hint);
+      }
     const auto t2 = clock::now();
     ++n_steps;
     for (auto &x : nodal)
@@ -547,30 +391,24 @@ namespace demfem::coupling
     ar.io("coupling.release", release);
     ar.io("coupling.imbalance_max", imb_max);
     ar.io("coupling.imbalance_last", imb_last);
-    ar.io("coupling.continuum_kinetic_energy_last", continuum_growth.last);
-    ar.io("coupling.continuum_growth_steps", continuum_growth.streak);
     ar.io("coupling.steps", n_steps);
     ar.io("coupling.applied_load_factor", applied_factor);
-    ar.io("coupling.far_field_moving", far_moving);
     ar.io("coupling.interface_force", last_force);
-    ar.io("coupling.residual", residual);
-    ar.io("coupling.residual_last", residual_growth.last);
-    ar.io("coupling.residual_growth_steps", residual_growth.streak);
-    ar.io("coupling.interface_displacement_reached", u_reached, u_reached.size());
     ar.io("coupling.install_rate", install_rate);
     ar.io("coupling.installing_grains", installing_grains);
+    scheme_->serialize(ar);
   }
 
   template <int dim>
   double CoupledModel<dim>::continuum_kinetic_energy() const
   {
-    return static_ ? 0.0 : fem_->kinetic_energy();
+    return scheme_->kinetic_energy();
   }
 
   template <int dim>
   double CoupledModel<dim>::interface_residual() const
   {
-    return residual;
+    return scheme_->residual();
   }
 
   template <int dim>
@@ -588,19 +426,7 @@ namespace demfem::coupling
   template <int dim>
   std::vector<Vec<dim>> CoupledModel<dim>::coupling_displacements() const
   {
-    std::vector<Vec<dim>> r(points.size());
-    if (static_)
-      {
-        for (std::size_t k = 0; k < r.size(); ++k)
-          for (int c = 0; c < dim; ++c)
-            r[k][c] = u_reached[dim * k + c];
-        return r;
-      }
-    const auto u = fem_->interface_displacements();
-    for (std::size_t k = 0; k < u.size(); ++k)
-      for (int c = 0; c < dim; ++c)
-        r[k][c] = u[k][c];
-    return r;
+    return scheme_->coupling_displacements();
   }
 
   template <int dim>
@@ -658,19 +484,13 @@ namespace demfem::coupling
   template <int dim>
   dealii::Vector<double> CoupledModel<dim>::displacement_field() const
   {
-    if (!static_)
-      return dealii::Vector<double>(fem_->displacement());
-    // Quasi-static: the static field under the current load factor and the
-    // latest window's mean nodal forces (held in the explicit continuum's
-    // force vector); it equals the relaxed interface motion at convergence.
-    static_->solve(load_factor, insitu_strain(), fem_->interface_forces());
-    return dealii::Vector<double>(static_->displacement());
+    return scheme_->displacement_field(load_factor);
   }
 
   template <int dim>
   const dealii::DoFHandler<dim> &CoupledModel<dim>::dof_handler() const
   {
-    return static_ ? static_->get_dof_handler() : fem_->get_dof_handler();
+    return scheme_->dof_handler();
   }
 
   template <int dim>

@@ -68,6 +68,7 @@
 #include <deal.II/distributed/tria.h>
 
 #include "common/growth_monitor.h"
+#include "coupling/coupling_scheme.h"
 #include "coupling/dem_region.h"
 #include "dem/io/state_archive.h"
 #include "fem/explicit_dynamics.h"
@@ -296,15 +297,12 @@ namespace demfem::coupling
     double                     load_factor = 0, dt_ = 0, dem_crit = 0, fem_crit = 0;
     double                     release = 1; // section: tunnel-wall traction left
     double                     imb_max = 0, imb_last = 0;
-    /// Divergence of the continuum (common/growth_monitor.h).
-    instability::GrowthMonitor continuum_growth{instability::continuum_kinetic_energy};
     std::int64_t               n_steps = 0;
     /// In-situ stress (in plane) and the continuum's far-field strain (3D:
     /// plane strain, e_zz = e_xz = e_yz = 0).
     Eigen::Matrix2d                 sigma0 = Eigen::Matrix2d::Zero();
     Eigen::Matrix<double, dim, dim> eps0   = Eigen::Matrix<double, dim, dim>::Zero();
     double                          applied_factor = 0;
-    bool                            far_moving     = false;
     /// Kinematic in-situ installation: the affine strain rate of the
     /// current continuum window and the grains held on the affine path
     /// (free grains when it began; their translation fixity is restored
@@ -315,18 +313,10 @@ namespace demfem::coupling
     void                   hold_grains_on_affine_path(double dl);
     dealii::Tensor<2, dim> insitu_strain() const;
     void                   continuum_step();
-    void                   explicit_step();
-    void quasi_static_step(const std::vector<dealii::Tensor<1, dim>> &f);
-    // Quasi-static scheme: static response, flexibility (dim n x dim n),
-    // far-field response and the coupling displacement reached at the
-    // window's end.
-    mutable std::unique_ptr<fem::StaticInterfaceResponse<dim>> static_;
-    dealii::FullMatrix<double>                                 flex;
-    std::vector<double>                                        u_far, u_reached;
-    double                                                     residual = 0;
-    StepTimes                                                  times;
-    /// Divergence of the quasi-static relaxation (common/growth_monitor.h).
-    instability::GrowthMonitor residual_growth{instability::interface_residual};
+    /// How the continuum answers over a window (coupling_scheme.h), chosen
+    /// once in build().
+    std::unique_ptr<CouplingScheme<dim>> scheme_;
+    StepTimes                            times;
   };
 
   /// The model of CouplingParams::variant ("slaved-layer" or "wall-facets").

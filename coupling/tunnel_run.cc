@@ -1,7 +1,9 @@
 #include "coupling/tunnel_run.h"
 
-#include "coupling/excavation_measures.h"
 #include "coupling/tunnel_frames.h"
+#include "coupling/tunnel_history.h"
+#include "coupling/tunnel_measures.h"
+#include "coupling/tunnel_phase.h"
 #include "dem/io/checkpoint.h"
 #include "dem/io/vtk_output.h"
 
@@ -65,15 +67,6 @@ namespace demfem::coupling
 
   namespace
   {
-    std::string num(double x)
-    {
-      if (!std::isfinite(x))
-        return "null";
-      std::ostringstream s;
-      s << std::setprecision(10) << x;
-      return s.str();
-    }
-
     /// Thrown at a step boundary after the stop checkpoint was written.
     struct Interrupted
     {
@@ -110,120 +103,85 @@ namespace demfem::coupling
       return c;
     }
 
+    /// The tunnel workflow (docs/tunnel.md): set up, install the in-situ
+    /// stress, excavate stage by stage, equilibrate, report. Each phase is
+    /// run_phase (tunnel_phase.h); this class is its hooks: history rows and
+    /// VTK frames, progress, checkpoints and interruption at step boundaries.
     template <int dim>
-    struct Runner
+    class TunnelWorkflow
     {
-      const TunnelParams                &p;
-      std::ostream                      &out;
-      std::unique_ptr<CoupledModel<dim>> model;
-      CoupledModel<dim>                 &m;
-      std::string                        dir;
-      // history.csv is kept here and written whole (temporary file + rename)
-      // at every frame, checkpoint and at the end: a kill leaves the last
-      // complete file, never a torn row.
-      std::ostringstream history;
-      TunnelFrames<dim>  frames{dir}; // after dir: initialized from it
-      // Positions and removed grains' forces by id at the excavation, and the
-      // cracks before it (coupling/excavation_measures.h).
-      excavation::Record<dim>               exc;
-      bool                                  excavated = false;
-      std::string                           phase     = "build";
-      std::chrono::steady_clock::time_point t0        = std::chrono::steady_clock::now();
-      std::int64_t budget = 0; // expected coupled steps for the ETA (upper bound)
-      std::int64_t step0  = 0; // steps of the packing
-      // Checkpoint / restart state (docs/architecture.md, "Checkpoints and restart"):
-      // the workflow position is the phase index (0 in-situ, 1..stages excavation
-      // stage, stages+1 equilibrium, stages+2 done) and the iteration n of its cycle
-      // loop.
-      int                             phase_index = 0;
-      bool                            resuming    = false;
-      std::int64_t                    resume_n    = 1;
-      double                          resume_peak = 0;
-      double                          phase_t0    = 0; // model time at the phase start
-      std::vector<PhaseRecord>        phases;          // the phases ended so far
-      Eigen::Matrix<double, dim, dim> stress_before =
-          Eigen::Matrix<double, dim, dim>::Zero();
-      std::string last_checkpoint;
-
-      Runner(const TunnelParams &pp, std::ostream &o)
+    public:
+      TunnelWorkflow(const TunnelParams &pp, std::ostream &o)
           : p(pp)
           , out(o)
           , model(make_coupled_model<dim>(pp.region, with_tunnel(pp), pp.coupling,
                                           MPI_COMM_WORLD))
           , m(*model)
           , dir(pp.output_directory)
+          , measures(m, pp.tunnel_radius)
+          , history(dir + "/history.csv")
+          , frames(dir)
       {
       }
 
-      static std::string history_header()
+      TunnelResult run()
       {
-        return std::string(
-                   "step,time,phase,load_factor,unbalanced_ratio,dem_kinetic_energy,"
-                   "dem_strain_energy,continuum_kinetic_energy,cracks,cracks_tensile,"
-                   "cracks_shear,interface_force_imbalance,wall_convergence_mean,"
-                   "ring_force_x,ring_force_y,interface_residual") +
-               (dim == 3 ? ",ring_force_z" : "") + ",damage_zone_depth\n";
+        TunnelResult r;
+        set_up(r);
+        const int start = phase_index; // 0 for a fresh run, else the checkpoint's
+        try
+          {
+            if (start == 0)
+              install_in_situ();
+            if (start == 0)
+              measures.excavate(m);
+            for (int s = std::max(1, start); s <= p.stages; ++s)
+              excavation_stage(s);
+            if (start <= p.stages + 1)
+              equilibrate();
+            phase_index = p.stages + 2;
+          }
+        catch (const Interrupted &)
+          {
+            history.save();
+            r.interrupted = true;
+            r.checkpoint  = last_checkpoint;
+            r.steps       = m.dem.step_count();
+            return r;
+          }
+        catch (const dem::InstabilityError &e)
+          {
+            r.diverged  = true;
+            r.diagnosis = e.what();
+            out << "demfem tunnel: DIVERGED in phase '" << phase << "': " << e.what()
+                << std::endl;
+          }
+        report(r);
+        return r;
       }
 
-      void save_history()
+      // ---- the hooks of run_phase (tunnel_phase.h) ------------------------
+      void at_boundary(const PhaseProgress &at)
       {
-        dem::vtkout::write_text_atomically(dir + "/history.csv", history.str());
+        const auto s0   = m.dem.step_count();
+        const bool stop = tunnel_stop_requested != 0 || s0 - step0 == p.stop_at_step;
+        if (stop || (p.checkpoint_interval > 0 && at.iteration > 1 &&
+                     s0 % p.checkpoint_interval == 0))
+          checkpoint(at);
+        if (stop)
+          {
+            out << "demfem tunnel: interrupted at step " << s0
+                << "; checkpoint written to " << last_checkpoint << std::endl;
+            throw Interrupted{};
+          }
       }
 
-      std::size_t cracks(int mode) const { return excavation::count_cracks(m.dem, mode); }
-
-      // Mean inward radial displacement of the grains within one mean
-      // diameter of the wall since excavation started (excavation_measures.h).
-      double convergence(std::size_t                        *n    = nullptr,
-                         std::vector<std::array<double, 6>> *rows = nullptr) const
+      void output(std::int64_t step)
       {
-        return excavated ? excavation::wall_convergence(m.dem, exc.ref, p.tunnel_radius,
-                                                        p.region.mean_diameter(), n, rows)
-                         : 0.0;
-      }
-
-      // Excavation cracks within two mean grain diameters of the coupling
-      // ring: the excavation's damage reached the boundary, where the
-      // continuum cannot crack (status region_too_small). Cracks of the
-      // in-situ phase are not the excavation's and are counted apart.
-      std::size_t near_interface() const
-      {
-        if (!excavated)
-          return 0;
-        std::size_t  n  = 0;
-        const double r0 = m.continuum_inner_radius() - 2 * p.region.mean_diameter();
-        for (std::size_t k = exc.cracks_before; k < m.dem.cracks.size(); ++k)
-          n += m.dem.cracks[k].position.template head<2>().norm() > r0;
-        return n;
-      }
-
-      void write_frame()
-      {
-        save_history();
-        if (p.write_vtk)
-          frames.write(m);
-      }
-
-      void record()
-      {
-        const auto  &D   = m.dem;
-        const double ur  = D.unbalanced_ratio();
-        const double kef = m.continuum_kinetic_energy();
-        const auto   F   = m.interface_force();
-        history << D.step_count() << "," << num(D.time()) << "," << phase << ","
-                << num(m.get_load_factor()) << "," << num(ur) << ","
-                << num(D.kinetic_energy()) << "," << num(D.strain_energy()) << ","
-                << num(kef) << "," << cracks(-1) << "," << cracks(0) << "," << cracks(1)
-                << "," << num(m.imbalance_last()) << "," << num(convergence()) << ","
-                << num(F[0]) << "," << num(F[1]) << "," << num(m.interface_residual());
-        if constexpr (dim == 3)
-          history << "," << num(F[dim - 1]);
-        // The damage zone as it grows, stage by stage (excavation cracks).
-        history << ","
-                << num(excavated ? excavation::damage_zone_depth(m.dem, exc.cracks_before,
-                                                                 p.tunnel_radius)
-                                 : 0.0)
-                << "\n";
+        if (step % p.history_interval == 0)
+          history.record(m, phase, measures);
+        if (p.vtk_interval > 0 && step % p.vtk_interval == 0)
+          write_frame();
       }
 
       void progress_line(double ur)
@@ -233,170 +191,169 @@ namespace demfem::coupling
         const auto   n   = m.dem.step_count() - step0;
         const double eta = n > 0 ? el / n * std::max<std::int64_t>(0, budget - n) : 0;
         out << "[" << phase << "] step " << n << "  t = " << std::setprecision(4)
-            << m.dem.time() << " s  ratio = " << ur << "  cracks = " << cracks(-1)
-            << "  ETA <= " << std::setprecision(3) << eta << " s" << std::endl;
+            << m.dem.time() << " s  ratio = " << ur
+            << "  cracks = " << measures.cracks(-1) << "  ETA <= " << std::setprecision(3)
+            << eta << " s" << std::endl;
         // Damage reaching the coupling boundary means the region is too small
         // for the scene: the continuum cannot crack (docs/architecture.md,
         // "Speed-versus-accuracy study").
-        if (!warned_region_too_small && near_interface() > 0)
+        if (!warned_region_too_small && measures.cracks_near_interface() > 0)
           {
             warned_region_too_small = true;
             out << "warning: excavation cracks within two grain diameters of the "
-                   "coupling "
-                   "boundary "
-                   "(r > "
-                << m.continuum_inner_radius() - 2 * p.region.mean_diameter()
+                   "coupling boundary (r > "
+                << measures.interface_band_radius()
                 << " m): the DEM region is too small for this damage; enlarge DEM "
                    "region/radius or use 'auto'"
                 << std::endl;
           }
       }
-      bool warned_region_too_small = false;
 
-      // Cycles until equilibrium (DEM ratio below tolerance and the
-      // continuum's kinetic energy down to kinetic_energy_target of its peak)
-      // or `limit` steps; `load` sets the load factor per step.
-      template <class Load>
-      void cycle(std::int64_t min_steps, std::int64_t limit, Load load)
+    private:
+      const TunnelParams                &p;
+      std::ostream                      &out;
+      std::unique_ptr<CoupledModel<dim>> model;
+      CoupledModel<dim>                 &m;
+      std::string                        dir;
+      TunnelMeasures<dim>                measures;
+      TunnelHistory<dim>                 history;
+      TunnelFrames<dim>                  frames;
+      // The workflow's position (docs/architecture.md, "Checkpoints and
+      // restart"): the phase index (0 in-situ, 1..stages excavation stage,
+      // stages+1 equilibrium, stages+2 done), the phase's name and progress,
+      // whether it resumes from a checkpoint, the phases ended so far.
+      int                                   phase_index = 0;
+      std::string                           phase       = "build";
+      PhaseProgress                         at;
+      bool                                  resuming = false;
+      std::vector<PhaseRecord>              phases;
+      std::string                           last_checkpoint;
+      bool                                  warned_region_too_small = false;
+      std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+      std::int64_t budget = 0; // expected coupled steps for the ETA (upper bound)
+      std::int64_t step0  = 0; // steps of the packing
+
+      // ---- the algorithm --------------------------------------------------
+      void set_up(TunnelResult &r)
       {
-        double       ke_peak = 0;
-        std::int64_t n0      = 1;
-        const bool   resumed = resuming;
-        if (resuming)
-          {
-            n0       = resume_n;
-            ke_peak  = resume_peak;
-            resuming = false;
-          }
+        check_restart(p); // a foreign checkpoint: refused before anything is written
+        std::filesystem::create_directories(dir);
+        out << "demfem tunnel: building the DEM region and the continuum" << std::endl;
+        m.build(&out);
+        m.set_insitu(p.sigma0);
+        r.n_fem_dofs = m.n_fem_dofs();
+        budget       = p.ramp_steps + p.phase_step_limit * (2 + p.stages);
+        step0        = m.dem.step_count();
+        if (!p.restart_file.empty())
+          restore(p.restart_file);
         else
-          phase_t0 = m.dem.time();
-        bool         equilibrated = false;
-        std::int64_t n_end        = n0 - 1;
-        // Where the wall time goes (PhaseRecord costs; docs/study.md).
-        using clock            = std::chrono::steady_clock;
-        const auto wall0       = clock::now();
-        const auto times0      = m.step_times();
-        double     criterion_s = 0, output_s = 0;
-        const auto since = [](clock::time_point t) {
-          return std::chrono::duration<double>(clock::now() - t).count();
-        };
-        for (std::int64_t n = n0; n <= limit; ++n)
           {
-            // Step boundary: the state is "about to run iteration n".
-            if (!(resumed && n == n0)) // the checkpoint we resumed from
-              {
-                const auto s0 = m.dem.step_count();
-                const bool stop =
-                    tunnel_stop_requested != 0 || s0 - step0 == p.stop_at_step;
-                if (stop || (p.checkpoint_interval > 0 && n > 1 &&
-                             s0 % p.checkpoint_interval == 0))
-                  {
-                    const auto t = clock::now();
-                    checkpoint(n, ke_peak);
-                    output_s += since(t);
-                  }
-                if (stop)
-                  {
-                    out << "demfem tunnel: interrupted at step " << s0
-                        << "; checkpoint written to " << last_checkpoint << std::endl;
-                    throw Interrupted{};
-                  }
-              }
-            load(n);
-            m.step();
-            n_end = n;
-            if (p.phase_time_limit > 0 && m.dem.time() - phase_t0 >= p.phase_time_limit)
-              break; // the physical limit (equilibrated stays false)
-            const auto s = m.dem.step_count();
-            if (s % p.history_interval == 0 ||
-                (p.vtk_interval > 0 && s % p.vtk_interval == 0))
-              {
-                const auto t = clock::now();
-                if (s % p.history_interval == 0)
-                  record();
-                if (p.vtk_interval > 0 && s % p.vtk_interval == 0)
-                  write_frame();
-                output_s += since(t);
-              }
-            if (n % 100 == 0)
-              {
-                const auto   tc = clock::now();
-                const double ke = m.continuum_kinetic_energy();
-                ke_peak         = std::max(ke_peak, ke);
-                const double ur = m.dem.unbalanced_ratio();
-                if (!std::isfinite(ur) || !std::isfinite(ke))
-                  throw dem::InstabilityError(
-                      "non-finite unbalanced force or continuum energy at step " +
-                      std::to_string(s) + ": the run diverged (time step too large?)");
-                if (n % 2000 == 0)
-                  progress_line(ur);
-                // Quasi-static: no continuum inertia (ke = 0); the interface
-                // residual |u* - u| / |u*| must be down to the tolerance too,
-                // measured in this phase: two windows of `subcycles` steps at
-                // least (else the residual of the previous phase's last
-                // window ended excavation stages early: measured convergence
-                // 0.0037 m instead of 0.0086 m with subcycles = 800).
-                const std::int64_t windows = 2 * p.coupling.subcycles;
-                // While grains are held on the installation path, the
-                // unbalanced ratio and the (kinematic) continuum's kinetic
-                // energy are both zero: not an equilibrium.
-                equilibrated = !m.installing() && n >= std::max(min_steps, windows) &&
-                               ur < p.ratio_tolerance &&
-                               ke <= kinetic_energy_target * ke_peak &&
-                               m.interface_residual() < p.ratio_tolerance;
-                criterion_s += since(tc);
-                if (equilibrated)
-                  break;
-              }
+            history.start();
+            write_frame();
           }
-        progress_line(m.dem.unbalanced_ratio());
-        PhaseRecord ph;
-        ph.name                 = phase;
-        ph.steps                = n_end;
-        ph.time_start           = phase_t0;
-        ph.time_end             = m.dem.time();
-        ph.timestep             = m.dt();
-        ph.unbalanced_ratio     = m.dem.unbalanced_ratio();
-        const double ke         = m.continuum_kinetic_energy();
-        ph.kinetic_energy_ratio = ke_peak > 0 ? ke / ke_peak : 0.0;
-        ph.interface_residual   = m.interface_residual();
-        ph.equilibrated         = equilibrated;
-        const auto &times       = m.step_times();
-        ph.wall_time_s          = since(wall0);
-        ph.continuum_s          = times.continuum - times0.continuum;
-        ph.dem_s                = times.dem - times0.dem;
-        ph.interface_s          = times.interface - times0.interface;
-        ph.criterion_s          = criterion_s;
-        ph.output_s             = output_s;
+      }
+
+      /// The in-situ stress, installed over Tunnel/ramp steps
+      /// (coupled_model.h) and relaxed to equilibrium; the region's stress
+      /// is measured before excavation.
+      void install_in_situ()
+      {
+        phase = "in-situ";
+        run_and_record(PhaseLimits{p.ramp_steps, p.ramp_steps + p.phase_step_limit,
+                                   p.phase_time_limit, p.ratio_tolerance},
+                       [&](std::int64_t n) {
+                         m.set_load_factor(std::min(1.0, double(n) / p.ramp_steps));
+                       });
+        measures.measure_in_situ_stress();
+        write_frame();
+      }
+
+      /// Stage s of Tunnel/excavation stages: the removed core's support is
+      /// relaxed to 1 - s/stages of its value (a section's continuum tunnel
+      /// wall with it) and the model cycled to equilibrium.
+      void excavation_stage(int s)
+      {
+        phase_index = s;
+        phase       = "excavation " + std::to_string(s) + "/" + std::to_string(p.stages);
+        const double rem = 1.0 - double(s) / p.stages;
+        m.set_excavation_release(rem);
+        if (!resuming) // a resumed stage has its loads in the checkpoint
+          measures.relax_core_support(m, rem);
+        // 200 steps at least: a stage's load change takes a few wave
+        // transits of the region to act.
+        run_and_record(
+            PhaseLimits{200, p.phase_step_limit, p.phase_time_limit, p.ratio_tolerance},
+            [](std::int64_t) {});
+        write_frame();
+      }
+
+      void equilibrate()
+      {
+        phase_index = p.stages + 1;
+        phase       = "equilibrium";
+        run_and_record(
+            PhaseLimits{0, p.phase_step_limit, p.phase_time_limit, p.ratio_tolerance},
+            [](std::int64_t) {});
+      }
+
+      template <class Load>
+      void run_and_record(const PhaseLimits &limits, Load &&load)
+      {
+        const bool resumed   = resuming;
+        resuming             = false;
+        const PhaseRecord ph = run_phase(m, phase, limits, at, resumed, load, *this);
+        at.time_start        = ph.time_start;
         phases.push_back(ph);
-        if (!equilibrated)
+        if (!ph.equilibrated)
           out << "warning: phase '" << phase << "' ended at its "
               << (ended_at_time_limit(ph, p.phase_time_limit) ? "time limit ("
                                                               : "step limit (")
-              << n_end << " steps, " << ph.time_end - ph.time_start
+              << ph.steps << " steps, " << ph.time_end - ph.time_start
               << " s) before equilibrium: unbalanced ratio " << ph.unbalanced_ratio
               << " (target " << p.ratio_tolerance << ")" << std::endl;
       }
 
-      // The workflow's numbers in a checkpoint (dem/io/state_archive.h): one
-      // function for saving and loading. `step`: the DEM step of the
-      // checkpoint (history.csv is trimmed to it on restart).
-      void serialize(dem::StateArchive &ar, std::int64_t &n, double &ke_peak,
-                     std::int64_t &step)
+      /// Outputs, the final checkpoint, the result and its status.
+      void report(TunnelResult &r)
       {
-        ar.io("run.phase_index", phase_index);
-        ar.io("run.iteration", n);
-        ar.io("run.step", step);
-        ar.io("run.kinetic_energy_peak", ke_peak);
-        ar.io("run.phase_start_time", phase_t0);
-        ar.io("run.excavated", excavated);
-        ar.io("run.cracks_before_excavation", exc.cracks_before);
-        ar.io("run.positions_at_excavation", exc.ref);
-        ar.io("run.removed_grain_forces", exc.removed_forces);
-        ar.io("run.region_stress_before", stress_before);
+        if (!r.diverged)
+          {
+            write_frame();
+            if (p.checkpoint_interval > 0) // final state, e.g. to continue
+              checkpoint(PhaseProgress{0, 0.0, at.time_start});
+          }
+        history.save();
+        fill_result(r);
+        if (!r.diverged)
+          dem::vtkout::write_text_atomically(dir + "/wall_displacement.csv",
+                                             measures.wall_displacement_csv());
+        assess_outcome(r);
+        dem::vtkout::write_text_atomically(dir + "/summary.json",
+                                           summary_json(r).dump(2) + "\n");
       }
 
-      void checkpoint(std::int64_t n, double ke_peak)
+      void write_frame()
+      {
+        history.save();
+        if (p.write_vtk)
+          frames.write(m);
+      }
+
+      // ---- checkpoints (docs/architecture.md, "Checkpoints and restart") --
+      // The workflow's numbers (dem/io/state_archive.h): one function for
+      // saving and loading. `step`: the DEM step of the checkpoint
+      // (history.csv is trimmed to it on restart).
+      void serialize(dem::StateArchive &ar, PhaseProgress &progress, std::int64_t &step)
+      {
+        ar.io("run.phase_index", phase_index);
+        ar.io("run.iteration", progress.iteration);
+        ar.io("run.step", step);
+        ar.io("run.kinetic_energy_peak", progress.kinetic_energy_peak);
+        ar.io("run.phase_start_time", progress.time_start);
+        measures.serialize(ar);
+      }
+
+      void checkpoint(PhaseProgress progress)
       {
         // Text in the metadata, numbers as named datasets.
         std::map<std::string, std::string> md;
@@ -409,8 +366,8 @@ namespace demfem::coupling
         auto             ar   = dem::StateArchive::saving(state);
         std::int64_t     step = m.dem.step_count();
         m.serialize(ar);
-        serialize(ar, n, ke_peak, step);
-        save_history();
+        serialize(ar, progress, step);
+        history.save();
         last_checkpoint = dir + "/checkpoint.h5";
         dem::write_checkpoint(m.dem, last_checkpoint, md, state);
       }
@@ -427,7 +384,7 @@ namespace demfem::coupling
         auto         ar   = dem::StateArchive::loading(state, file);
         std::int64_t step = 0;
         m.serialize(ar);
-        serialize(ar, resume_n, resume_peak, step);
+        serialize(ar, at, step);
         phase = meta_get(md, "run.phase", file);
         try
           {
@@ -439,147 +396,10 @@ namespace demfem::coupling
           }
         frames.from_text(meta_get(md, "run.frames", file));
         resuming = true;
-        // history.csv: the rows up to the checkpoint's step, from this
-        // directory's file when it continues the run, else from the file next
-        // to the checkpoint (a restart into a new directory gets the whole
-        // history, header included).
-        std::filesystem::path source(dir + "/history.csv");
-        if (!std::filesystem::exists(source))
-          source = std::filesystem::absolute(file).parent_path() / "history.csv";
-        std::ifstream in(source);
-        std::string   l;
-        history.str("");
-        history << history_header();
-        for (bool first = true; std::getline(in, l); first = false)
-          {
-            if (first && l + "\n" == history_header())
-              continue;
-            const auto comma = l.find(',');
-            char      *end   = nullptr;
-            const auto row_step =
-                std::strtoll(l.c_str(), &end, 10); // our own rows: "step,..."
-            if (comma != std::string::npos && end == l.c_str() + comma &&
-                row_step <= step)
-              history << l << "\n";
-          }
-        save_history();
+        history.restore(std::filesystem::absolute(file).parent_path() / "history.csv",
+                        step);
         out << "demfem tunnel: restarted from " << file << " at step " << step << " ("
             << phase << ")" << std::endl;
-      }
-
-      void excavate(int start)
-      {
-        if (start == 0)
-          {
-            exc       = excavation::remove_tunnel_grains(m.dem, p.tunnel_radius);
-            excavated = true;
-          }
-        for (int s = std::max(1, start); s <= p.stages; ++s)
-          {
-            phase_index = s;
-            phase = "excavation " + std::to_string(s) + "/" + std::to_string(p.stages);
-            const double rem = 1.0 - double(s) / p.stages;
-            // A section's continuum tunnel wall is released with the grains.
-            m.set_excavation_release(rem);
-            if (!resuming) // a resumed stage has its loads in the checkpoint
-              {
-                excavation::apply_removed_forces(m.dem, exc, rem);
-                m.dem.reset_energy_baseline();
-              }
-            cycle(200, p.phase_step_limit, [](std::int64_t) {});
-            write_frame();
-          }
-      }
-
-      TunnelResult run()
-      {
-        TunnelResult r;
-        check_restart(p); // a foreign checkpoint: refused before anything is written
-        std::filesystem::create_directories(dir);
-        out << "demfem tunnel: building the DEM region and the continuum" << std::endl;
-        m.build(&out);
-        m.set_insitu(p.sigma0);
-        r.n_fem_dofs = m.n_fem_dofs();
-        budget       = p.ramp_steps + p.phase_step_limit * (2 + p.stages);
-        step0        = m.dem.step_count();
-        if (!p.restart_file.empty())
-          restore(p.restart_file);
-        else
-          {
-            history << history_header();
-            write_frame();
-          }
-        const int start = phase_index;
-        try
-          {
-            if (start == 0)
-              {
-                phase = "in-situ";
-                cycle(p.ramp_steps, p.ramp_steps + p.phase_step_limit,
-                      [&](std::int64_t n) {
-                        m.set_load_factor(std::min(1.0, double(n) / p.ramp_steps));
-                      });
-                if constexpr (dim == 2)
-                  stress_before =
-                      region_stress(m.dem, Vec<2>::Zero(), 0.5 * p.region.radius);
-                else if (m.section()) // the free core between the end layers
-                  stress_before = region_stress(
-                      m.dem, Vec<3>::Zero(), 0.5 * p.region.radius, m.end_overlap(),
-                      p.region.slab_thickness - m.end_overlap());
-                else
-                  stress_before =
-                      region_stress(m.dem, Vec<3>::Zero(), 0.5 * p.region.radius,
-                                    p.region.slab_thickness);
-                write_frame();
-              }
-            if (start <= p.stages)
-              excavate(start);
-            if (start <= p.stages + 1)
-              {
-                phase_index = p.stages + 1;
-                phase       = "equilibrium";
-                cycle(0, p.phase_step_limit, [](std::int64_t) {});
-              }
-            phase_index = p.stages + 2;
-          }
-        catch (const Interrupted &)
-          {
-            save_history();
-            r.interrupted = true;
-            r.checkpoint  = last_checkpoint;
-            r.steps       = m.dem.step_count();
-            return r;
-          }
-        catch (const dem::InstabilityError &e)
-          {
-            r.diverged  = true;
-            r.diagnosis = e.what();
-            out << "demfem tunnel: DIVERGED in phase '" << phase << "': " << e.what()
-                << std::endl;
-          }
-        if (!r.diverged)
-          {
-            write_frame();
-            if (p.checkpoint_interval > 0) // final state, e.g. to continue
-              checkpoint(0, 0);
-          }
-        save_history();
-        fill_result(r);
-        if (!r.diverged)
-          {
-            std::vector<std::array<double, 6>> rows;
-            convergence(nullptr, &rows);
-            std::ostringstream w;
-            w << "x,y,z,ux,uy,uz\n" << std::setprecision(12);
-            for (const auto &q : rows)
-              w << q[0] << "," << q[1] << "," << q[2] << "," << q[3] << "," << q[4] << ","
-                << q[5] << "\n";
-            dem::vtkout::write_text_atomically(dir + "/wall_displacement.csv", w.str());
-          }
-        assess_outcome(r);
-        dem::vtkout::write_text_atomically(dir + "/summary.json",
-                                           summary_json(r).dump(2) + "\n");
-        return r;
       }
 
       // Everything the summary, the study and the outcome checks need.
@@ -594,38 +414,26 @@ namespace demfem::coupling
             r.slab_thickness  = p.region.slab_thickness;
             r.axial_extension = p.continuum.axial_extension;
           }
-        r.sigma0                  = p.sigma0;
-        r.region_stress_before    = stress_before.template topLeftCorner<2, 2>();
-        r.region_stress_before_zz = dim == 3 ? stress_before(dim - 1, dim - 1) : 0.0;
-        r.in_situ_tolerance       = p.in_situ_tolerance;
-        r.phase_time_limit        = p.phase_time_limit;
-        r.ratio_tolerance         = p.ratio_tolerance;
-        r.phases                  = phases;
-        r.checkpoint              = last_checkpoint;
+        r.sigma0            = p.sigma0;
+        r.in_situ_tolerance = p.in_situ_tolerance;
+        r.phase_time_limit  = p.phase_time_limit;
+        r.ratio_tolerance   = p.ratio_tolerance;
+        r.phases            = phases;
+        r.checkpoint        = last_checkpoint;
         if constexpr (dim == 2)
           r.positions = m.dem.particles.x;
         else
           r.positions_3d = m.dem.particles.x;
-        r.n_particles              = m.dem.particles.size();
-        r.n_contacts               = m.dem.n_contacts();
-        r.steps                    = m.dem.step_count();
-        r.packing_steps            = step0;
-        r.timestep                 = m.dt();
-        r.critical_timestep        = m.dem.critical_timestep();
-        r.cracks_total             = cracks(-1);
-        r.cracks_tensile           = cracks(0);
-        r.cracks_shear             = cracks(1);
-        r.cracks_by_type           = excavation::cracks_by_type(m.dem);
-        r.cracks_before_excavation = exc.cracks_before;
-        r.cracks_near_interface    = near_interface();
-        r.region_too_small         = r.cracks_near_interface > 0;
-        r.dem_region_radius        = p.region.radius;
-        r.mean_grain_diameter      = p.region.mean_diameter();
-        r.damage = excavation::damage_zone(m.dem, exc.cracks_before, p.tunnel_radius);
-        r.damage_zone_depth             = r.damage.depth;
-        r.damage_zone_depth_max         = r.damage.depth_max;
+        r.n_particles                   = m.dem.particles.size();
+        r.n_contacts                    = m.dem.n_contacts();
+        r.steps                         = m.dem.step_count();
+        r.packing_steps                 = step0;
+        r.timestep                      = m.dt();
+        r.critical_timestep             = m.dem.critical_timestep();
+        r.dem_region_radius             = p.region.radius;
+        r.mean_grain_diameter           = p.region.mean_diameter();
         r.interface_force_imbalance_max = m.imbalance_max();
-        r.wall_convergence_mean         = convergence(&r.n_wall_particles);
+        measures.fill(r);
         r.wall_time_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       }
@@ -661,10 +469,10 @@ namespace demfem::coupling
     p.validate("tunnel parameters");
     if (p.dimension == 3)
       {
-        Runner<3> runner(p, progress);
-        return runner.run();
+        TunnelWorkflow<3> workflow(p, progress);
+        return workflow.run();
       }
-    Runner<2> runner(p, progress);
-    return runner.run();
+    TunnelWorkflow<2> workflow(p, progress);
+    return workflow.run();
   }
 } // namespace demfem::coupling

@@ -1,0 +1,329 @@
+#include "coupling/coupling_scheme.h"
+
+#include "coupling/coupled_model.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace demfem::coupling
+{
+  using dem::Vec;
+
+  namespace
+  {
+    /// Explicit-explicit staggering (coupled_model.h): the continuum steps
+    /// by the window k dt under the window's mean coupling forces; the
+    /// interface then moves with the new nodal velocities over the next
+    /// window, which interpolates the nodal motion u_n -> u_{n+k} linearly.
+    template <int dim>
+    class ExplicitScheme : public CouplingScheme<dim>
+    {
+    public:
+      using Window = typename CouplingScheme<dim>::Window;
+
+      ExplicitScheme(const CouplingParams &kp, fem::ExplicitDynamics<dim> &fem,
+                     double continuum_critical, bool affine_installation)
+          : kp(kp)
+          , fem(fem)
+          , critical(continuum_critical)
+          , affine(affine_installation)
+      {
+      }
+
+      std::string name() const override { return "explicit"; }
+
+      double dem_step_limit(double window_fraction) const override
+      {
+        return window_fraction * critical / kp.subcycles;
+      }
+
+      void set_insitu_strain(const dealii::Tensor<2, dim> &e) override { eps0 = e; }
+
+      bool follows_affine_path() const override { return affine; }
+
+      void advance(const Window &w, std::vector<Vec<dim>> &u,
+                   std::vector<Vec<dim>> &v) override
+      {
+        // In-situ installation u = lambda eps0 x: the load-factor increment
+        // is applied over this continuum step.
+        const double dl = w.load_increment;
+        if (dl != 0 || far_moving)
+          {
+            // The whole continuum follows the homogeneous in-situ strain
+            // (affine velocity on every node, the far field included; the
+            // dynamic part stays the response to the grains): a far-field
+            // displacement alone would reach the region only after a wave
+            // crossed R and load it dynamically (measured with a far-field
+            // ramp of 2000 steps: 12 cracks at safety 0.8, 328 at 0.4; a 3D
+            // section's end layers pushed outwards first, 950 tensile
+            // cracks).
+            const dealii::Tensor<2, dim> L = (dl / w.length) * eps0;
+            if (affine)
+              fem.set_affine_velocity(L);
+            else // the far field alone (wall_facet_model.h)
+              fem.set_fixed_velocity([L](const dealii::Point<dim> &x) { return L * x; });
+            far_moving = dl != 0;
+          }
+        fem.set_boundary_load_factor(w.load_factor * w.release);
+        // While installing, the continuum follows the affine path exactly
+        // (no dynamic part): with its own dynamics the interface lagged the
+        // grains held on the path, and sub-cycled windows (k = 2, 4) cracked
+        // the region next to the slaved layer during the ramp (167 and 77
+        // cracks, measured).
+        fem.set_kinematic(affine && dl != 0);
+        fem.step(w.length);
+
+        // Divergence of the continuum: non-finite or exponentially growing
+        // kinetic energy (same criterion as the DEM engine).
+        const double ke = fem.kinetic_energy();
+        if (growth.update(ke)) // common/growth_monitor.h
+          {
+            std::ostringstream msg;
+            msg << "the continuum diverged at step " << w.step << " (kinetic energy "
+                << ke << " J, growing for " << growth.streak << " steps): continuum step "
+                << w.length << " s vs its critical step " << critical
+                << " s; likely cause: Coupling/timestep safety (" << kp.safety
+                << ") or Coupling/subcycles too large, or a stiffness contrast between "
+                   "the grains and the continuum";
+            throw dem::InstabilityError(msg.str());
+          }
+        u              = coupling_displacements();
+        const auto vel = fem.interface_velocities();
+        v.resize(vel.size());
+        for (std::size_t k = 0; k < vel.size(); ++k)
+          for (int c = 0; c < dim; ++c)
+            v[k][c] = vel[k][c];
+      }
+
+      double      kinetic_energy() const override { return fem.kinetic_energy(); }
+      double      residual() const override { return 0; }
+      std::string instability_hint() const override { return ""; }
+
+      std::vector<Vec<dim>> coupling_displacements() const override
+      {
+        const auto            d = fem.interface_displacements();
+        std::vector<Vec<dim>> r(d.size());
+        for (std::size_t k = 0; k < d.size(); ++k)
+          for (int c = 0; c < dim; ++c)
+            r[k][c] = d[k][c];
+        return r;
+      }
+
+      dealii::Vector<double> displacement_field(double) const override
+      {
+        return dealii::Vector<double>(fem.displacement());
+      }
+
+      const dealii::DoFHandler<dim> &dof_handler() const override
+      {
+        return fem.get_dof_handler();
+      }
+
+      void serialize(dem::StateArchive &ar) override
+      {
+        ar.io("coupling.continuum_kinetic_energy_last", growth.last);
+        ar.io("coupling.continuum_growth_steps", growth.streak);
+        ar.io("coupling.far_field_moving", far_moving);
+      }
+
+    private:
+      const CouplingParams       &kp;
+      fem::ExplicitDynamics<dim> &fem;
+      double                      critical;
+      bool                        affine;
+      dealii::Tensor<2, dim>      eps0;
+      bool                        far_moving = false;
+      /// Divergence of the continuum (common/growth_monitor.h).
+      instability::GrowthMonitor growth{instability::continuum_kinetic_energy};
+    };
+
+    /// Quasi-static scheme (coupled_model.h): target u* = lambda u_far + F f,
+    /// relaxed, u_new = u + omega (u* - u), a Dirichlet-Neumann iteration;
+    /// the coupling nodes move linearly to u_new over the next window.
+    template <int dim>
+    class QuasiStaticScheme : public CouplingScheme<dim>
+    {
+    public:
+      using Window = typename CouplingScheme<dim>::Window;
+
+      QuasiStaticScheme(const CouplingParams &kp, const fem::ExplicitDynamics<dim> &fem,
+                        const dealii::parallel::distributed::Triangulation<dim> &tria,
+                        const fem::ExplicitSettings                             &es,
+                        const std::vector<dealii::Point<dim>>                   &points,
+                        std::ostream                                            *progress)
+          : kp(kp)
+          , fem(fem)
+          , n(points.size())
+      {
+        // Static response on the same mesh, far field and coupling nodes;
+        // the flexibility is computed once (dim n solves of the factorized
+        // K).
+        static_ = std::make_unique<fem::StaticInterfaceResponse<dim>>(
+            tria, fem::StaticSettings::from(es), points);
+        static_->setup();
+        flex = static_->flexibility();
+        u_far.assign(dim * n, 0.0);
+        u_reached.assign(dim * n, 0.0);
+        if (progress)
+          *progress << "quasi-static continuum: interface flexibility " << flex.m()
+                    << " x " << flex.n() << " in "
+                    << static_->cost().setup_seconds() +
+                           static_->cost().flexibility_seconds
+                    << " s, relaxation " << kp.relaxation << "\n";
+      }
+
+      std::string name() const override { return "quasi-static"; }
+
+      // No inertia: only the DEM limits dt.
+      double dem_step_limit(double) const override { return HUGE_VAL; }
+
+      void set_insitu_strain(const dealii::Tensor<2, dim> &e) override
+      {
+        eps0         = e;
+        const auto r = static_->far_field_response(e);
+        for (std::size_t k = 0; k < r.size(); ++k)
+          for (int c = 0; c < dim; ++c)
+            u_far[dim * k + c] = r[k][c];
+      }
+
+      // The relaxed interface lags the grains: holding them on the affine
+      // path made the slaved layer unstable (measured); they stay free.
+      bool follows_affine_path() const override { return false; }
+
+      void advance(const Window &w, std::vector<Vec<dim>> &u,
+                   std::vector<Vec<dim>> &v) override
+      {
+        // Target u* = lambda u_far + F f, relaxed from the displacement the
+        // coupling nodes reached (the previous window's u_new).
+        std::vector<double> fv(dim * n), target(dim * n);
+        for (std::size_t k = 0; k < n; ++k)
+          for (int c = 0; c < dim; ++c)
+            fv[dim * k + c] = w.forces[k][c];
+        double dnorm = 0, tnorm = 0;
+        for (std::size_t i = 0; i < dim * n; ++i)
+          {
+            double t = w.load_factor * u_far[i];
+            for (std::size_t j = 0; j < dim * n; ++j)
+              t += flex(i, j) * fv[j];
+            target[i] = t;
+            dnorm += (t - u_reached[i]) * (t - u_reached[i]);
+            tnorm += t * t;
+          }
+        res = tnorm > 0 ? std::sqrt(dnorm / tnorm) : 0.0;
+        if (growth.update(res)) // common/growth_monitor.h
+          {
+            std::ostringstream msg;
+            msg << "the quasi-static coupling diverged at step " << w.step
+                << ": the interface residual |u* - u| / |u*| = " << res
+                << " grew by more than "
+                << 100 * (instability::interface_residual.factor - 1)
+                << " % per window for " << growth.streak
+                << " windows; likely cause: Coupling/relaxation (" << kp.relaxation
+                << ") too large for the stiffness contrast between the grains and the "
+                   "continuum (try 0.3), or Coupling/subcycles ("
+                << kp.subcycles << ") too small for the DEM to respond within a window";
+            throw dem::InstabilityError(msg.str());
+          }
+        u.resize(n);
+        v.resize(n);
+        for (std::size_t k = 0; k < n; ++k)
+          {
+            Vec<dim> du;
+            for (int c = 0; c < dim; ++c)
+              {
+                const std::size_t i = dim * k + c;
+                u[k][c]             = u_reached[i];
+                du[c]               = kp.relaxation * (target[i] - u_reached[i]);
+                u_reached[i] += du[c];
+              }
+            v[k] = du / w.length;
+          }
+      }
+
+      double kinetic_energy() const override { return 0; }
+      double residual() const override { return res; }
+
+      std::string instability_hint() const override
+      {
+        // The relaxed static interface drives the grains: a diverging
+        // iteration shows first as a DEM instability (overlaps growing, the
+        // critical step falling below dt).
+        std::ostringstream msg;
+        msg << " With the quasi-static coupling (interface residual " << res
+            << ") the likely cause is Coupling/relaxation (" << kp.relaxation
+            << ") too large for the stiffness contrast between the grains and the "
+               "continuum (try 0.3) or Coupling/subcycles ("
+            << kp.subcycles
+            << ") too small for the DEM to respond within a window (try 200).";
+        return msg.str();
+      }
+
+      std::vector<Vec<dim>> coupling_displacements() const override
+      {
+        std::vector<Vec<dim>> r(n);
+        for (std::size_t k = 0; k < n; ++k)
+          for (int c = 0; c < dim; ++c)
+            r[k][c] = u_reached[dim * k + c];
+        return r;
+      }
+
+      dealii::Vector<double> displacement_field(double load_factor) const override
+      {
+        // The static field under the current load factor and the latest
+        // window's mean nodal forces (held in the explicit continuum's force
+        // vector); it equals the relaxed interface motion at convergence.
+        static_->solve(load_factor, eps0, fem.interface_forces());
+        return dealii::Vector<double>(static_->displacement());
+      }
+
+      const dealii::DoFHandler<dim> &dof_handler() const override
+      {
+        return static_->get_dof_handler();
+      }
+
+      void serialize(dem::StateArchive &ar) override
+      {
+        ar.io("coupling.residual", res);
+        ar.io("coupling.residual_last", growth.last);
+        ar.io("coupling.residual_growth_steps", growth.streak);
+        ar.io("coupling.interface_displacement_reached", u_reached, u_reached.size());
+      }
+
+    private:
+      const CouplingParams                                      &kp;
+      const fem::ExplicitDynamics<dim>                          &fem;
+      std::size_t                                                n;
+      mutable std::unique_ptr<fem::StaticInterfaceResponse<dim>> static_;
+      dealii::FullMatrix<double>                                 flex;
+      dealii::Tensor<2, dim>                                     eps0;
+      std::vector<double>                                        u_far, u_reached;
+      double                                                     res = 0;
+      /// Divergence of the relaxation (common/growth_monitor.h).
+      instability::GrowthMonitor growth{instability::interface_residual};
+    };
+  } // namespace
+
+  template <int dim>
+  std::unique_ptr<CouplingScheme<dim>> make_coupling_scheme(
+      const CouplingParams &kp, fem::ExplicitDynamics<dim> &fem,
+      const dealii::parallel::distributed::Triangulation<dim> &tria,
+      const fem::ExplicitSettings &es, const std::vector<dealii::Point<dim>> &points,
+      double continuum_critical, bool affine_installation, std::ostream *progress)
+  {
+    if (kp.scheme == "quasi-static")
+      return std::make_unique<QuasiStaticScheme<dim>>(kp, fem, tria, es, points,
+                                                      progress);
+    return std::make_unique<ExplicitScheme<dim>>(kp, fem, continuum_critical,
+                                                 affine_installation);
+  }
+
+#define DEMFEM_INSTANTIATE(D)                                                            \
+  template std::unique_ptr<CouplingScheme<D>> make_coupling_scheme<D>(                   \
+      const CouplingParams &, fem::ExplicitDynamics<D> &,                                \
+      const dealii::parallel::distributed::Triangulation<D> &,                           \
+      const fem::ExplicitSettings &, const std::vector<dealii::Point<D>> &, double,      \
+      bool, std::ostream *);
+  DEMFEM_INSTANTIATE(2)
+  DEMFEM_INSTANTIATE(3)
+#undef DEMFEM_INSTANTIATE
+} // namespace demfem::coupling
