@@ -35,6 +35,35 @@ namespace demfem::coupling
     dem::check_range(w, "Coupling/overlap grains", overlap_grains, 0.5, 10);
   }
 
+  void ContinuumParams::validate(const std::string &w, const int dim,
+                                 const double          region_radius,
+                                 const CouplingParams &kp) const
+  {
+    const double inf = HUGE_VAL;
+    dem::check_range(w, "Continuum/young modulus", young_modulus, 0, inf, true);
+    dem::check_range(w, "Continuum/poisson ratio", poisson_ratio, -1, 0.5, true, true);
+    if (!(outer_radius > 2 * region_radius))
+      throw dem::InputError(w + ": DEM region/radius (" + std::to_string(region_radius) +
+                            " m) must be smaller than half of Continuum/outer radius (" +
+                            std::to_string(outer_radius) + " m)");
+    dem::check_range(w, "Continuum/axial extension", axial_extension, 0, inf);
+    if (axial_extension > 0)
+      {
+        if (dim != 3)
+          throw dem::InputError(
+              w + ": Continuum/axial extension = " + std::to_string(axial_extension) +
+              " m: a tunnel section in a 3D continuum needs Problem/dimension = 3 "
+              "(allowed in 2D: 0)");
+        if (kp.variant != "slaved-layer" || kp.scheme != "explicit")
+          throw dem::InputError(
+              w + ": Continuum/axial extension = " + std::to_string(axial_extension) +
+              " m (a tunnel section in a 3D continuum) is implemented for "
+              "Coupling/variant = slaved-layer with Coupling/scheme = explicit (given: " +
+              kp.variant + ", " + kp.scheme + "); use axial extension = 0 (the slab)");
+        dem::check_range(w, "Tunnel/radius", tunnel_radius, 0, inf, true);
+      }
+  }
+
   template <int dim>
   CoupledModel<dim>::CoupledModel(const RegionParams    &region,
                                   const ContinuumParams &continuum,
@@ -46,27 +75,7 @@ namespace demfem::coupling
   {
     rp.validate("DEM region", dim);
     kp.validate("Coupling");
-    const double inf = HUGE_VAL;
-    dem::check_range("Continuum", "young modulus", cp.young_modulus, 0, inf, true);
-    dem::check_range("Continuum", "poisson ratio", cp.poisson_ratio, -1, 0.5, true, true);
-    dem::check_range("Continuum", "outer radius", cp.outer_radius, 2 * rp.radius, inf,
-                     true);
-    dem::check_range("Continuum", "axial extension", cp.axial_extension, 0, inf);
-    if (cp.axial_extension > 0)
-      {
-        if (dim != 3)
-          throw dem::InputError(
-              "Continuum/axial extension = " + std::to_string(cp.axial_extension) +
-              " m: a tunnel section in a 3D continuum needs "
-              "Problem/dimension = 3 (allowed in 2D: 0)");
-        if (kp.variant != "slaved-layer" || kp.scheme != "explicit")
-          throw dem::InputError(
-              "Continuum/axial extension = " + std::to_string(cp.axial_extension) +
-              " m (a tunnel section in a 3D continuum) is implemented for "
-              "Coupling/variant = slaved-layer with Coupling/scheme = explicit (given: " +
-              kp.variant + ", " + kp.scheme + "); use axial extension = 0 (the slab)");
-        dem::check_range("Tunnel", "radius", cp.tunnel_radius, 0, inf, true);
-      }
+    cp.validate("Continuum", dim, rp.radius, kp);
     if (dealii::Utilities::MPI::n_mpi_processes(comm) != 1)
       throw dem::InputError(
           "the coupled model runs on one MPI rank (run without mpirun)");

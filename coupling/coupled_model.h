@@ -97,6 +97,14 @@ namespace demfem::coupling
     double axial_extension = 0;
     /// Tunnel radius a (the tunnel through the continuum of a section) [m].
     double tunnel_radius = 0;
+
+    /// Throws dem::InputError naming the key (prefixed by `where`): E > 0,
+    /// -1 < nu < 0.5, R > 2 b (b = region_radius), L >= 0; L > 0 only in 3D
+    /// with the slaved layer and the explicit scheme (`coupling`, validated
+    /// before) and a tunnel radius > 0. The one check of these keys, for
+    /// the tunnel parameters and the coupled model alike.
+    void validate(const std::string &where, int dim, double region_radius,
+                  const struct CouplingParams &coupling) const;
   };
 
   struct CouplingParams

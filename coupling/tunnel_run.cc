@@ -20,6 +20,18 @@ namespace demfem::coupling
 
   volatile std::sig_atomic_t tunnel_stop_requested = 0;
 
+  namespace
+  {
+    // The continuum of a tunnel section (3D) has the tunnel through it.
+    ContinuumParams with_tunnel(const TunnelParams &p)
+    {
+      ContinuumParams c = p.continuum;
+      c.tunnel_radius   = p.tunnel_radius;
+      return c;
+    }
+
+  } // namespace
+
   void TunnelParams::validate(const std::string &w) const
   {
     const double inf = HUGE_VAL;
@@ -34,21 +46,9 @@ namespace demfem::coupling
                             std::to_string(region.radius) +
                             " m) by at least three of the largest grains (" +
                             std::to_string(3 * region.d_hi) + " m)");
-    if (!(continuum.outer_radius > 2 * region.radius))
-      throw dem::InputError(w + ": DEM region/radius (" + std::to_string(region.radius) +
-                            " m) must be smaller than half of Continuum/outer radius (" +
-                            std::to_string(continuum.outer_radius) + " m)");
-    dem::check_range(w, "Continuum/young modulus", continuum.young_modulus, 0, inf, true);
-    dem::check_range(w, "Continuum/poisson ratio", continuum.poisson_ratio, -1, 0.5, true,
-                     true);
-    dem::check_range(w, "Tunnel/excavation stages", stages, 1, 1000);
-    dem::check_range(w, "Continuum/axial extension", continuum.axial_extension, 0, inf);
-    if (dimension == 2 && continuum.axial_extension > 0)
-      throw dem::InputError(w + ": Continuum/axial extension = " +
-                            std::to_string(continuum.axial_extension) +
-                            " m is for Problem/dimension = 3 (a tunnel section in a 3D "
-                            "continuum); allowed in 2D: 0");
     coupling.validate(w);
+    with_tunnel(*this).validate(w, dimension, region.radius, coupling);
+    dem::check_range(w, "Tunnel/excavation stages", stages, 1, 1000);
     if (coupling.variant == "slaved-layer" &&
         tunnel_radius + 3 * region.d_hi >
             region.radius - coupling.overlap_grains * region.mean_diameter())
@@ -93,14 +93,6 @@ namespace demfem::coupling
         throw dem::InputError("restart: checkpoint " + file + " has no entry '" + k +
                               "' (not written by demfem tunnel?)");
       return it->second;
-    }
-
-    // The continuum of a tunnel section (3D) has the tunnel through it.
-    ContinuumParams with_tunnel(const TunnelParams &p)
-    {
-      ContinuumParams c = p.continuum;
-      c.tunnel_radius   = p.tunnel_radius;
-      return c;
     }
 
     /// The tunnel workflow (docs/tunnel.md): set up, install the in-situ
