@@ -671,17 +671,9 @@ namespace demfem::apps
         std::string      file;
         ParameterHandler prm;
         declare_parameters(prm);
-        switch (read_parameters(int(args.size()), args.data(), prm, usage, file))
-          {
-          case PrmAction::help:
-            std::cout << usage << common_options_help;
-            return 0;
-          case PrmAction::print:
-            prm.print_parameters(std::cout, ParameterHandler::Text);
-            return 0;
-          case PrmAction::run:
-            break;
-          }
+        if (answered(read_parameters(int(args.size()), args.data(), prm, usage, file),
+                     prm, usage, &std::cout))
+          return 0;
         const Settings s = read_settings(prm, file, fit);
         // The run owns its output directory: lock, manifest.json, and an
         // earlier run's results refused unless --overwrite.

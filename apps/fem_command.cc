@@ -135,19 +135,9 @@ namespace demfem::apps
         std::string      file;
         ParameterHandler prm;
         declare_parameters(prm);
-        switch (read_parameters(argc, argv, prm, usage, file))
-          {
-          case PrmAction::help:
-            if (Utilities::MPI::this_mpi_process(comm) == 0)
-              std::cout << usage << common_options_help;
-            return 0;
-          case PrmAction::print:
-            if (Utilities::MPI::this_mpi_process(comm) == 0)
-              prm.print_parameters(std::cout, ParameterHandler::Text);
-            return 0;
-          case PrmAction::run:
-            break;
-          }
+        if (answered(read_parameters(argc, argv, prm, usage, file), prm, usage,
+                     Utilities::MPI::this_mpi_process(comm) == 0 ? &std::cout : nullptr))
+          return 0;
 
         const fem::ElasticSettings settings = read_settings(prm);
         // One owner per directory: rank 0 claims it for all ranks.

@@ -137,6 +137,16 @@ namespace demfem::apps
       prm.leave_subsection();
   }
 
+  bool answered(const PrmAction action, const ParameterHandler &prm,
+                const std::string &usage, std::ostream *out)
+  {
+    if (action == PrmAction::help && out)
+      *out << usage << common_options_help;
+    if (action == PrmAction::print && out)
+      prm.print_parameters(*out, ParameterHandler::Text);
+    return action != PrmAction::run;
+  }
+
   PrmAction read_parameters(int argc, char **argv, ParameterHandler &prm,
                             const std::string &usage, std::string &file)
   {

@@ -5,6 +5,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <exception>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,13 @@ namespace demfem::apps
   /// receives the parameter file name.
   PrmAction read_parameters(int argc, char **argv, dealii::ParameterHandler &prm,
                             const std::string &usage, std::string &file);
+
+  /// Answers --help (usage and the common options) and --print-parameters
+  /// (every key with its default and doc) on `out` when `out` is given
+  /// (MPI: rank 0 only). Returns true when the command is answered and
+  /// should exit 0, false when it should run.
+  bool answered(PrmAction action, const dealii::ParameterHandler &prm,
+                const std::string &usage, std::ostream *out);
 
   /// The command line of the last read_parameters call.
   const CommandLine &command_line();

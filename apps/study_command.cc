@@ -292,17 +292,9 @@ namespace demfem::apps
         declare_tunnel_parameters(prm);
         study::declare_study_parameters(prm);
         std::string file;
-        const auto  action = read_parameters(argc, argv, prm, usage, file);
-        if (action == PrmAction::help)
-          {
-            std::cout << usage << common_options_help;
-            return 0;
-          }
-        if (action == PrmAction::print)
-          {
-            prm.print_parameters(std::cout, ParameterHandler::Text);
-            return 0;
-          }
+        if (answered(read_parameters(argc, argv, prm, usage, file), prm, usage,
+                     &std::cout))
+          return 0;
         coupling::TunnelParams base = read_tunnel_settings(prm);
         prm.enter_subsection("DEM region");
         const std::string material = prm.get("material file");

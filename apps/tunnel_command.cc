@@ -198,17 +198,9 @@ namespace demfem::apps
           else
             args.push_back(argv[i]);
         args.push_back(nullptr);
-        switch (read_parameters(int(args.size()) - 1, args.data(), prm, usage, file))
-          {
-          case PrmAction::help:
-            std::cout << usage << common_options_help;
-            return 0;
-          case PrmAction::print:
-            prm.print_parameters(std::cout, ParameterHandler::Text);
-            return 0;
-          case PrmAction::run:
-            break;
-          }
+        if (answered(read_parameters(int(args.size()) - 1, args.data(), prm, usage, file),
+                     prm, usage, &std::cout))
+          return 0;
         bool                   radius_auto = false;
         coupling::TunnelParams s           = read_settings(prm, radius_auto);
         {
