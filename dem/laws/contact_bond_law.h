@@ -8,6 +8,7 @@
 // unbonded behaviour cannot drift from the plain linear law.
 #include "dem/engine/contact_law.h"
 #include "dem/laws/linear_law.h"
+#include "dem/laws/linear_with_bond.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,8 +18,9 @@
 namespace demfem::dem
 {
   template <int dim>
-  struct ContactBondLaw
+  struct ContactBondLaw : LinearWithBond<ContactBondLaw<dim>, LinearLaw<dim>>
   {
+    using LinearWithBond<ContactBondLaw<dim>, LinearLaw<dim>>::linear_group;
     static constexpr const char *name = "contactbond";
     using Linear                      = LinearLaw<dim>;
 
@@ -46,7 +48,7 @@ namespace demfem::dem
 
       void validate(const std::string &where) const
       {
-        const double inf = HUGE_VAL;
+        const double            inf = HUGE_VAL;
         typename Linear::Params lin;
         static_cast<typename Linear::Props &>(lin) = this->linear;
         lin.validate(where);
@@ -60,9 +62,9 @@ namespace demfem::dem
 
     static const std::vector<PropertyField<Props>> &properties()
     {
-      using P                                          = Props;
-      const double                                 inf = HUGE_VAL;
-      static const std::vector<PropertyField<Props>> f = [inf] {
+      using P                                            = Props;
+      const double                                   inf = HUGE_VAL;
+      static const std::vector<PropertyField<Props>> f   = [inf] {
         std::vector<PropertyField<Props>> out = lifted_linear_properties<Props>();
         out.push_back({"cb_tenf", [](const P &q) { return q.cb_tenf; },
                        [](P &q, double v) { q.cb_tenf = v; }, true, 0, inf});
@@ -93,23 +95,6 @@ namespace demfem::dem
     }
 
     static bool bonded(const double *st) { return st[s_bond] > 0; }
-
-    /// The linear law has no group-wide parameter (its Params is empty).
-    static const typename Linear::Params &linear_group()
-    {
-      static const typename Linear::Params none{};
-      return none;
-    }
-
-    static bool active(const Params &, const Props &q, const double *st, double gap)
-    {
-      return bonded(st) || Linear::active(linear_group(), q.linear, st + s_lin, gap);
-    }
-
-    static bool deletable(const Params &, const Props &q, const double *st, double gap)
-    {
-      return !bonded(st) && Linear::deletable(linear_group(), q.linear, st + s_lin, gap);
-    }
 
     static void update(const Params &, const Props &p, const ContactStep<dim> &k,
                        double *st, ContactForce &f, EventSink &events)
@@ -161,11 +146,6 @@ namespace demfem::dem
     static double strain_energy(const Params &, const Props &q, const double *st)
     {
       return Linear::strain_energy(linear_group(), q.linear, st + s_lin);
-    }
-
-    static double slip_energy(const Params &, const Props &q, const double *st)
-    {
-      return Linear::slip_energy(linear_group(), q.linear, st + s_lin);
     }
   };
 } // namespace demfem::dem

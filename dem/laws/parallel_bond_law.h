@@ -7,6 +7,7 @@
 // state; the total contact force is linear + bond.
 #include "dem/engine/contact_law.h"
 #include "dem/laws/linear_law.h"
+#include "dem/laws/linear_with_bond.h"
 
 #include <cmath>
 #include <string>
@@ -15,8 +16,9 @@
 namespace demfem::dem
 {
   template <int dim>
-  struct ParallelBondLaw
+  struct ParallelBondLaw : LinearWithBond<ParallelBondLaw<dim>, LinearLaw<dim>>
   {
+    using LinearWithBond<ParallelBondLaw<dim>, LinearLaw<dim>>::linear_group;
     static constexpr const char *name = "parallelbond";
     using Linear                      = LinearLaw<dim>;
 
@@ -25,14 +27,14 @@ namespace demfem::dem
     /// Per-contact properties (memo §2.1.3): the linear block and the bond's.
     struct Props
     {
-      typename Linear::Props linear;      ///< kn, ks, friction, reference_gap
-      double                 pb_kn   = 0; ///< bond normal stiffness [stress/disp]
-      double                 pb_ks   = 0; ///< bond shear stiffness [stress/disp]
-      double                 pb_rmul = 1; ///< radius multiplier lambda_bar
-      double                 pb_mcf  = 1; ///< moment-contribution factor beta_bar
-      double                 pb_ten  = 0; ///< tensile strength sigma_bar_c [stress]
-      double                 pb_coh  = 0; ///< cohesion c_bar [stress]
-      double                 pb_fa   = 0; ///< friction angle phi_bar [degrees]
+      typename Linear::Props linear;        ///< kn, ks, friction, reference_gap
+      double                 pb_kn     = 0; ///< bond normal stiffness [stress/disp]
+      double                 pb_ks     = 0; ///< bond shear stiffness [stress/disp]
+      double                 pb_rmul   = 1; ///< radius multiplier lambda_bar
+      double                 pb_mcf    = 1; ///< moment-contribution factor beta_bar
+      double                 pb_ten    = 0; ///< tensile strength sigma_bar_c [stress]
+      double                 pb_coh    = 0; ///< cohesion c_bar [stress]
+      double                 pb_fa     = 0; ///< friction angle phi_bar [degrees]
       double                 pb_tan_fa = 0; ///< tan(phi_bar), derived
     };
 
@@ -72,9 +74,9 @@ namespace demfem::dem
 
     static const std::vector<PropertyField<Props>> &properties()
     {
-      using P                                          = Props;
-      const double                                 inf = HUGE_VAL;
-      static const std::vector<PropertyField<Props>> f = [inf] {
+      using P                                            = Props;
+      const double                                   inf = HUGE_VAL;
+      static const std::vector<PropertyField<Props>> f   = [inf] {
         std::vector<PropertyField<Props>> out = lifted_linear_properties<Props>();
         std::vector<PropertyField<Props>> own = {
             {"pb_kn", [](const P &q) { return q.pb_kn; },
@@ -136,13 +138,6 @@ namespace demfem::dem
 
     static int state_size(const Params &) { return n_state; }
 
-    /// The linear law has no group-wide parameter (its Params is empty).
-    static const typename Linear::Params &linear_group()
-    {
-      static const typename Linear::Params none{};
-      return none;
-    }
-
     static void install(const Params &p, const Props &q, const ContactGeometry<dim> &g,
                         double *st)
     {
@@ -155,16 +150,6 @@ namespace demfem::dem
     }
 
     static bool bonded(const double *st) { return st[s_state] == intact; }
-
-    static bool active(const Params &, const Props &q, const double *st, double gap)
-    {
-      return bonded(st) || Linear::active(linear_group(), q.linear, st + s_lin, gap);
-    }
-
-    static bool deletable(const Params &, const Props &q, const double *st, double gap)
-    {
-      return !bonded(st) && Linear::deletable(linear_group(), q.linear, st + s_lin, gap);
-    }
 
     static void update(const Params &, const Props &p, const ContactStep<dim> &k,
                        double *st, ContactForce &f, EventSink &events)
@@ -266,11 +251,6 @@ namespace demfem::dem
       add(st[s_mbs] * st[s_mbs] + st[s_mbt] * st[s_mbt], p.pb_kn * c.I);
       add(st[s_mt] * st[s_mt], p.pb_ks * c.J);
       return e;
-    }
-
-    static double slip_energy(const Params &, const Props &q, const double *st)
-    {
-      return Linear::slip_energy(linear_group(), q.linear, st + s_lin);
     }
   };
 } // namespace demfem::dem
