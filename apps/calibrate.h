@@ -1,9 +1,9 @@
 #pragma once
 // Settings shared by the parts of `demfem calibrate` (calibrate_command.cc
 // reads and validates them; calibrate_run.cc runs the genesis and the tests).
+#include "dem/laws/smooth_joint_law.h"
 #include "dem/specimen/genesis.h"
 #include "dem/specimen/lab_tests.h"
-#include "dem/laws/smooth_joint_law.h"
 
 #include <array>
 #include <memory>
@@ -85,12 +85,23 @@ namespace demfem::apps
   double &fit_parameter(dem::MaterialParams &m, const std::string &name,
                         const std::string &where);
 
-  /// Runs the automatic fit, then the calibration of the best material
-  /// (run_calibration); returns the exit code (3: targets not reached).
-  template <int dim>
-  int run_fit(const CalibrateSettings &s);
+  /// How a calibration ended: the exit code and the status the manifest
+  /// records ("ok", "step_limit_reached", "targets_not_reached"; exit 3 for
+  /// either failure, docs/calibrate.md).
+  struct CalibrateOutcome
+  {
+    int         exit_code = 0;
+    std::string status    = "ok";
+  };
 
-  /// Runs the calibration (creates the output directory); returns the exit code.
+  /// Runs the automatic fit, then the calibration of the best material
+  /// (run_calibration): that run's outcome when it failed, else
+  /// targets_not_reached when a target stayed outside its tolerance.
   template <int dim>
-  int run_calibration(const CalibrateSettings &s);
+  CalibrateOutcome run_fit(const CalibrateSettings &s);
+
+  /// Runs the calibration (creates the output directory): step_limit_reached
+  /// when a test ended at its step limit.
+  template <int dim>
+  CalibrateOutcome run_calibration(const CalibrateSettings &s);
 } // namespace demfem::apps

@@ -677,17 +677,12 @@ namespace demfem::apps
         const Settings s = read_settings(prm, file, fit);
         // The run owns its output directory: lock, manifest.json, and an
         // earlier run's results refused unless --overwrite.
-        RunDirectory run(s.out, prm);
-        int          code = 0;
-        if (s.fit.enabled)
-          code = s.dim == 2 ? run_fit<2>(s) : run_fit<3>(s);
-        else
-          code = s.dim == 2 ? run_calibration<2>(s) : run_calibration<3>(s);
-        run.finish(code == 0
-                       ? "ok"
-                       : (s.fit.enabled ? "targets_not_reached" : "step_limit_reached"),
-                   code);
-        return code;
+        RunDirectory           run(s.out, prm);
+        const CalibrateOutcome outcome =
+            s.fit.enabled ? (s.dim == 2 ? run_fit<2>(s) : run_fit<3>(s))
+                          : (s.dim == 2 ? run_calibration<2>(s) : run_calibration<3>(s));
+        run.finish(outcome.status, outcome.exit_code);
+        return outcome.exit_code;
       }
     catch (const std::exception &e)
       {

@@ -9,8 +9,8 @@
 #include "apps/calibrate.h"
 #include "apps/calibrate_output.h"
 #include "dem/io/checkpoint.h"
-#include "dem/specimen/envelope.h"
 #include "dem/io/vtk_output.h"
+#include "dem/specimen/envelope.h"
 
 #include <nlopt.hpp>
 
@@ -494,7 +494,7 @@ namespace demfem::apps
   }
 
   template <int dim>
-  int run_fit(const CalibrateSettings &s0)
+  CalibrateOutcome run_fit(const CalibrateSettings &s0)
   {
     const auto        t0 = Clock::now();
     CalibrateSettings s  = s0;
@@ -600,8 +600,8 @@ namespace demfem::apps
     CalibrateSettings final_s = s;
     final_s.mat               = mat;
     final_s.fit.enabled       = false;
-    const int rc              = run_calibration<dim>(final_s);
-    if (rc != 0)
+    const CalibrateOutcome rc = run_calibration<dim>(final_s);
+    if (rc.exit_code != 0)
       return rc;
     if (!all_ok)
       {
@@ -609,11 +609,11 @@ namespace demfem::apps
             << "demfem calibrate --fit: the targets were not all reached within "
                "the budget (fit.json: status targets_not_reached); the best material "
                "found is in material.json\n";
-        return 3;
+        return {3, "targets_not_reached"};
       }
-    return 0;
+    return {};
   }
 
-  template int run_fit<2>(const CalibrateSettings &);
-  template int run_fit<3>(const CalibrateSettings &);
+  template CalibrateOutcome run_fit<2>(const CalibrateSettings &);
+  template CalibrateOutcome run_fit<3>(const CalibrateSettings &);
 } // namespace demfem::apps

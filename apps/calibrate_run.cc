@@ -4,15 +4,15 @@
 #include "apps/calibrate.h"
 #include "apps/calibrate_output.h"
 #include "dem/io/checkpoint.h"
+#include "dem/io/vtk_output.h"
 #include "dem/laws/contact_bond_law.h"
-#include "dem/specimen/envelope.h"
 #include "dem/laws/flat_joint_law.h"
-#include "dem/specimen/joint_insertion.h"
 #include "dem/laws/linear_law.h"
-#include "dem/measure/measurement.h"
 #include "dem/laws/parallel_bond_law.h"
 #include "dem/laws/smooth_joint_law.h"
-#include "dem/io/vtk_output.h"
+#include "dem/measure/measurement.h"
+#include "dem/specimen/envelope.h"
+#include "dem/specimen/joint_insertion.h"
 
 #include <unistd.h>
 
@@ -339,7 +339,7 @@ namespace demfem::apps
                                                             const std::string &);
 
   template <int dim>
-  int run_calibration(const CalibrateSettings &s0)
+  CalibrateOutcome run_calibration(const CalibrateSettings &s0)
   {
     const auto        t_start = Clock::now();
     CalibrateSettings s       = s0;
@@ -469,8 +469,8 @@ namespace demfem::apps
         {
           // A quasi-static peak does not move when the rate is halved
           // (fistPkg §5.4); more than rate_tolerance flags the test.
-          bool        sensitive = false;
-          double      factor    = 1;
+          bool   sensitive = false;
+          double factor    = 1;
           for (int level = 1; level <= s.rate_check; ++level)
             {
               factor *= 0.5;
@@ -643,11 +643,11 @@ namespace demfem::apps
         std::cerr << "demfem calibrate: " << truncated.size()
                   << " test(s) ended at the step limit (summary.json: status "
                      "step_limit_reached); exit 3\n";
-        return 3;
+        return {3, "step_limit_reached"};
       }
-    return 0;
+    return {};
   }
 
-  template int run_calibration<2>(const CalibrateSettings &);
-  template int run_calibration<3>(const CalibrateSettings &);
+  template CalibrateOutcome run_calibration<2>(const CalibrateSettings &);
+  template CalibrateOutcome run_calibration<3>(const CalibrateSettings &);
 } // namespace demfem::apps

@@ -102,6 +102,8 @@ TEST_CASE("calibrate --fit recovers known microparameters", "[calibrate][fit]")
   // nu comes out too (measured by the same test) in the final check.
   const auto fit1 = nlohmann::json::parse(read(out1 / "fit.json"));
   REQUIRE(fit1["status"] == "targets_not_reached");
+  CHECK(nlohmann::json::parse(read(out1 / "manifest.json"))["status"] ==
+        "targets_not_reached");
 
   // 2. Start elsewhere (E* 25 GPa, kappa* 3.2) with those properties as
   //    targets: the search must come back to the known microparameters.
@@ -122,6 +124,7 @@ TEST_CASE("calibrate --fit recovers known microparameters", "[calibrate][fit]")
   // fit.csv value (same packing, same test).
   CHECK(m1["E"].get<double>() == Approx(E_known).epsilon(1e-12));
   REQUIRE(r2.exit_code == 0);
+  CHECK(nlohmann::json::parse(read(out2 / "manifest.json"))["status"] == "ok");
   const auto fit = nlohmann::json::parse(read(out2 / "fit.json"));
   CHECK(fit["status"] == "ok");
   // E is proportional to E* on a fixed packing: a 0.2 % tolerance on E

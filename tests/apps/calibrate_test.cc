@@ -288,6 +288,10 @@ TEST_CASE("calibrate: a test stopped by the step limit is not ok", "[calibrate]"
   const auto sum = nlohmann::json::parse(read(out / "summary.json"));
   CHECK(sum["status"] == "step_limit_reached");
   CHECK(sum["tests"]["ucs"]["ended_by"] == "step limit");
+  // The manifest records the same status and exit code.
+  const auto manifest = nlohmann::json::parse(read(out / "manifest.json"));
+  CHECK(manifest["status"] == "step_limit_reached");
+  CHECK(manifest["exit_code"] == 3);
   CHECK(fs::is_regular_file(out / "material.json"));
 }
 
