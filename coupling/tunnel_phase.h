@@ -44,7 +44,9 @@ namespace demfem::coupling
   };
 
   /// Runs phase `name` from `at` (resumed: the first iteration's boundary is
-  /// the checkpoint itself and is not repeated). `load(n)` sets the load
+  /// the checkpoint itself and is not repeated); a fresh phase measures the
+  /// continuum's kinetic energy against `continued_peak` at least (the peak
+  /// of the phase it continues; 0: its own peak only). `load(n)` sets the load
   /// factor before iteration n. The hooks (class Hooks):
   ///   at_boundary(progress)  before an iteration (checkpoint, interruption);
   ///   output(step)           after each step (history rows, VTK frames);
@@ -53,14 +55,14 @@ namespace demfem::coupling
   template <int dim, class Load, class Hooks>
   PhaseRecord run_phase(CoupledModel<dim> &m, const std::string &name,
                         const PhaseLimits &limits, PhaseProgress at, bool resumed,
-                        Load &&load, Hooks &hooks)
+                        double continued_peak, Load &&load, Hooks &hooks)
   {
     using clock      = std::chrono::steady_clock;
     const auto since = [](clock::time_point t) {
       return std::chrono::duration<double>(clock::now() - t).count();
     };
     if (!resumed)
-      at = PhaseProgress{1, 0.0, m.dem.time()};
+      at = PhaseProgress{1, continued_peak, m.dem.time()};
     const std::int64_t n0          = at.iteration;
     const auto         wall0       = clock::now();
     const auto         times0      = m.step_times();
@@ -127,15 +129,16 @@ namespace demfem::coupling
     const double ke     = m.continuum_kinetic_energy();
     ph.kinetic_energy_ratio =
         at.kinetic_energy_peak > 0 ? ke / at.kinetic_energy_peak : 0.0;
-    ph.interface_residual = m.interface_residual();
-    ph.equilibrated       = equilibrated;
-    const auto &times     = m.step_times();
-    ph.wall_time_s        = since(wall0);
-    ph.continuum_s        = times.continuum - times0.continuum;
-    ph.dem_s              = times.dem - times0.dem;
-    ph.interface_s        = times.interface - times0.interface;
-    ph.criterion_s        = criterion_s;
-    ph.output_s           = output_s;
+    ph.interface_residual  = m.interface_residual();
+    ph.equilibrated        = equilibrated;
+    ph.kinetic_energy_peak = at.kinetic_energy_peak;
+    const auto &times      = m.step_times();
+    ph.wall_time_s         = since(wall0);
+    ph.continuum_s         = times.continuum - times0.continuum;
+    ph.dem_s               = times.dem - times0.dem;
+    ph.interface_s         = times.interface - times0.interface;
+    ph.criterion_s         = criterion_s;
+    ph.output_s            = output_s;
     return ph;
   }
 } // namespace demfem::coupling

@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -230,7 +231,8 @@ namespace demfem::coupling
         << " " << ph.unbalanced_ratio << " " << ph.kinetic_energy_ratio << " "
         << ph.interface_residual << " " << ph.equilibrated << " " << ph.wall_time_s << " "
         << ph.continuum_s << " " << ph.dem_s << " " << ph.interface_s << " "
-        << ph.criterion_s << " " << ph.output_s << " " << ph.name << "\n";
+        << ph.criterion_s << " " << ph.output_s << " " << ph.kinetic_energy_peak << " "
+        << ph.name << "\n";
     return s.str();
   }
 
@@ -248,6 +250,10 @@ namespace demfem::coupling
               ph.interface_s >> ph.criterion_s >> ph.output_s))
           throw std::invalid_argument("damaged phase record '" + line + "'");
         l >> std::ws;
+        // The peak is optional (records written before it was stored): the
+        // phase names do not start with a number.
+        if (std::isdigit(l.peek()) && !(l >> ph.kinetic_energy_peak >> std::ws))
+          throw std::invalid_argument("damaged phase record '" + line + "'");
         std::getline(l, ph.name);
         r.push_back(ph);
       }

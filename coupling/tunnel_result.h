@@ -32,6 +32,9 @@ namespace demfem::coupling
     double unbalanced_ratio = 0, kinetic_energy_ratio = 0, interface_residual = 0;
     /// Ended by the equilibrium criterion, not by its step limit.
     bool equilibrated = false;
+    /// The continuum's kinetic-energy peak the criterion measured against
+    /// [J] (the phase's own, or the one it continues: tunnel_phase.h).
+    double kinetic_energy_peak = 0;
     /// Where the wall time went [s] (summary.json "phase_costs"; not part of
     /// the results: a restarted phase counts from the restart): the whole
     /// phase, the continuum steps, the DEM steps, gathering the interface

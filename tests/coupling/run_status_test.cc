@@ -159,6 +159,7 @@ TEST_CASE("run status: phase records survive a checkpoint bit for bit",
   r.phases[1].equilibrated         = false;
   r.phases[1].wall_time_s          = 12.25;
   r.phases[1].dem_s                = 1.0 / 3.0;
+  r.phases[1].kinetic_energy_peak  = 2.0 / 3.0e-7;
   const auto back                  = phases_from_text(phases_to_text(r.phases));
   REQUIRE(back.size() == 2);
   for (std::size_t k = 0; k < 2; ++k)
@@ -171,6 +172,13 @@ TEST_CASE("run status: phase records survive a checkpoint bit for bit",
       CHECK(back[k].equilibrated == r.phases[k].equilibrated);
       CHECK(back[k].wall_time_s == r.phases[k].wall_time_s);
       CHECK(back[k].dem_s == r.phases[k].dem_s);
+      CHECK(back[k].kinetic_energy_peak == r.phases[k].kinetic_energy_peak);
     }
+  // A record written before the peak was stored still reads (peak 0).
+  const auto old =
+      phases_from_text("5900 0.2 0.3 1e-05 2e-05 9e-05 0 1 1 1 1 0 0 0 in-situ\n");
+  REQUIRE(old.size() == 1);
+  CHECK(old[0].name == "in-situ");
+  CHECK(old[0].kinetic_energy_peak == 0);
   CHECK_THROWS_AS(phases_from_text("12 x\n"), std::invalid_argument);
 }
