@@ -124,9 +124,10 @@ namespace demfem::coupling
         try
           {
             if (start == 0)
-              install_in_situ();
-            if (start == 0)
-              measures.excavate(m);
+              {
+                install_in_situ();
+                measures.excavate(m);
+              }
             for (int s = std::max(1, start); s <= p.stages; ++s)
               excavation_stage(s);
             if (start <= p.stages + 1)
@@ -153,27 +154,45 @@ namespace demfem::coupling
       }
 
       // ---- the hooks of run_phase (tunnel_phase.h) ------------------------
-      void at_boundary(const PhaseProgress &at)
+      double at_boundary(const PhaseProgress &at)
       {
-        const auto s0   = m.dem.step_count();
-        const bool stop = tunnel_stop_requested != 0 || s0 - step0 == p.stop_at_step;
+        const auto s0    = m.dem.step_count();
+        const bool stop  = tunnel_stop_requested != 0 || s0 - step0 == p.stop_at_step;
+        double     spent = 0;
         if (stop || (p.checkpoint_interval > 0 && at.iteration > 1 &&
                      s0 % p.checkpoint_interval == 0))
-          checkpoint(at);
+          {
+            const auto t = std::chrono::steady_clock::now();
+            checkpoint(at);
+            spent = seconds_since(t);
+          }
         if (stop)
           {
             out << "demfem tunnel: interrupted at step " << s0
                 << "; checkpoint written to " << last_checkpoint << std::endl;
             throw Interrupted{};
           }
+        return spent;
       }
 
-      void output(std::int64_t step)
+      double output(std::int64_t step)
       {
-        if (step % p.history_interval == 0)
+        const bool row = step % p.history_interval == 0;
+        const bool vtk = p.vtk_interval > 0 && step % p.vtk_interval == 0;
+        if (!row && !vtk)
+          return 0;
+        const auto t = std::chrono::steady_clock::now();
+        if (row)
           history.record(m, phase, measures);
-        if (p.vtk_interval > 0 && step % p.vtk_interval == 0)
+        if (vtk)
           write_frame();
+        return seconds_since(t);
+      }
+
+      static double seconds_since(std::chrono::steady_clock::time_point t)
+      {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t)
+            .count();
       }
 
       void progress_line(double ur)

@@ -1,14 +1,15 @@
-// Laboratory tests (fistPkg §5.2, §5.5-5.6; docs/architecture.md, "Plane-stress and plane-strain constants"): elastic scaling of
-// the measured constants, the plane-stress -> plane-strain map, and the
-// agreement of wall-based, measurement-based and gauge-based quantities and
-// of the Brazilian formula (Eq. 24) with the elastic disk solution.
+// Laboratory tests (fistPkg §5.2, §5.5-5.6; docs/architecture.md, "Plane-stress and
+// plane-strain constants"): elastic scaling of the measured constants, the plane-stress
+// -> plane-strain map, and the agreement of wall-based, measurement-based and gauge-based
+// quantities and of the Brazilian formula (Eq. 24) with the elastic disk solution.
+#include "dem/measure/measurement.h"
 #include "dem/specimen/genesis.h"
 #include "dem/specimen/lab_tests.h"
-#include "dem/measure/measurement.h"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdint>
 
 using namespace demfem::dem;
 
@@ -54,6 +55,27 @@ namespace
     return l;
   }
 
+  // The elastic material made breakable: flat joints of tensile strength
+  // ten_mean +- ten_sd and cohesion 200 MPa (tensile failure decides).
+  MaterialParams breakable_material(double ten_mean, double ten_sd, std::uint64_t seed)
+  {
+    MaterialParams p = elastic_material(4e10, 2.0);
+    p.fj_ten         = {ten_mean, ten_sd};
+    p.fj_coh         = {200e6, 0};
+    p.seed           = seed;
+    set_grain_count<2>(p, box2d(), 250);
+    return p;
+  }
+
+  // The UCS test run to its post-peak end (strain limit 1 %).
+  LabTestParams breakable_ucs()
+  {
+    LabTestParams l = elastic_ucs();
+    l.strain_limit  = 0.01;
+    l.fit_lo = 0.1, l.fit_hi = 0.5;
+    return l;
+  }
+
   LabTestResult ucs_2d(double emod, double krat)
   {
     MaterialParams p = elastic_material(emod, krat);
@@ -63,7 +85,8 @@ namespace
   }
 } // namespace
 
-TEST_CASE("plane-stress to plane-strain constants (plane strain for the continuum)", "[labtests]")
+TEST_CASE("plane-stress to plane-strain constants (plane strain for the continuum)",
+          "[labtests]")
 {
   // A plane-strain continuum with (E, nu) responds in plane like a plane-
   // stress one with E/(1 - nu^2), nu/(1 - nu) (seed Eq. 20): the inverse
@@ -220,12 +243,8 @@ TEST_CASE("a start-up transient with early cracks does not end the test", "[labt
   // 0.9 peak) ended the UCS test after a few hundred steps at the spike
   // (measured: 1.06 MPa "UCS" on the 2D Lac du Bonnet example). A post-peak
   // end now needs cracks formed after the peak.
-  MaterialParams p = elastic_material(4e10, 2.0);
-  p.fj_ten         = {20e6, 12e6};
-  p.fj_coh         = {200e6, 0};
-  p.seed           = 3;
-  set_grain_count<2>(p, box2d(), 250);
-  Specimen<2> s = build_specimen<2>(p, box2d());
+  const MaterialParams p = breakable_material(20e6, 12e6, 3);
+  Specimen<2>          s = build_specimen<2>(p, box2d());
   // A few very weak bonds (the lower tail of a wide distribution), set with
   // the per-contact property API: they break during the spike.
   {
@@ -233,10 +252,8 @@ TEST_CASE("a start-up transient with early cracks does not end the test", "[labt
     for (std::size_t k = 0; k < joints.size(); k += 50)
       joints.set_property(k, "fj_ten", 1e4);
   }
-  LabTestParams l = elastic_ucs();
-  l.strain_limit  = 0.01;
-  l.load_fraction = 0.9;
-  l.fit_lo = 0.1, l.fit_hi = 0.5;
+  LabTestParams l       = breakable_ucs();
+  l.load_fraction       = 0.9;
   const LabTestResult r = run_lab_test(s, l);
   // Precondition of the regression: a bond broke within the first 500
   // steps, while the load was at the level of the start-up spike.
@@ -272,16 +289,10 @@ TEST_CASE("the strength does not depend on the history interval", "[labtests]")
   // same trajectory (rows are read-only) and must report the same UCS and
   // peak strain to the last bit. Before, rows every 50 steps read the 2D UCS
   // of a 400-grain specimen 0.08 % low.
-  MaterialParams p = elastic_material(4e10, 2.0);
-  p.fj_ten         = {20e6, 6e6};
-  p.fj_coh         = {200e6, 0};
-  p.seed           = 5;
-  set_grain_count<2>(p, box2d(), 250);
-  LabTestParams l = elastic_ucs();
-  l.strain_limit  = 0.01;
-  l.fit_lo = 0.1, l.fit_hi = 0.5;
-  LabTestResult r[2];
-  const int     interval[2] = {50, 7};
+  const MaterialParams p = breakable_material(20e6, 6e6, 5);
+  LabTestParams        l = breakable_ucs();
+  LabTestResult        r[2];
+  const int            interval[2] = {50, 7};
   for (int k = 0; k < 2; ++k)
     {
       Specimen<2> s      = build_specimen<2>(p, box2d());
