@@ -68,8 +68,7 @@ namespace demfem::dem::voronoi
 
   void FlexibleVoronoiModel::add_contact_forces(double dt)
   {
-    const auto &k  = contacts.coefficients();
-    const int   nc = contacts.n_contacts();
+    const int nc = contacts.n_contacts();
     for (int c = 0; c < nc; ++c)
       {
         const int    a = contacts.grain_a[c], b = contacts.grain_b[c];
@@ -79,6 +78,7 @@ namespace demfem::dem::voronoi
         const double U  = disk_radius[a] + disk_radius[b] - dist;
         const double ra = disk_radius[a] - U / 2 + contacts.offset[c];
         const double xr = xa + ra * nx, yr = ya + ra * ny;
+        const auto  &k = contacts.coefficients(c);
         for (int p = contacts.point_offset[c]; p < contacts.point_offset[c + 1]; ++p)
           {
             const double px = xr + contacts.s[p] * tx, py = yr + contacts.s[p] * ty;
@@ -147,15 +147,18 @@ namespace demfem::dem::voronoi
     double dt = mesh.critical_time_step();
     // A contact point's spring acts on the nodes of its triangles; the
     // lightest node of each gives the bound 2 sqrt(m / k).
-    const auto  &k    = contacts.coefficients();
-    const double kmax = std::max(k.kn, k.ks);
-    for (int p = 0; p < contacts.n_points(); ++p)
-      for (int t : {triangle_a[p], triangle_b[p]})
-        for (int i = 0; i < 3; ++i)
-          {
-            const double m = mesh.mass[mesh.triangle_nodes[3 * t + i]];
-            dt             = std::min(dt, 2 * std::sqrt(m / (kmax * contacts.area[p])));
-          }
+    for (int c = 0; c < contacts.n_contacts(); ++c)
+      {
+        const auto  &k    = contacts.coefficients(c);
+        const double kmax = std::max(k.kn, k.ks);
+        for (int p = contacts.point_offset[c]; p < contacts.point_offset[c + 1]; ++p)
+          for (int t : {triangle_a[p], triangle_b[p]})
+            for (int i = 0; i < 3; ++i)
+              {
+                const double m = mesh.mass[mesh.triangle_nodes[3 * t + i]];
+                dt = std::min(dt, 2 * std::sqrt(m / (kmax * contacts.area[p])));
+              }
+      }
     return safety * dt;
   }
 

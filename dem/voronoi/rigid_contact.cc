@@ -8,8 +8,8 @@ namespace demfem::dem::voronoi
 {
   RigidVoronoiContacts::RigidVoronoiContacts(const ContactMaterial &m)
       : material(m)
-      , coeff(SofteningCoefficients::derive(m))
   {
+    m.validate("Voronoi contact material");
     point_offset.push_back(0);
   }
 
@@ -58,6 +58,10 @@ namespace demfem::dem::voronoi
     const double L = std::hypot(ex1 - ex0, ey1 - ey0);
     const double A = L * material.thickness;
 
+    // Seed 004 §2.5: kn per unit area; in the deformability mode kn = E_c / d
+    // with d the centre distance at install (docs/voronoi.md).
+    law.push_back(SofteningCoefficients::derive(material.for_length(dist)));
+    const SofteningCoefficients &coeff = law.back();
     grain_a.push_back(a);
     grain_b.push_back(b);
     offset.push_back(delta);
@@ -127,7 +131,7 @@ namespace demfem::dem::voronoi
             const double d_un = (vrx * nx + vry * ny) * dt;
             const double d_us = (vrx * tx + vry * ty) * dt;
             const double f_n  = update_point(
-                 coeff, area[p], d_un, d_us,
+                 law[c], area[p], d_un, d_us,
                  PointState{un[p], wn[p], fs[p], damage_t[p], damage_s[p], crack[p]});
             fn[p] = f_n;
             // Point force on B: -F_n n + F_s t.

@@ -93,14 +93,18 @@ namespace demfem::dem::voronoi
     void reference_frame(int c, const GrainKinematics &grains, double &xr, double &yr,
                          double &nx, double &ny) const;
 
-    const SofteningCoefficients &coefficients() const { return coeff; }
+    /// Law constants of contact c (per contact: in the deformability mode
+    /// of ContactMaterial kn = E_c / d depends on the contact).
+    const SofteningCoefficients &coefficients(int c) const { return law[c]; }
     double                       thickness() const { return material.thickness; }
+    const ContactMaterial       &contact_material() const { return material; }
 
     // ---- per contact -----------------------------------------------------
     std::vector<int>    grain_a, grain_b;
     std::vector<double> offset;      ///< delta: cell edge minus PCM plane, along n
     std::vector<double> edge_length; ///< L at install
     std::vector<int> point_offset; ///< points of c: [point_offset[c], point_offset[c+1])
+    std::vector<SofteningCoefficients> law; ///< law constants (kn = E_c / d at install)
 
     // ---- per local contact point -----------------------------------------
     std::vector<double>     s;    ///< tangential coordinate from the reference point
@@ -110,7 +114,6 @@ namespace demfem::dem::voronoi
     std::vector<double>     fn; ///< normal force of the last update (> 0 tension)
 
   private:
-    ContactMaterial       material;
-    SofteningCoefficients coeff;
+    ContactMaterial material;
   };
 } // namespace demfem::dem::voronoi

@@ -1,0 +1,142 @@
+#pragma once
+// Laboratory tests on rigid Voronoi grains (docs/voronoi.md, "Lab tests";
+// seed 004 §2): a rectangular specimen packed by the DEM genesis
+// (dem/specimen/genesis.h), tessellated (Laguerre cells clipped to the
+// vessel's inner box), loaded by rigid platens at a strain rate given in
+// physical terms (1/s): unconfined compression (frictional platens),
+// confined compression (pressure Pc on the boundary edges, then the
+// platens add the deviator) and direct tension (glued platens).
+//
+// Measures (the conventions of dem/specimen/lab_tests.h: tension positive
+// in the history, strengths reported as magnitudes):
+//  - axial stress from the platen reaction, mean of the two platens over
+//    W t, plus the confining pressure for the confined test;
+//  - axial strain from the platens' displacement over H; lateral strain
+//    from the mean displacement of the left and right boundary edges over W
+//    (both since the start of the axial loading);
+//  - E and nu of the 2D specimen (sigma_xx = 0 at the sides, so plane
+//    stress of the rigid-body-spring network; for nu = 0 plane stress and
+//    plane strain coincide): least-squares slopes of the load and of minus
+//    the lateral strain against the axial strain over the history rows of
+//    the loading branch whose load is within [fit_lo, fit_hi] of the peak.
+#include "dem/voronoi/rigid_model.h"
+#include "dem/voronoi/tessellation.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace demfem::dem::voronoi
+{
+  /// Specimen geometry and packing (the DEM genesis with a linear material:
+  /// grain-scaling packing at a low material pressure).
+  struct VoronoiSpecimenParams
+  {
+    double        width  = 0.025; ///< W (x) [m]
+    double        height = 0.05;  ///< H (y, the loading axis) [m]
+    double        d_min  = 1.0;   ///< disk diameters uniform in [d_min, d_max]
+    double        d_max  = 1.66;  ///<   before the scaling to n_grains [m]
+    double        n_grains = 300; ///< about this many grains (diameter multiplier)
+    std::uint64_t seed     = 10000;
+    double        packing_pressure = 1e5;  ///< genesis material pressure [Pa]
+    double        packing_modulus  = 1e10; ///< E* of the packing contacts [Pa]
+  };
+
+  /// A tessellated packing.
+  struct VoronoiSpecimen
+  {
+    std::vector<double> x, y, radius; ///< disks
+    ClipDomain          domain;       ///< rectangle (or circle)
+    Tessellation        tessellation;
+  };
+
+  /// Packs disks with dem::build_specimen and tessellates them, clipped to
+  /// the vessel's inner box. Throws InputError for bad parameters.
+  VoronoiSpecimen make_voronoi_specimen(const VoronoiSpecimenParams &p);
+
+  enum class VoronoiTest
+  {
+    unconfined_compression,
+    confined_compression,
+    direct_tension
+  };
+
+  struct VoronoiLabParams
+  {
+    VoronoiTest test               = VoronoiTest::unconfined_compression;
+    double      confining_pressure = 0;   ///< Pc (compression positive) [Pa]
+    double      strain_rate        = 1.0; ///< axial strain rate (> 0) [1/s]
+    double      load_fraction      = 0.7; ///< ends when the load < fraction * peak
+    double      strain_limit       = 0.01; ///< ends at |axial strain| above this
+    std::int64_t step_limit        = 2000000;
+    double       safety            = 0.5; ///< time step = safety * stable estimate
+    double       damping           = 0.7; ///< local non-viscous damping alpha
+    double       platen_friction   = 0;   ///< compression platens (0: no end friction)
+    PointScheme  scheme            = PointScheme::lobatto3;
+    /// History rows every this axial-strain increment (a physical interval,
+    /// so the rows do not depend on the time step).
+    double history_strain = 2e-6;
+    /// Window of the E, nu fit, fractions of the peak load (loading branch).
+    double fit_lo = 0.1, fit_hi = 0.5;
+    /// Confined test: the confining phase ends when the unbalanced-force
+    /// ratio (sum |F| of the grains / sum |F| of the contact points) is
+    /// below this, or after confining_step_limit steps.
+    double       ratio_limit          = 1e-4;
+    std::int64_t confining_step_limit = 200000;
+
+    void validate(const std::string &where) const;
+  };
+
+  /// One history row (tension positive).
+  struct VoronoiLabRow
+  {
+    std::int64_t step           = 0; ///< loading-phase step
+    double       time           = 0; ///< loading-phase time [s]
+    double       axial_strain   = 0;
+    double       lateral_strain = 0;
+    double       axial_stress   = 0; ///< platens (+ confinement) [Pa]
+    double       load = 0; ///< what the test ends on: deviator (compression) or stress
+    int          cracks_tensile = 0, cracks_shear = 0;
+  };
+
+  enum class VoronoiLabStatus
+  {
+    ok,                 ///< ended after the peak or at the strain limit
+    step_limit_reached, ///< the step limit came first
+  };
+
+  struct VoronoiLabResult
+  {
+    VoronoiLabStatus           status = VoronoiLabStatus::ok;
+    std::string                ended_by; ///< "post-peak", "strain limit", "step limit"
+    std::vector<VoronoiLabRow> history;
+    double peak_stress  = 0; ///< |axial stress| at the peak (confined: Pc + deviator) [Pa]
+    double peak_load    = 0; ///< peak of the load (confined: the deviator) [Pa]
+    double peak_strain  = 0; ///< |axial strain| at the peak
+    double E            = 0; ///< 2D modulus of the loading branch [Pa]
+    double nu           = 0; ///< -d(lateral) / d(axial) strain
+    int    cracks_tensile_peak = 0, cracks_shear_peak = 0; ///< at the peak row
+    int    cracks_tensile = 0, cracks_shear = 0;           ///< at the end
+    std::int64_t confining_steps = 0, loading_steps = 0;
+    double       time_step       = 0; ///< [s]
+    int          n_grains = 0, n_contacts = 0, n_points = 0;
+  };
+
+  /// Runs one test on a fresh rigid model of `specimen` (contact material
+  /// `contact`, grain density rho). `final_model`, if given, receives the
+  /// model at the end (for VTK output).
+  VoronoiLabResult run_voronoi_lab_test(const VoronoiSpecimen &specimen,
+                                        const ContactMaterial &contact, double density,
+                                        const VoronoiLabParams &params,
+                                        RigidVoronoiModel      *final_model = nullptr);
+
+  /// Cracked grain-contact points by mode (tensile, shear).
+  void count_cracks(const RigidVoronoiContacts &contacts, int &tensile, int &shear);
+
+  /// Seconds per grain-step of the rigid model (contacts, platen-free) on a
+  /// jittered hexagonal lattice of about n_grains polydisperse disks (about
+  /// six contacts per grain, as a dense packing), `steps` steps, one thread.
+  /// For the benchmark; no genesis (it would dominate at 1e5 grains).
+  double voronoi_cost_per_grain_step(int n_grains, int steps = 200,
+                                     std::uint64_t seed = 1);
+} // namespace demfem::dem::voronoi
