@@ -195,9 +195,9 @@ namespace demfem::dem::voronoi
             r.peak_strain = std::abs(row.axial_strain);
             new_peak      = true;
           }
-        const bool post_peak = r.peak_load > 0 && row.load < p.load_fraction * r.peak_load;
-        const bool at_limit  = std::abs(row.axial_strain) >= p.strain_limit;
-        if (std::abs(row.axial_strain) >= next_row || post_peak || at_limit)
+        const bool at_limit = std::abs(row.axial_strain) >= p.strain_limit;
+        bool       post_peak = false;
+        if (std::abs(row.axial_strain) >= next_row || at_limit)
           {
             row.lateral_strain = lateral();
             count_cracks(model.contacts, row.cracks_tensile, row.cracks_shear);
@@ -212,6 +212,19 @@ namespace demfem::dem::voronoi
             r.history.push_back(row);
             while (next_row <= std::abs(row.axial_strain))
               next_row += p.history_strain;
+            // Post-peak as dem/specimen/lab_tests.cc: the load (mean of the
+            // last three rows, against platen chatter) below the fraction of
+            // the peak, and points broke after the peak, so neither start-up
+            // noise nor the inertial spike of the platens starting at full
+            // speed can end the test.
+            const std::size_t nh     = r.history.size();
+            const double      recent = nh < 3 ? row.load
+                                              : (r.history[nh - 1].load + r.history[nh - 2].load +
+                                            r.history[nh - 3].load) /
+                                               3;
+            post_peak = row.cracks_tensile + row.cracks_shear >
+                            r.cracks_tensile_peak + r.cracks_shear_peak &&
+                        r.peak_load > 0 && recent < p.load_fraction * r.peak_load;
           }
         if (post_peak || at_limit)
           {

@@ -132,6 +132,7 @@ namespace demfem::dem::voronoi
     if (tess.n_cells() != m.n_grains())
       throw std::invalid_argument("write_voronoi_cells_vtk: tessellation and model differ");
     vtkNew<vtkPoints>    pts;
+    pts->SetDataTypeToDouble(); // micrometre displacements on metre coordinates
     vtkNew<vtkCellArray> polys;
     std::vector<int>     cells;
     for (int c = 0; c < tess.n_cells(); ++c)
@@ -179,6 +180,7 @@ namespace demfem::dem::voronoi
     const auto      g = kinematics(m);
     const vtkIdType n = c.n_points();
     vtkNew<vtkPoints>    pts;
+    pts->SetDataTypeToDouble(); // micrometre displacements on metre coordinates
     vtkNew<vtkCellArray> verts;
     auto dt = array("damage_t", 1, n), ds = array("damage_s", 1, n);
     auto fn = array("normal_force", 1, n), fs = array("shear_force", 1, n);
@@ -217,6 +219,7 @@ namespace demfem::dem::voronoi
     const auto          &c = m.contacts;
     const auto           g = kinematics(m);
     vtkNew<vtkPoints>    pts;
+    pts->SetDataTypeToDouble(); // micrometre displacements on metre coordinates
     vtkNew<vtkCellArray> lines;
     std::vector<int>     mode, ga, gb;
     for (int k = 0; k < c.n_contacts(); ++k)

@@ -45,11 +45,14 @@ namespace
     return m;
   }
 
-  VoronoiLabParams params(VoronoiTest test, double strain_limit)
+  /// Strain rate 0.25/s: the time to the elastic window (strain 1e-4) is
+  /// ~30 transit times of the P wave over H (H / c = 12 us); measured E / E_c
+  /// 0.976, 0.995, 0.997, 0.9998 at 1, 0.5, 0.25, 0.1 /s.
+  VoronoiLabParams params(VoronoiTest test, double strain_limit, double rate = 0.25)
   {
     VoronoiLabParams p;
     p.test         = test;
-    p.strain_rate  = 1.0;
+    p.strain_rate  = rate;
     p.strain_limit = strain_limit;
     return p;
   }
@@ -120,51 +123,81 @@ TEST_CASE("Voronoi direct tension, uniform strength, kappa = 1: peak = sigma_t",
   CHECK(r.cracks_tensile > 0);
 }
 
+namespace
+{
+  /// A breakable material: sigma_t 2.5 MPa, c 7.5 MPa (UCS peak strain
+  /// ~7e-4, a few thousand steps), softening with G_t, G_s about 4 x and
+  /// 3 x the largest brittle values (longest contacts: 0.23, 3.2 J/m^2).
+  ContactMaterial breakable()
+  {
+    auto m                    = material(1.5, 2.5e6, 7.5e6);
+    m.tensile_fracture_energy = 1;
+    m.shear_fracture_energy   = 10;
+    return m;
+  }
+} // namespace
+
 TEST_CASE("Voronoi UCS: the peak does not depend on the time-step safety factor",
           "[voronoi][lab]")
 {
-  auto m = material(1.5, 10e6, 30e6);
-  m.tensile_fracture_energy = 10; // softening branches (brittle: ~2 J/m^2)
-  m.shear_fracture_energy   = 50;
-  auto p   = params(VoronoiTest::unconfined_compression, 5e-3);
+  auto p   = params(VoronoiTest::unconfined_compression, 5e-3, 1.0);
   p.safety = 0.5;
-  const auto a = run_voronoi_lab_test(specimen(), m, 2650, p);
+  const auto a = run_voronoi_lab_test(specimen(), breakable(), 2650, p);
   p.safety = 0.8;
-  const auto b = run_voronoi_lab_test(specimen(), m, 2650, p);
+  const auto b = run_voronoi_lab_test(specimen(), breakable(), 2650, p);
   INFO("peaks " << a.peak_stress << " and " << b.peak_stress << " Pa, strains "
                 << a.peak_strain << ", " << b.peak_strain << ", steps "
                 << a.loading_steps << ", " << b.loading_steps << ", E " << a.E << ", "
-                << b.E);
+                << b.E << ", cracks at peak " << a.cracks_tensile_peak << " + "
+                << a.cracks_shear_peak << ", " << b.cracks_tensile_peak << " + "
+                << b.cracks_shear_peak);
   REQUIRE(a.status == VoronoiLabStatus::ok);
   REQUIRE(b.status == VoronoiLabStatus::ok);
   CHECK(a.ended_by == "post-peak");
-  // Central differences converge as dt^2 and the damping form has no dt in
-  // it, so the two runs differ by the integration error of the loading
-  // path; the crack sequence near the peak can branch. Tolerance 2 %.
-  CHECK(b.peak_stress == Approx(a.peak_stress).epsilon(0.02));
-  CHECK(b.E == Approx(a.E).epsilon(0.01));
+  // The loading is physical (strain rate in 1/s, damping without dt), so
+  // the two runs differ by the integration error of the same path, O(dt^2)
+  // between the crack events; measured 4e-5 on the peak stress and 1e-4 on
+  // the peak strain and E (safety 0.5: 9208 steps, 0.8: 5771). A crack
+  // sequence that branches near the peak would show here. Tolerance 0.5 %.
+  CHECK(b.peak_stress == Approx(a.peak_stress).epsilon(0.005));
+  CHECK(b.peak_strain == Approx(a.peak_strain).epsilon(0.005));
+  CHECK(b.E == Approx(a.E).epsilon(0.005));
   CHECK(a.cracks_tensile_peak + a.cracks_shear_peak > 0);
 }
 
-TEST_CASE("Voronoi confined compression: Pc is applied, the peak rises", "[voronoi][lab]")
+TEST_CASE("Voronoi confined compression: elastic superposition, the peak rises",
+          "[voronoi][lab]")
 {
-  auto m = material(1.5, 10e6, 30e6);
-  m.tensile_fracture_energy = 10;
-  m.shear_fracture_energy   = 50;
-  auto p = params(VoronoiTest::unconfined_compression, 5e-3);
-  const auto ucs = run_voronoi_lab_test(specimen(), m, 2650, p);
-  p.test               = VoronoiTest::confined_compression;
+  // Elastic, kappa = 1: the network is linear, so the deviator on top of
+  // the hydrostatic state Pc has the unconfined E = E_c and nu = 0 (same
+  // 1 % as the UCS case).
+  auto p               = params(VoronoiTest::confined_compression, 2e-4);
   p.confining_pressure = 10e6;
-  const auto c = run_voronoi_lab_test(specimen(), m, 2650, p);
-  INFO("UCS " << ucs.peak_stress << " Pa, confined peak " << c.peak_stress
-              << " Pa, confining steps " << c.confining_steps);
+  const auto e         = run_voronoi_lab_test(specimen(), material(1, 1e12, 1e12), 2650, p);
+  INFO("elastic confined: E " << e.E << ", nu " << e.nu << ", confining steps "
+                              << e.confining_steps);
+  REQUIRE(e.status == VoronoiLabStatus::ok);
+  CHECK(e.confining_steps > 0);
+  CHECK(e.E == Approx(E_c).epsilon(0.01));
+  CHECK(std::abs(e.nu) < 0.01);
+  CHECK(e.peak_stress == Approx(10e6 + e.peak_load).epsilon(1e-12));
+
+  // Breakable: the confinement raises the peak by more than Pc itself.
+  auto q               = params(VoronoiTest::unconfined_compression, 5e-3, 1.0);
+  const auto ucs       = run_voronoi_lab_test(specimen(), breakable(), 2650, q);
+  // Confined, the response hardens past 2e-3 (measured: no peak up to
+  // 5e-3); the stress reached at 2e-3 already exceeds UCS + Pc.
+  q.strain_limit       = 2e-3;
+  q.test               = VoronoiTest::confined_compression;
+  q.confining_pressure = 2.5e6;
+  const auto c         = run_voronoi_lab_test(specimen(), breakable(), 2650, q);
+  INFO("UCS " << ucs.peak_stress << " Pa at " << ucs.peak_strain << " ("
+              << ucs.loading_steps << " steps, " << ucs.ended_by << "), confined peak "
+              << c.peak_stress << " Pa at " << c.peak_strain << ", confining steps "
+              << c.confining_steps << ", loading steps " << c.loading_steps << ", "
+              << c.ended_by);
   REQUIRE(c.status == VoronoiLabStatus::ok);
-  REQUIRE(!c.history.empty());
-  // The first row is one history interval into the loading: the axial stress
-  // is -Pc plus the deviator of that strain (E_c * 2e-6 ~ 0.1 MPa).
-  CHECK(-c.history.front().axial_stress == Approx(10e6).epsilon(0.02));
-  CHECK(c.peak_stress > ucs.peak_stress + 10e6);
-  CHECK(c.peak_stress == Approx(10e6 + c.peak_load).epsilon(1e-12));
+  CHECK(c.peak_stress > ucs.peak_stress + 2.5e6);
 }
 
 TEST_CASE("Voronoi lab test: the step limit is reported, bad parameters refused",
