@@ -74,66 +74,28 @@ namespace demfem::dem::voronoi
       }
     contacts.add_from_tessellation(tess, px, py, r, scheme);
 
-    // Boundary edges of a rectangle: both ends on a side of the bounding box
-    // of all vertices (for a rectangular clip domain that box is the domain).
-    if (tess.vertex_x.empty())
-      return;
-    domain_xmin = *std::min_element(tess.vertex_x.begin(), tess.vertex_x.end());
-    domain_xmax = *std::max_element(tess.vertex_x.begin(), tess.vertex_x.end());
-    domain_ymin = *std::min_element(tess.vertex_y.begin(), tess.vertex_y.end());
-    domain_ymax = *std::max_element(tess.vertex_y.begin(), tess.vertex_y.end());
-    const double tol =
-        1e-9 * std::hypot(domain_xmax - domain_xmin, domain_ymax - domain_ymin);
-    for (int c = 0; c < n; ++c)
-      for (int e = tess.begin(c); e < tess.end(c); ++e)
-        {
-          if (tess.edge_neighbour[e] != Tessellation::boundary)
-            continue;
-          const int    f   = tess.next(c, e);
-          const double ax  = tess.vertex_x[e], ay = tess.vertex_y[e];
-          const double bx  = tess.vertex_x[f], by = tess.vertex_y[f];
-          auto         on  = [&](double u, double v, double w) {
-            return std::abs(u - w) <= tol && std::abs(v - w) <= tol;
-          };
-          BoundaryEdge edge;
-          if (on(ay, by, domain_ymin))
-            edge.side = Side::bottom;
-          else if (on(ay, by, domain_ymax))
-            edge.side = Side::top;
-          else if (on(ax, bx, domain_xmin))
-            edge.side = Side::left;
-          else if (on(ax, bx, domain_xmax))
-            edge.side = Side::right;
-          else
-            continue; // not a rectangle side (circle domain)
-          edge.grain  = c;
-          edge.rx0    = ax - px[c];
-          edge.ry0    = ay - py[c];
-          edge.rx1    = bx - px[c];
-          edge.ry1    = by - py[c];
-          edge.length = std::hypot(bx - ax, by - ay);
-          boundary_edges.push_back(edge);
-        }
+    // Boundary edges of a rectangle (dem/voronoi/boundary.h).
+    double xmin, ymin, xmax, ymax;
+    for (const SideEdge &s : rectangle_side_edges(tess, xmin, ymin, xmax, ymax))
+      {
+        const int    f = tess.next(s.cell, s.edge);
+        BoundaryEdge edge;
+        edge.grain  = s.cell;
+        edge.side   = s.side;
+        edge.rx0    = tess.vertex_x[s.edge] - px[s.cell];
+        edge.ry0    = tess.vertex_y[s.edge] - py[s.cell];
+        edge.rx1    = tess.vertex_x[f] - px[s.cell];
+        edge.ry1    = tess.vertex_y[f] - py[s.cell];
+        edge.length = tess.edge_length[s.edge];
+        boundary_edges.push_back(edge);
+      }
   }
 
   int RigidVoronoiModel::add_platen(Side side, PlatenLaw law, double friction)
   {
-    if (side != Side::bottom && side != Side::top)
-      throw InputError("RigidVoronoiModel: platens are on the bottom or top side");
-    check_range("RigidVoronoiModel platen", "friction", friction, 0, HUGE_VAL, false, true);
     const ContactMaterial &cm = contacts.contact_material();
-    Platen                 p;
-    p.side = side;
-    p.law  = law;
-    p.nx   = 0;
-    p.ny   = side == Side::top ? 1.0 : -1.0;
-    // Frictional platen: the law with no strength is the linear no-tension
-    // Coulomb contact (dem/voronoi/softening_law.h); kn, ks set per point.
-    ContactMaterial fm;
-    fm.kn            = 1;
-    fm.friction      = friction;
-    p.frictional_law = SofteningCoefficients::derive(fm);
-    p.point_begin    = static_cast<int>(pp_grain.size());
+    Platen                 p  = make_platen(side, law, friction);
+    p.point_begin   = static_cast<int>(pp_grain.size());
     const double tx = -p.ny, ty = p.nx; // t = k x n
     for (const auto &e : boundary_edges)
       {
@@ -224,7 +186,6 @@ namespace demfem::dem::voronoi
         if (!p.active)
           continue;
         const double nx = p.nx, ny = p.ny, tx = -ny, ty = nx;
-        SofteningCoefficients k = p.frictional_law;
         for (int i = p.point_begin; i < p.point_end; ++i)
           {
             const int    g  = pp_grain[i];
@@ -234,22 +195,9 @@ namespace demfem::dem::voronoi
             const double vry  = p.vy - (vy[g] + omega[g] * rx);
             const double d_un = (vrx * nx + vry * ny) * dt;
             const double d_us = (vrx * tx + vry * ty) * dt;
-            const double A    = pp_area[i];
-            double       f_n;
-            if (p.law == PlatenLaw::glued)
-              {
-                pp_un[i] += d_un;
-                f_n = pp_kn[i] * A * pp_un[i];
-                pp_fs[i] -= pp_ks[i] * A * d_us;
-              }
-            else
-              {
-                k.kn = pp_kn[i];
-                k.ks = pp_ks[i];
-                f_n  = update_point(k, A, d_un, d_us,
-                                    PointState{pp_un[i], pp_wn[i], pp_fs[i], pp_dt[i],
-                                               pp_ds[i], pp_crack[i]});
-              }
+            const double f_n  = update_platen_point(
+                p, pp_kn[i], pp_ks[i], pp_area[i], d_un, d_us,
+                PointState{pp_un[i], pp_wn[i], pp_fs[i], pp_dt[i], pp_ds[i], pp_crack[i]});
             pp_fn[i] = f_n;
             // Point force on the platen -F_n n + F_s t, the opposite on the grain.
             const double Fx = -f_n * nx + pp_fs[i] * tx, Fy = -f_n * ny + pp_fs[i] * ty;

@@ -32,6 +32,7 @@
 //  - pressure: a traction p (compression positive) on the cell edges of
 //    chosen sides, force p L t along the inward normal of the current
 //    (rotated) edge, at its current middle.
+#include "dem/voronoi/boundary.h"
 #include "dem/voronoi/rigid_contact.h"
 #include "dem/voronoi/tessellation.h"
 
@@ -40,22 +41,6 @@
 
 namespace demfem::dem::voronoi
 {
-  /// A side of a rectangular specimen.
-  enum class Side : int
-  {
-    bottom = 0,
-    right  = 1,
-    top    = 2,
-    left   = 3
-  };
-
-  /// Contact law of a platen's points.
-  enum class PlatenLaw
-  {
-    frictional, ///< no tension, Coulomb friction (compression platens)
-    glued       ///< linear in tension, compression and shear (tension grips)
-  };
-
   class RigidVoronoiModel
   {
   public:
@@ -143,18 +128,6 @@ namespace demfem::dem::voronoi
     std::vector<BoundaryEdge> boundary_edges; ///< rectangular domain, by side
 
     // ---- platens ------------------------------------------------------------
-    struct Platen
-    {
-      Side      side = Side::bottom;
-      PlatenLaw law  = PlatenLaw::frictional;
-      bool      active = false;
-      double    nx = 0, ny = 0; ///< outward normal of the side (grain -> platen)
-      double    vx = 0, vy = 0; ///< velocity
-      double    ux = 0, uy = 0; ///< displacement since install
-      double    fx = 0, fy = 0; ///< force of the grains on the platen, last step
-      SofteningCoefficients frictional_law; ///< unbonded: friction only
-      int point_begin = 0, point_end = 0;   ///< its points
-    };
     std::vector<Platen> platens;
 
     // ---- platen points --------------------------------------------------------
@@ -167,8 +140,6 @@ namespace demfem::dem::voronoi
   private:
     PointScheme           scheme;
     std::array<double, 4> pressure{}; ///< by Side
-    double                domain_xmin = 0, domain_ymin = 0, domain_xmax = 0,
-           domain_ymax = 0;
     void add_pressure_forces();
     void add_platen_forces(double dt);
   };

@@ -99,6 +99,168 @@ namespace demfem::dem::voronoi
         contact += std::hypot(c.fn[p], c.fs[p]);
       return contact > 0 ? unbalanced / contact : 0.0;
     }
+    double unbalanced_ratio(const FlexibleVoronoiModel &m)
+    {
+      double unbalanced = 0, contact = 0;
+      for (int i = 0; i < m.mesh.n_nodes(); ++i)
+        unbalanced += std::hypot(m.fx[i], m.fy[i]);
+      const auto &c = m.contacts;
+      for (int p = 0; p < c.n_points(); ++p)
+        contact += std::hypot(c.fn[p], c.fs[p]);
+      return contact > 0 ? unbalanced / contact : 0.0;
+    }
+
+    /// The test on a built model (rigid or flexible: the same boundary
+    /// interface, dem/voronoi/boundary.h).
+    template <class Model>
+    VoronoiLabResult run_test(Model &model, const VoronoiSpecimen &spec,
+                              const ContactMaterial &contact, const VoronoiLabParams &p)
+    {
+      model.damping  = p.damping;
+      const double W = spec.domain.xmax - spec.domain.xmin;
+      const double H = spec.domain.ymax - spec.domain.ymin;
+      const double t = contact.thickness;
+      const bool   tension = p.test == VoronoiTest::direct_tension;
+      const double Pc = p.test == VoronoiTest::confined_compression ? p.confining_pressure : 0;
+      // Direct tension: glued grips (bonded platens, no strength); compression:
+      // frictional platens (docs/voronoi.md, "Boundary conditions").
+      const PlatenLaw law    = tension ? PlatenLaw::glued : PlatenLaw::frictional;
+      const int       bottom = model.add_platen(Side::bottom, law, p.platen_friction);
+      const int       top    = model.add_platen(Side::top, law, p.platen_friction);
+
+      VoronoiLabResult r;
+      r.n_grains   = model.n_grains() - static_cast<int>(spec.tessellation.empty_cells.size());
+      r.n_contacts = model.contacts.n_contacts();
+      r.n_points   = model.contacts.n_points();
+      const double dt = model.stable_time_step(p.safety);
+      r.time_step     = dt;
+
+      // ---- confinement: Pc on all four sides, to equilibrium ------------------
+      if (Pc > 0)
+        {
+          for (Side s : {Side::bottom, Side::right, Side::top, Side::left})
+            model.set_pressure(s, Pc);
+          for (; r.confining_steps < p.confining_step_limit; ++r.confining_steps)
+            {
+              model.step(dt);
+              if (r.confining_steps % 10 == 9 && unbalanced_ratio(model) < p.ratio_limit)
+                break;
+            }
+        }
+      // ---- axial loading ---------------------------------------------------------
+      // The top and bottom keep the traction Pc; the platens carry the
+      // deviator. Strains from here on.
+      model.activate_platen(bottom);
+      model.activate_platen(top);
+      const double v = 0.5 * p.strain_rate * H * (tension ? 1 : -1);
+      model.platens[top].vy    = v;
+      model.platens[bottom].vy = -v;
+      const double uy_top0 = model.platens[top].uy, uy_bot0 = model.platens[bottom].uy;
+      const double ux_right0 = model.side_displacement(Side::right, 0);
+      const double ux_left0  = model.side_displacement(Side::left, 0);
+      const double area      = W * t;
+
+      auto measure = [&](VoronoiLabRow &row) {
+        row.axial_strain =
+            ((model.platens[top].uy - uy_top0) - (model.platens[bottom].uy - uy_bot0)) / H;
+        // Force of the grains on the top platen is +y in compression: the
+        // platen stress (tension positive) is minus the mean over the two.
+        const double platen_stress =
+            -0.5 * (model.platens[top].fy - model.platens[bottom].fy) / area;
+        row.axial_stress = platen_stress - Pc;
+        row.load         = tension ? platen_stress : -platen_stress;
+      };
+      // Gauge length: between the mean centres of the side grains (see
+      // RigidVoronoiModel::side_displacement).
+      const double gauge =
+          model.side_position(Side::right, 0) - model.side_position(Side::left, 0);
+      auto lateral = [&]() {
+        return ((model.side_displacement(Side::right, 0) - ux_right0) -
+                (model.side_displacement(Side::left, 0) - ux_left0)) /
+               gauge;
+      };
+
+      double       next_row = p.history_strain;
+      bool         new_peak = false;
+      VoronoiLabRow peak_row;
+      std::int64_t &k = r.loading_steps;
+      r.ended_by      = "step limit";
+      r.status        = VoronoiLabStatus::step_limit_reached;
+      for (; k < p.step_limit; ++k)
+        {
+          model.step(dt);
+          VoronoiLabRow row;
+          row.step = k + 1;
+          row.time = (k + 1) * dt;
+          measure(row);
+          if (row.load > r.peak_load)
+            {
+              r.peak_load   = row.load;
+              r.peak_stress = std::abs(row.axial_stress);
+              r.peak_strain = std::abs(row.axial_strain);
+              new_peak      = true;
+            }
+          const bool at_limit = std::abs(row.axial_strain) >= p.strain_limit;
+          bool       post_peak = false;
+          if (std::abs(row.axial_strain) >= next_row || at_limit)
+            {
+              row.lateral_strain = lateral();
+              count_cracks(model.contacts, row.cracks_tensile, row.cracks_shear);
+              if (new_peak)
+                {
+                  // Crack counts at the peak: those of the first row at or
+                  // after the peak step (rows are history_strain apart).
+                  r.cracks_tensile_peak = row.cracks_tensile;
+                  r.cracks_shear_peak   = row.cracks_shear;
+                  new_peak              = false;
+                }
+              r.history.push_back(row);
+              while (next_row <= std::abs(row.axial_strain))
+                next_row += p.history_strain;
+              // Post-peak as dem/specimen/lab_tests.cc: the load (mean of the
+              // last three rows, against platen chatter) below the fraction of
+              // the peak, and points broke after the peak, so neither start-up
+              // noise nor the inertial spike of the platens starting at full
+              // speed can end the test.
+              const std::size_t nh     = r.history.size();
+              const double      recent = nh < 3 ? row.load
+                                                : (r.history[nh - 1].load + r.history[nh - 2].load +
+                                              r.history[nh - 3].load) /
+                                                 3;
+              post_peak = row.cracks_tensile + row.cracks_shear >
+                              r.cracks_tensile_peak + r.cracks_shear_peak &&
+                          r.peak_load > 0 && recent < p.load_fraction * r.peak_load;
+            }
+          if (post_peak || at_limit)
+            {
+              r.ended_by = post_peak ? "post-peak" : "strain limit";
+              r.status   = VoronoiLabStatus::ok;
+              ++k;
+              break;
+            }
+        }
+      count_cracks(model.contacts, r.cracks_tensile, r.cracks_shear);
+
+      // ---- E and nu: rows of the loading branch within the fit window --------
+      std::vector<double> ea, load, el;
+      for (const auto &row : r.history)
+        {
+          if (std::abs(row.axial_strain) > r.peak_strain)
+            break; // past the peak: the loading branch has ended
+          if (row.load >= p.fit_lo * r.peak_load && row.load <= p.fit_hi * r.peak_load)
+            {
+              ea.push_back(std::abs(row.axial_strain));
+              load.push_back(row.load);
+              el.push_back(tension ? row.lateral_strain : -row.lateral_strain);
+            }
+        }
+      if (ea.size() >= 2)
+        {
+          r.E  = ls_slope(ea, load);
+          r.nu = -ls_slope(ea, el);
+        }
+      return r;
+    }
   } // namespace
 
   VoronoiLabResult run_voronoi_lab_test(const VoronoiSpecimen &spec,
@@ -111,149 +273,26 @@ namespace demfem::dem::voronoi
       throw InputError("Voronoi lab test: the specimen must be a rectangle");
     RigidVoronoiModel model(spec.tessellation, spec.x, spec.y, spec.radius, density,
                             contact, p.scheme);
-    model.damping  = p.damping;
-    const double W = spec.domain.xmax - spec.domain.xmin;
-    const double H = spec.domain.ymax - spec.domain.ymin;
-    const double t = contact.thickness;
-    const bool   tension = p.test == VoronoiTest::direct_tension;
-    const double Pc = p.test == VoronoiTest::confined_compression ? p.confining_pressure : 0;
-    // Direct tension: glued grips (bonded platens, no strength); compression:
-    // frictional platens (docs/voronoi.md, "Boundary conditions").
-    const PlatenLaw law    = tension ? PlatenLaw::glued : PlatenLaw::frictional;
-    const int       bottom = model.add_platen(Side::bottom, law, p.platen_friction);
-    const int       top    = model.add_platen(Side::top, law, p.platen_friction);
+    VoronoiLabResult r = run_test(model, spec, contact, p);
+    if (final_model)
+      *final_model = std::move(model);
+    return r;
+  }
 
-    VoronoiLabResult r;
-    r.n_grains   = model.n_grains() - static_cast<int>(spec.tessellation.empty_cells.size());
-    r.n_contacts = model.contacts.n_contacts();
-    r.n_points   = model.contacts.n_points();
-    const double dt = model.stable_time_step(p.safety);
-    r.time_step     = dt;
-
-    // ---- confinement: Pc on all four sides, to equilibrium ------------------
-    if (Pc > 0)
-      {
-        for (Side s : {Side::bottom, Side::right, Side::top, Side::left})
-          model.set_pressure(s, Pc);
-        for (; r.confining_steps < p.confining_step_limit; ++r.confining_steps)
-          {
-            model.step(dt);
-            if (r.confining_steps % 10 == 9 && unbalanced_ratio(model) < p.ratio_limit)
-              break;
-          }
-      }
-    // ---- axial loading ---------------------------------------------------------
-    // The top and bottom keep the traction Pc; the platens carry the
-    // deviator. Strains from here on.
-    model.activate_platen(bottom);
-    model.activate_platen(top);
-    const double v = 0.5 * p.strain_rate * H * (tension ? 1 : -1);
-    model.platens[top].vy    = v;
-    model.platens[bottom].vy = -v;
-    const double uy_top0 = model.platens[top].uy, uy_bot0 = model.platens[bottom].uy;
-    const double ux_right0 = model.side_displacement(Side::right, 0);
-    const double ux_left0  = model.side_displacement(Side::left, 0);
-    const double area      = W * t;
-
-    auto measure = [&](VoronoiLabRow &row) {
-      row.axial_strain =
-          ((model.platens[top].uy - uy_top0) - (model.platens[bottom].uy - uy_bot0)) / H;
-      // Force of the grains on the top platen is +y in compression: the
-      // platen stress (tension positive) is minus the mean over the two.
-      const double platen_stress =
-          -0.5 * (model.platens[top].fy - model.platens[bottom].fy) / area;
-      row.axial_stress = platen_stress - Pc;
-      row.load         = tension ? platen_stress : -platen_stress;
-    };
-    // Gauge length: between the mean centres of the side grains (see
-    // RigidVoronoiModel::side_displacement).
-    const double gauge =
-        model.side_position(Side::right, 0) - model.side_position(Side::left, 0);
-    auto lateral = [&]() {
-      return ((model.side_displacement(Side::right, 0) - ux_right0) -
-              (model.side_displacement(Side::left, 0) - ux_left0)) /
-             gauge;
-    };
-
-    double       next_row = p.history_strain;
-    bool         new_peak = false;
-    VoronoiLabRow peak_row;
-    std::int64_t &k = r.loading_steps;
-    r.ended_by      = "step limit";
-    r.status        = VoronoiLabStatus::step_limit_reached;
-    for (; k < p.step_limit; ++k)
-      {
-        model.step(dt);
-        VoronoiLabRow row;
-        row.step = k + 1;
-        row.time = (k + 1) * dt;
-        measure(row);
-        if (row.load > r.peak_load)
-          {
-            r.peak_load   = row.load;
-            r.peak_stress = std::abs(row.axial_stress);
-            r.peak_strain = std::abs(row.axial_strain);
-            new_peak      = true;
-          }
-        const bool at_limit = std::abs(row.axial_strain) >= p.strain_limit;
-        bool       post_peak = false;
-        if (std::abs(row.axial_strain) >= next_row || at_limit)
-          {
-            row.lateral_strain = lateral();
-            count_cracks(model.contacts, row.cracks_tensile, row.cracks_shear);
-            if (new_peak)
-              {
-                // Crack counts at the peak: those of the first row at or
-                // after the peak step (rows are history_strain apart).
-                r.cracks_tensile_peak = row.cracks_tensile;
-                r.cracks_shear_peak   = row.cracks_shear;
-                new_peak              = false;
-              }
-            r.history.push_back(row);
-            while (next_row <= std::abs(row.axial_strain))
-              next_row += p.history_strain;
-            // Post-peak as dem/specimen/lab_tests.cc: the load (mean of the
-            // last three rows, against platen chatter) below the fraction of
-            // the peak, and points broke after the peak, so neither start-up
-            // noise nor the inertial spike of the platens starting at full
-            // speed can end the test.
-            const std::size_t nh     = r.history.size();
-            const double      recent = nh < 3 ? row.load
-                                              : (r.history[nh - 1].load + r.history[nh - 2].load +
-                                            r.history[nh - 3].load) /
-                                               3;
-            post_peak = row.cracks_tensile + row.cracks_shear >
-                            r.cracks_tensile_peak + r.cracks_shear_peak &&
-                        r.peak_load > 0 && recent < p.load_fraction * r.peak_load;
-          }
-        if (post_peak || at_limit)
-          {
-            r.ended_by = post_peak ? "post-peak" : "strain limit";
-            r.status   = VoronoiLabStatus::ok;
-            ++k;
-            break;
-          }
-      }
-    count_cracks(model.contacts, r.cracks_tensile, r.cracks_shear);
-
-    // ---- E and nu: rows of the loading branch within the fit window --------
-    std::vector<double> ea, load, el;
-    for (const auto &row : r.history)
-      {
-        if (std::abs(row.axial_strain) > r.peak_strain)
-          break; // past the peak: the loading branch has ended
-        if (row.load >= p.fit_lo * r.peak_load && row.load <= p.fit_hi * r.peak_load)
-          {
-            ea.push_back(std::abs(row.axial_strain));
-            load.push_back(row.load);
-            el.push_back(tension ? row.lateral_strain : -row.lateral_strain);
-          }
-      }
-    if (ea.size() >= 2)
-      {
-        r.E  = ls_slope(ea, load);
-        r.nu = -ls_slope(ea, el);
-      }
+  VoronoiLabResult run_flexible_voronoi_lab_test(const VoronoiSpecimen &spec,
+                                                 const ContactMaterial &contact,
+                                                 const GrainElasticity  &grain,
+                                                 const VoronoiLabParams &p,
+                                                 FlexibleVoronoiModel   *final_model)
+  {
+    p.validate("Voronoi lab test");
+    if (spec.domain.shape != ClipDomain::Shape::rectangle)
+      throw InputError("Voronoi lab test: the specimen must be a rectangle");
+    if (grain.thickness != contact.thickness)
+      throw InputError("Voronoi lab test: the grain and contact thicknesses differ");
+    FlexibleVoronoiModel model(spec.tessellation, spec.x, spec.y, spec.radius, grain,
+                               contact, p.scheme);
+    VoronoiLabResult r = run_test(model, spec, contact, p);
     if (final_model)
       *final_model = std::move(model);
     return r;

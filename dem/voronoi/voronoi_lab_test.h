@@ -1,6 +1,6 @@
 #pragma once
-// Laboratory tests on rigid Voronoi grains (docs/voronoi.md, "Lab tests";
-// seed 004 §2): a rectangular specimen packed by the DEM genesis
+// Laboratory tests on rigid or flexible Voronoi grains (docs/voronoi.md,
+// "Lab tests"; seed 004 §2): a rectangular specimen packed by the DEM genesis
 // (dem/specimen/genesis.h), tessellated (Laguerre cells clipped to the
 // vessel's inner box), loaded by rigid platens at a strain rate given in
 // physical terms (1/s): unconfined compression (frictional platens),
@@ -19,6 +19,7 @@
 //    plane strain coincide): least-squares slopes of the load and of minus
 //    the lateral strain against the axial strain over the history rows of
 //    the loading branch whose load is within [fit_lo, fit_hi] of the peak.
+#include "dem/voronoi/flexible_model.h"
 #include "dem/voronoi/rigid_model.h"
 #include "dem/voronoi/tessellation.h"
 
@@ -129,6 +130,16 @@ namespace demfem::dem::voronoi
                                         const ContactMaterial &contact, double density,
                                         const VoronoiLabParams &params,
                                         RigidVoronoiModel      *final_model = nullptr);
+
+  /// The same test with flexible grains (dem/voronoi/flexible_model.h) of
+  /// elasticity `grain` (its density and thickness; the thickness must be
+  /// the contact's). The lateral gauge is the side nodes (over their
+  /// distance, about W).
+  VoronoiLabResult run_flexible_voronoi_lab_test(const VoronoiSpecimen &specimen,
+                                                 const ContactMaterial &contact,
+                                                 const GrainElasticity  &grain,
+                                                 const VoronoiLabParams &params,
+                                                 FlexibleVoronoiModel   *final_model = nullptr);
 
   /// Cracked grain-contact points by mode (tensile, shear).
   void count_cracks(const RigidVoronoiContacts &contacts, int &tensile, int &shear);
