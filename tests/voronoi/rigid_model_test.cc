@@ -244,9 +244,10 @@ TEST_CASE("Rigid Voronoi grains: the time step estimate is stable and not far fr
   // up to the O(dt^2) error of the scheme): at 0.9 of the estimate the
   // kinetic energy never exceeds 1.2 x the initial one.
   CHECK(run(0.9) < 1.2);
-  // Above the true limit the highest mode grows exponentially; the estimate
-  // is a bound within a factor 3 of it (measured in docs/voronoi.md).
-  CHECK(run(3.0) > 1e3);
+  // Above the true limit the highest mode grows exponentially. Measured on
+  // this packing: stable up to 1.6 x the estimate, diverging from 1.8 x;
+  // the estimate is a bound within a factor 2 of the limit.
+  CHECK(run(2.0) > 1e3);
 }
 
 TEST_CASE("Rigid Voronoi grains: hydrostatic pressure gives the uniform strain "

@@ -110,7 +110,8 @@ TEST_CASE("Voronoi direct tension, uniform strength, kappa = 1: peak = sigma_t",
   // at sigma_yy = sigma_t / max n_y^2, within ~1 % above sigma_t for ~200
   // grains (edges within a few degrees of horizontal), and the brittle
   // points then unzip: the peak is sigma_t within the dynamic overshoot of
-  // the loading at 1/s. Tolerance 3 %.
+  // the loading (0.25/s: E within 0.3 %). Measured 1.0015 sigma_t.
+  // Tolerance 1 %.
   const double sigma_t = 10e6;
   auto         p       = params(VoronoiTest::direct_tension, 2e-3);
   const auto r = run_voronoi_lab_test(specimen(), material(1, sigma_t, 5 * sigma_t), 2650, p);
@@ -118,8 +119,8 @@ TEST_CASE("Voronoi direct tension, uniform strength, kappa = 1: peak = sigma_t",
                << r.ended_by << ", cracks " << r.cracks_tensile << " + " << r.cracks_shear);
   REQUIRE(r.status == VoronoiLabStatus::ok);
   CHECK(r.ended_by == "post-peak");
-  CHECK(r.peak_stress == Approx(sigma_t).epsilon(0.03));
-  CHECK(r.peak_strain == Approx(sigma_t / E_c).epsilon(0.03));
+  CHECK(r.peak_stress == Approx(sigma_t).epsilon(0.01));
+  CHECK(r.peak_strain == Approx(sigma_t / E_c).epsilon(0.01));
   CHECK(r.E == Approx(E_c).epsilon(0.01));
   CHECK(r.cracks_tensile > 0);
 }
@@ -273,4 +274,15 @@ TEST_CASE("Voronoi UCS with flexible grains tends to the rigid grains as E grows
   // 2 TPa), towards the network's nu = 0.
   CHECK(nu[1] < 0.5 * nu[0]);
   CHECK(rigid.E == Approx(E_c).epsilon(0.01));
+}
+
+TEST_CASE("Voronoi cost per grain-step: a positive finite time, input checked",
+          "[voronoi][lab]")
+{
+  // No timing assertion (machine dependent): the measure runs and is sane.
+  const double c = voronoi_cost_per_grain_step(400, 20);
+  CHECK(std::isfinite(c));
+  CHECK(c > 0);
+  CHECK(c < 1e-3); // a millisecond per grain-step would be a broken build
+  CHECK_THROWS_AS(voronoi_cost_per_grain_step(2, 20), InputError);
 }
