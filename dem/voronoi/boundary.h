@@ -52,8 +52,8 @@ namespace demfem::dem::voronoi
     double    vx = 0, vy = 0; ///< velocity
     double    ux = 0, uy = 0; ///< displacement since install
     double    fx = 0, fy = 0; ///< force of the grains on the platen, last step
-    SofteningCoefficients frictional_law; ///< unbonded: friction only
-    int point_begin = 0, point_end = 0;   ///< its points
+    SofteningCoefficients frictional_law;                 ///< unbonded: friction only
+    int                   point_begin = 0, point_end = 0; ///< its points
   };
 
   /// A platen on `side` (bottom or top) with the frictional law of

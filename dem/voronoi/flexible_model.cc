@@ -69,7 +69,7 @@ namespace demfem::dem::voronoi
     double xmin, ymin, xmax, ymax;
     for (const SideEdge &s : rectangle_side_edges(tess, xmin, ymin, xmax, ymax))
       {
-        const int    c = s.cell, k = tess.end(c) - tess.begin(c), j = s.edge - tess.begin(c);
+        const int c = s.cell, k = tess.end(c) - tess.begin(c), j = s.edge - tess.begin(c);
         BoundaryEdge e;
         e.grain  = c;
         e.side   = s.side;
@@ -79,7 +79,8 @@ namespace demfem::dem::voronoi
         // Outward normal of a counter-clockwise edge: (d_y, -d_x) / L.
         const double dx = mesh.x0[e.node1] - mesh.x0[e.node0];
         const double dy = mesh.y0[e.node1] - mesh.y0[e.node0];
-        e.h = ((mesh.x0[e.node0] - px[c]) * dy - (mesh.y0[e.node0] - py[c]) * dx) / e.length;
+        e.h = ((mesh.x0[e.node0] - px[c]) * dy - (mesh.y0[e.node0] - py[c]) * dx) /
+              e.length;
         boundary_edges.push_back(e);
       }
   }
@@ -99,8 +100,8 @@ namespace demfem::dem::voronoi
                            std::to_string(e.grain) + ")");
         // As the rigid model (dem/voronoi/rigid_model.h): kn = E_c / h in the
         // deformability mode.
-        const double kn = cm.deformability_mode() ? cm.contact_modulus / e.h : cm.kn;
-        const double A  = e.length * cm.thickness;
+        const double kn  = cm.deformability_mode() ? cm.contact_modulus / e.h : cm.kn;
+        const double A   = e.length * cm.thickness;
         auto         add = [&](double w0, double a) {
           pp_node0.push_back(e.node0);
           pp_node1.push_back(e.node1);
@@ -167,7 +168,8 @@ namespace demfem::dem::voronoi
             const double f_n = update_platen_point(
                 p, pp_kn[i], pp_ks[i], pp_area[i], (vrx * nx + vry * ny) * dt,
                 (vrx * tx + vry * ty) * dt,
-                PointState{pp_un[i], pp_wn[i], pp_fs[i], pp_dt[i], pp_ds[i], pp_crack[i]});
+                PointState{pp_un[i], pp_wn[i], pp_fs[i], pp_dt[i], pp_ds[i],
+                           pp_crack[i]});
             pp_fn[i]        = f_n;
             const double Fx = -f_n * nx + pp_fs[i] * tx, Fy = -f_n * ny + pp_fs[i] * ty;
             p.fx += Fx;
@@ -187,8 +189,8 @@ namespace demfem::dem::voronoi
       if (e.side == side)
         for (int n : {e.node0, e.node1})
           {
-            sum += 0.5 * e.length *
-                   (component == 0 ? x[n] - mesh.x0[n] : y[n] - mesh.y0[n]);
+            sum +=
+                0.5 * e.length * (component == 0 ? x[n] - mesh.x0[n] : y[n] - mesh.y0[n]);
             weight += 0.5 * e.length;
           }
     return weight > 0 ? sum / weight : 0.0;

@@ -46,16 +46,16 @@ namespace demfem::dem::voronoi
                        " disks, the tessellation " + std::to_string(n) + " cells");
     check_range("RigidVoronoiModel", "density", density, 0, HUGE_VAL, true, true);
     theta.assign(n, 0.0);
-    vx     = theta;
-    vy     = theta;
-    omega  = theta;
-    fx     = theta;
-    fy     = theta;
-    mz     = theta;
-    fx_ext = theta;
-    fy_ext = theta;
-    mz_ext = theta;
-    mass   = theta;
+    vx      = theta;
+    vy      = theta;
+    omega   = theta;
+    fx      = theta;
+    fy      = theta;
+    mz      = theta;
+    fx_ext  = theta;
+    fy_ext  = theta;
+    mz_ext  = theta;
+    mass    = theta;
     inertia = theta;
     held.assign(n, 0);
     const double t = contact_material.thickness;
@@ -95,23 +95,23 @@ namespace demfem::dem::voronoi
   {
     const ContactMaterial &cm = contacts.contact_material();
     Platen                 p  = make_platen(side, law, friction);
-    p.point_begin   = static_cast<int>(pp_grain.size());
+    p.point_begin             = static_cast<int>(pp_grain.size());
     const double tx = -p.ny, ty = p.nx; // t = k x n
     for (const auto &e : boundary_edges)
       {
         if (e.side != side)
           continue;
         const double mx = 0.5 * (e.rx0 + e.rx1), my = 0.5 * (e.ry0 + e.ry1);
-        const double h  = mx * p.nx + my * p.ny; // disk centre to edge line
+        const double h = mx * p.nx + my * p.ny; // disk centre to edge line
         if (!(h > 0))
           throw InputError("RigidVoronoiModel: a disk centre lies on or beyond the "
                            "platen side (grain " +
                            std::to_string(e.grain) + ")");
         // Seed 004 §2.5 per unit area; deformability mode: the half spring
         // from the centre to the rigid platen, kn = E_c / h.
-        const double kn = cm.deformability_mode() ? cm.contact_modulus / h : cm.kn;
-        const double A  = e.length * cm.thickness;
-        auto add = [&](double s, double a) {
+        const double kn  = cm.deformability_mode() ? cm.contact_modulus / h : cm.kn;
+        const double A   = e.length * cm.thickness;
+        auto         add = [&](double s, double a) {
           pp_grain.push_back(e.grain);
           pp_h.push_back(h);
           pp_s.push_back(s);
@@ -119,7 +119,7 @@ namespace demfem::dem::voronoi
           pp_kn.push_back(kn);
           pp_ks.push_back(kn / cm.kratio);
           pp_crack.push_back(law == PlatenLaw::frictional ? PointCrack::unbonded
-                                                          : PointCrack::intact);
+                                                                  : PointCrack::intact);
         };
         const double s0 = e.rx0 * tx + e.ry0 * ty, s1 = e.rx1 * tx + e.ry1 * ty;
         if (scheme == PointScheme::lobatto3)
@@ -189,15 +189,17 @@ namespace demfem::dem::voronoi
         for (int i = p.point_begin; i < p.point_end; ++i)
           {
             const int    g  = pp_grain[i];
-            const double rx = pp_h[i] * nx + pp_s[i] * tx, ry = pp_h[i] * ny + pp_s[i] * ty;
+            const double rx = pp_h[i] * nx + pp_s[i] * tx,
+                         ry = pp_h[i] * ny + pp_s[i] * ty;
             // Velocity of the platen (B) relative to the grain (A) at the point.
             const double vrx  = p.vx - (vx[g] - omega[g] * ry);
             const double vry  = p.vy - (vy[g] + omega[g] * rx);
             const double d_un = (vrx * nx + vry * ny) * dt;
             const double d_us = (vrx * tx + vry * ty) * dt;
-            const double f_n  = update_platen_point(
-                p, pp_kn[i], pp_ks[i], pp_area[i], d_un, d_us,
-                PointState{pp_un[i], pp_wn[i], pp_fs[i], pp_dt[i], pp_ds[i], pp_crack[i]});
+            const double f_n =
+                update_platen_point(p, pp_kn[i], pp_ks[i], pp_area[i], d_un, d_us,
+                                    PointState{pp_un[i], pp_wn[i], pp_fs[i], pp_dt[i],
+                                               pp_ds[i], pp_crack[i]});
             pp_fn[i] = f_n;
             // Point force on the platen -F_n n + F_s t, the opposite on the grain.
             const double Fx = -f_n * nx + pp_fs[i] * tx, Fy = -f_n * ny + pp_fs[i] * ty;
@@ -225,7 +227,7 @@ namespace demfem::dem::voronoi
   void RigidVoronoiModel::step(double dt)
   {
     compute_forces(dt);
-    const int n     = n_grains();
+    const int    n     = n_grains();
     const double alpha = damping;
     auto         sign  = [](double v) { return (v > 0) - (v < 0); };
     for (int i = 0; i < n; ++i)
@@ -266,7 +268,8 @@ namespace demfem::dem::voronoi
         const int    a = contacts.grain_a[c], b = contacts.grain_b[c];
         double       xr, yr, nx, ny;
         contacts.reference_frame(
-            c, GrainKinematics{x.data(), y.data(), radius.data(), nullptr, nullptr, nullptr},
+            c,
+            GrainKinematics{x.data(), y.data(), radius.data(), nullptr, nullptr, nullptr},
             xr, yr, nx, ny);
         for (int p = contacts.point_offset[c]; p < contacts.point_offset[c + 1]; ++p)
           {
@@ -298,8 +301,8 @@ namespace demfem::dem::voronoi
   {
     double e = 0;
     for (int i = 0; i < n_grains(); ++i)
-      e += 0.5 * (mass[i] * (vx[i] * vx[i] + vy[i] * vy[i]) +
-                  inertia[i] * omega[i] * omega[i]);
+      e += 0.5 *
+           (mass[i] * (vx[i] * vx[i] + vy[i] * vy[i]) + inertia[i] * omega[i] * omega[i]);
     return e;
   }
 

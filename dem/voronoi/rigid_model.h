@@ -140,8 +140,8 @@ namespace demfem::dem::voronoi
   private:
     PointScheme           scheme;
     std::array<double, 4> pressure{}; ///< by Side
-    void add_pressure_forces();
-    void add_platen_forces(double dt);
+    void                  add_pressure_forces();
+    void                  add_platen_forces(double dt);
   };
 
   /// Polar moment of inertia per unit mass-area density (integral of

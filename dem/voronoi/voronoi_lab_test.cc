@@ -49,8 +49,8 @@ namespace demfem::dem::voronoi
     const auto &W   = s.model.walls;
     const auto &ves = s.vessel;
     out.domain      = ClipDomain::rectangle(
-        W.vertex[ves.lo_vertex[0]][0], W.vertex[ves.lo_vertex[1]][1],
-        W.vertex[ves.hi_vertex[0]][0], W.vertex[ves.hi_vertex[1]][1]);
+             W.vertex[ves.lo_vertex[0]][0], W.vertex[ves.lo_vertex[1]][1],
+             W.vertex[ves.hi_vertex[0]][0], W.vertex[ves.hi_vertex[1]][1]);
     out.tessellation = laguerre_tessellation(out.x, out.y, out.radius, out.domain);
     return out;
   }
@@ -116,12 +116,13 @@ namespace demfem::dem::voronoi
     VoronoiLabResult run_test(Model &model, const VoronoiSpecimen &spec,
                               const ContactMaterial &contact, const VoronoiLabParams &p)
     {
-      model.damping  = p.damping;
-      const double W = spec.domain.xmax - spec.domain.xmin;
-      const double H = spec.domain.ymax - spec.domain.ymin;
-      const double t = contact.thickness;
+      model.damping        = p.damping;
+      const double W       = spec.domain.xmax - spec.domain.xmin;
+      const double H       = spec.domain.ymax - spec.domain.ymin;
+      const double t       = contact.thickness;
       const bool   tension = p.test == VoronoiTest::direct_tension;
-      const double Pc = p.test == VoronoiTest::confined_compression ? p.confining_pressure : 0;
+      const double Pc =
+          p.test == VoronoiTest::confined_compression ? p.confining_pressure : 0;
       // Direct tension: glued grips (bonded platens, no strength); compression:
       // frictional platens (docs/voronoi.md, "Boundary conditions").
       const PlatenLaw law    = tension ? PlatenLaw::glued : PlatenLaw::frictional;
@@ -129,9 +130,10 @@ namespace demfem::dem::voronoi
       const int       top    = model.add_platen(Side::top, law, p.platen_friction);
 
       VoronoiLabResult r;
-      r.n_grains   = model.n_grains() - static_cast<int>(spec.tessellation.empty_cells.size());
-      r.n_contacts = model.contacts.n_contacts();
-      r.n_points   = model.contacts.n_points();
+      r.n_grains =
+          model.n_grains() - static_cast<int>(spec.tessellation.empty_cells.size());
+      r.n_contacts    = model.contacts.n_contacts();
+      r.n_points      = model.contacts.n_points();
       const double dt = model.stable_time_step(p.safety);
       r.time_step     = dt;
 
@@ -152,7 +154,7 @@ namespace demfem::dem::voronoi
       // deviator. Strains from here on.
       model.activate_platen(bottom);
       model.activate_platen(top);
-      const double v = 0.5 * p.strain_rate * H * (tension ? 1 : -1);
+      const double v           = 0.5 * p.strain_rate * H * (tension ? 1 : -1);
       model.platens[top].vy    = v;
       model.platens[bottom].vy = -v;
       const double uy_top0 = model.platens[top].uy, uy_bot0 = model.platens[bottom].uy;
@@ -162,7 +164,8 @@ namespace demfem::dem::voronoi
 
       auto measure = [&](VoronoiLabRow &row) {
         row.axial_strain =
-            ((model.platens[top].uy - uy_top0) - (model.platens[bottom].uy - uy_bot0)) / H;
+            ((model.platens[top].uy - uy_top0) - (model.platens[bottom].uy - uy_bot0)) /
+            H;
         // Force of the grains on the top platen is +y in compression: the
         // platen stress (tension positive) is minus the mean over the two.
         const double platen_stress =
@@ -180,8 +183,8 @@ namespace demfem::dem::voronoi
                gauge;
       };
 
-      double       next_row = p.history_strain;
-      bool         new_peak = false;
+      double        next_row = p.history_strain;
+      bool          new_peak = false;
       VoronoiLabRow peak_row;
       std::int64_t &k = r.loading_steps;
       r.ended_by      = "step limit";
@@ -200,7 +203,7 @@ namespace demfem::dem::voronoi
               r.peak_strain = std::abs(row.axial_strain);
               new_peak      = true;
             }
-          const bool at_limit = std::abs(row.axial_strain) >= p.strain_limit;
+          const bool at_limit  = std::abs(row.axial_strain) >= p.strain_limit;
           bool       post_peak = false;
           if (std::abs(row.axial_strain) >= next_row || at_limit)
             {
@@ -222,11 +225,12 @@ namespace demfem::dem::voronoi
               // the peak, and points broke after the peak, so neither start-up
               // noise nor the inertial spike of the platens starting at full
               // speed can end the test.
-              const std::size_t nh     = r.history.size();
-              const double      recent = nh < 3 ? row.load
-                                                : (r.history[nh - 1].load + r.history[nh - 2].load +
-                                              r.history[nh - 3].load) /
-                                                 3;
+              const std::size_t nh = r.history.size();
+              const double      recent =
+                  nh < 3 ? row.load
+                              : (r.history[nh - 1].load + r.history[nh - 2].load +
+                            r.history[nh - 3].load) /
+                               3;
               post_peak = row.cracks_tensile + row.cracks_shear >
                               r.cracks_tensile_peak + r.cracks_shear_peak &&
                           r.peak_load > 0 && recent < p.load_fraction * r.peak_load;
@@ -273,14 +277,14 @@ namespace demfem::dem::voronoi
       throw InputError("Voronoi lab test: the specimen must be a rectangle");
     RigidVoronoiModel model(spec.tessellation, spec.x, spec.y, spec.radius, density,
                             contact, p.scheme);
-    VoronoiLabResult r = run_test(model, spec, contact, p);
+    VoronoiLabResult  r = run_test(model, spec, contact, p);
     if (final_model)
       *final_model = std::move(model);
     return r;
   }
 
-  VoronoiLabResult run_flexible_voronoi_lab_test(const VoronoiSpecimen &spec,
-                                                 const ContactMaterial &contact,
+  VoronoiLabResult run_flexible_voronoi_lab_test(const VoronoiSpecimen  &spec,
+                                                 const ContactMaterial  &contact,
                                                  const GrainElasticity  &grain,
                                                  const VoronoiLabParams &p,
                                                  FlexibleVoronoiModel   *final_model)
@@ -292,7 +296,7 @@ namespace demfem::dem::voronoi
       throw InputError("Voronoi lab test: the grain and contact thicknesses differ");
     FlexibleVoronoiModel model(spec.tessellation, spec.x, spec.y, spec.radius, grain,
                                contact, p.scheme);
-    VoronoiLabResult r = run_test(model, spec, contact, p);
+    VoronoiLabResult     r = run_test(model, spec, contact, p);
     if (final_model)
       *final_model = std::move(model);
     return r;
@@ -303,10 +307,10 @@ namespace demfem::dem::voronoi
     check_range("voronoi_cost_per_grain_step", "n_grains", n_grains, 4, HUGE_VAL);
     check_range("voronoi_cost_per_grain_step", "steps", steps, 1, HUGE_VAL);
     // Jittered hexagonal lattice, spacing 1 mm, radii 0.4-0.5 mm.
-    const double h  = 1e-3;
-    const int    nx = std::max(2, (int)std::lround(std::sqrt(n_grains / 0.866)));
-    const int    ny = std::max(2, (int)std::lround(n_grains / (double)nx));
-    std::mt19937_64                        rng(seed);
+    const double    h  = 1e-3;
+    const int       nx = std::max(2, (int)std::lround(std::sqrt(n_grains / 0.866)));
+    const int       ny = std::max(2, (int)std::lround(n_grains / (double)nx));
+    std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(-1, 1);
     std::vector<double>                    x, y, r;
     for (int j = 0; j < ny; ++j)
@@ -319,11 +323,11 @@ namespace demfem::dem::voronoi
     const auto tess = laguerre_tessellation(
         x, y, r, ClipDomain::rectangle(0, 0, (nx + 0.5) * h, ny * 0.866 * h));
     ContactMaterial cm;
-    cm.kn               = 5e13;
-    cm.kratio           = 1.5;
-    cm.tensile_strength = 1e7;
-    cm.cohesion         = 3e7;
-    cm.friction         = 0.5;
+    cm.kn                      = 5e13;
+    cm.kratio                  = 1.5;
+    cm.tensile_strength        = 1e7;
+    cm.cohesion                = 3e7;
+    cm.friction                = 0.5;
     cm.tensile_fracture_energy = 10;
     cm.shear_fracture_energy   = 50;
     RigidVoronoiModel model(tess, x, y, r, 2650, cm);

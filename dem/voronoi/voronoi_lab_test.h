@@ -33,11 +33,11 @@ namespace demfem::dem::voronoi
   /// grain-scaling packing at a low material pressure).
   struct VoronoiSpecimenParams
   {
-    double        width  = 0.025; ///< W (x) [m]
-    double        height = 0.05;  ///< H (y, the loading axis) [m]
-    double        d_min  = 1.0;   ///< disk diameters uniform in [d_min, d_max]
-    double        d_max  = 1.66;  ///<   before the scaling to n_grains [m]
-    double        n_grains = 300; ///< about this many grains (diameter multiplier)
+    double        width    = 0.025; ///< W (x) [m]
+    double        height   = 0.05;  ///< H (y, the loading axis) [m]
+    double        d_min    = 1.0;   ///< disk diameters uniform in [d_min, d_max]
+    double        d_max    = 1.66;  ///<   before the scaling to n_grains [m]
+    double        n_grains = 300;   ///< about this many grains (diameter multiplier)
     std::uint64_t seed     = 10000;
     double        packing_pressure = 1e5;  ///< genesis material pressure [Pa]
     double        packing_modulus  = 1e10; ///< E* of the packing contacts [Pa]
@@ -64,16 +64,16 @@ namespace demfem::dem::voronoi
 
   struct VoronoiLabParams
   {
-    VoronoiTest test               = VoronoiTest::unconfined_compression;
-    double      confining_pressure = 0;   ///< Pc (compression positive) [Pa]
-    double      strain_rate        = 1.0; ///< axial strain rate (> 0) [1/s]
-    double      load_fraction      = 0.7; ///< ends when the load < fraction * peak
-    double      strain_limit       = 0.01; ///< ends at |axial strain| above this
-    std::int64_t step_limit        = 2000000;
-    double       safety            = 0.5; ///< time step = safety * stable estimate
-    double       damping           = 0.7; ///< local non-viscous damping alpha
-    double       platen_friction   = 0;   ///< compression platens (0: no end friction)
-    PointScheme  scheme            = PointScheme::lobatto3;
+    VoronoiTest  test               = VoronoiTest::unconfined_compression;
+    double       confining_pressure = 0;    ///< Pc (compression positive) [Pa]
+    double       strain_rate        = 1.0;  ///< axial strain rate (> 0) [1/s]
+    double       load_fraction      = 0.7;  ///< ends when the load < fraction * peak
+    double       strain_limit       = 0.01; ///< ends at |axial strain| above this
+    std::int64_t step_limit         = 2000000;
+    double       safety             = 0.5; ///< time step = safety * stable estimate
+    double       damping            = 0.7; ///< local non-viscous damping alpha
+    double       platen_friction    = 0;   ///< compression platens (0: no end friction)
+    PointScheme  scheme             = PointScheme::lobatto3;
     /// History rows every this axial-strain increment (a physical interval,
     /// so the rows do not depend on the time step).
     double history_strain = 2e-6;
@@ -111,15 +111,15 @@ namespace demfem::dem::voronoi
     VoronoiLabStatus           status = VoronoiLabStatus::ok;
     std::string                ended_by; ///< "post-peak", "strain limit", "step limit"
     std::vector<VoronoiLabRow> history;
-    double peak_stress  = 0; ///< |axial stress| at the peak (confined: Pc + deviator) [Pa]
-    double peak_load    = 0; ///< peak of the load (confined: the deviator) [Pa]
-    double peak_strain  = 0; ///< |axial strain| at the peak
-    double E            = 0; ///< 2D modulus of the loading branch [Pa]
-    double nu           = 0; ///< -d(lateral) / d(axial) strain
+    double peak_stress = 0; ///< |axial stress| at the peak (confined: Pc + deviator) [Pa]
+    double peak_load   = 0; ///< peak of the load (confined: the deviator) [Pa]
+    double peak_strain = 0; ///< |axial strain| at the peak
+    double E           = 0; ///< 2D modulus of the loading branch [Pa]
+    double nu          = 0; ///< -d(lateral) / d(axial) strain
     int    cracks_tensile_peak = 0, cracks_shear_peak = 0; ///< at the peak row
     int    cracks_tensile = 0, cracks_shear = 0;           ///< at the end
     std::int64_t confining_steps = 0, loading_steps = 0;
-    double       time_step       = 0; ///< [s]
+    double       time_step = 0; ///< [s]
     int          n_grains = 0, n_contacts = 0, n_points = 0;
   };
 
@@ -135,11 +135,10 @@ namespace demfem::dem::voronoi
   /// elasticity `grain` (its density and thickness; the thickness must be
   /// the contact's). The lateral gauge is the side nodes (over their
   /// distance, about W).
-  VoronoiLabResult run_flexible_voronoi_lab_test(const VoronoiSpecimen &specimen,
-                                                 const ContactMaterial &contact,
-                                                 const GrainElasticity  &grain,
-                                                 const VoronoiLabParams &params,
-                                                 FlexibleVoronoiModel   *final_model = nullptr);
+  VoronoiLabResult run_flexible_voronoi_lab_test(
+      const VoronoiSpecimen &specimen, const ContactMaterial &contact,
+      const GrainElasticity &grain, const VoronoiLabParams &params,
+      FlexibleVoronoiModel *final_model = nullptr);
 
   /// Cracked grain-contact points by mode (tensile, shear).
   void count_cracks(const RigidVoronoiContacts &contacts, int &tensile, int &shear);

@@ -87,7 +87,8 @@ namespace demfem::dem::voronoi
         for (int p = c.point_offset[k]; p < c.point_offset[k + 1]; ++p)
           {
             const double px = xr + c.s[p] * tx, py = yr + c.s[p] * ty;
-            const double fx = -c.fn[p] * nx + c.fs[p] * tx, fy = -c.fn[p] * ny + c.fs[p] * ty;
+            const double fx = -c.fn[p] * nx + c.fs[p] * tx,
+                         fy = -c.fn[p] * ny + c.fs[p] * ty;
             add(b, px - m.x[b], py - m.y[b], fx, fy);
             add(a, px - m.x[a], py - m.y[a], -fx, -fy);
           }
@@ -130,8 +131,9 @@ namespace demfem::dem::voronoi
                                const RigidVoronoiModel &m)
   {
     if (tess.n_cells() != m.n_grains())
-      throw std::invalid_argument("write_voronoi_cells_vtk: tessellation and model differ");
-    vtkNew<vtkPoints>    pts;
+      throw std::invalid_argument(
+          "write_voronoi_cells_vtk: tessellation and model differ");
+    vtkNew<vtkPoints> pts;
     pts->SetDataTypeToDouble(); // micrometre displacements on metre coordinates
     vtkNew<vtkCellArray> polys;
     std::vector<int>     cells;
@@ -150,11 +152,11 @@ namespace demfem::dem::voronoi
           }
         cells.push_back(c);
       }
-    const vtkIdType n     = static_cast<vtkIdType>(cells.size());
-    auto            id    = int_array("grain", n);
-    auto            disp  = array("displacement", 3, n);
-    auto            rot   = array("rotation", 1, n);
-    auto            sigma = array("stress", 3, n); // xx, yy, xy (tension positive)
+    const vtkIdType     n     = static_cast<vtkIdType>(cells.size());
+    auto                id    = int_array("grain", n);
+    auto                disp  = array("displacement", 3, n);
+    auto                rot   = array("rotation", 1, n);
+    auto                sigma = array("stress", 3, n); // xx, yy, xy (tension positive)
     std::vector<double> sxx, syy, sxy;
     voronoi_grain_stress(tess, m, sxx, syy, sxy);
     for (vtkIdType k = 0; k < n; ++k)
@@ -168,21 +170,22 @@ namespace demfem::dem::voronoi
     vtkNew<vtkPolyData> data;
     data->SetPoints(pts);
     data->SetPolys(polys);
-    for (vtkDataArray *a : {static_cast<vtkDataArray *>(id), static_cast<vtkDataArray *>(disp),
-                            static_cast<vtkDataArray *>(rot), static_cast<vtkDataArray *>(sigma)})
+    for (vtkDataArray *a :
+         {static_cast<vtkDataArray *>(id), static_cast<vtkDataArray *>(disp),
+          static_cast<vtkDataArray *>(rot), static_cast<vtkDataArray *>(sigma)})
       data->GetCellData()->AddArray(a);
     write_polydata(path, data);
   }
 
   void write_voronoi_points_vtk(const std::string &path, const RigidVoronoiModel &m)
   {
-    const auto     &c = m.contacts;
-    const auto      g = kinematics(m);
-    const vtkIdType n = c.n_points();
-    vtkNew<vtkPoints>    pts;
+    const auto       &c = m.contacts;
+    const auto        g = kinematics(m);
+    const vtkIdType   n = c.n_points();
+    vtkNew<vtkPoints> pts;
     pts->SetDataTypeToDouble(); // micrometre displacements on metre coordinates
     vtkNew<vtkCellArray> verts;
-    auto dt = array("damage_t", 1, n), ds = array("damage_s", 1, n);
+    auto                 dt = array("damage_t", 1, n), ds = array("damage_s", 1, n);
     auto fn = array("normal_force", 1, n), fs = array("shear_force", 1, n);
     auto crack = int_array("crack", n), ga = int_array("grain_a", n),
          gb = int_array("grain_b", n);
@@ -192,7 +195,8 @@ namespace demfem::dem::voronoi
         c.reference_frame(k, g, xr, yr, nx, ny);
         for (int p = c.point_offset[k]; p < c.point_offset[k + 1]; ++p)
           {
-            const vtkIdType v = pts->InsertNextPoint(xr - c.s[p] * ny, yr + c.s[p] * nx, 0.0);
+            const vtkIdType v =
+                pts->InsertNextPoint(xr - c.s[p] * ny, yr + c.s[p] * nx, 0.0);
             verts->InsertNextCell(1, &v);
             dt->SetValue(p, c.damage_t[p]);
             ds->SetValue(p, c.damage_s[p]);
@@ -206,19 +210,20 @@ namespace demfem::dem::voronoi
     vtkNew<vtkPolyData> data;
     data->SetPoints(pts);
     data->SetVerts(verts);
-    for (vtkDataArray *a : {static_cast<vtkDataArray *>(dt), static_cast<vtkDataArray *>(ds),
-                            static_cast<vtkDataArray *>(fn), static_cast<vtkDataArray *>(fs),
-                            static_cast<vtkDataArray *>(crack),
-                            static_cast<vtkDataArray *>(ga), static_cast<vtkDataArray *>(gb)})
+    for (vtkDataArray *a :
+         {static_cast<vtkDataArray *>(dt), static_cast<vtkDataArray *>(ds),
+          static_cast<vtkDataArray *>(fn), static_cast<vtkDataArray *>(fs),
+          static_cast<vtkDataArray *>(crack), static_cast<vtkDataArray *>(ga),
+          static_cast<vtkDataArray *>(gb)})
       data->GetPointData()->AddArray(a);
     write_polydata(path, data);
   }
 
   int write_voronoi_cracks_vtk(const std::string &path, const RigidVoronoiModel &m)
   {
-    const auto          &c = m.contacts;
-    const auto           g = kinematics(m);
-    vtkNew<vtkPoints>    pts;
+    const auto       &c = m.contacts;
+    const auto        g = kinematics(m);
+    vtkNew<vtkPoints> pts;
     pts->SetDataTypeToDouble(); // micrometre displacements on metre coordinates
     vtkNew<vtkCellArray> lines;
     std::vector<int>     mode, ga, gb;
@@ -244,8 +249,9 @@ namespace demfem::dem::voronoi
                 a = i == 0 ? s0 : i == 1 ? s0 + d : s1 - d;
                 b = i == 0 ? s0 + d : i == 1 ? s1 - d : s1;
               }
-            const vtkIdType ends[2] = {pts->InsertNextPoint(xr - a * ny, yr + a * nx, 0.0),
-                                       pts->InsertNextPoint(xr - b * ny, yr + b * nx, 0.0)};
+            const vtkIdType ends[2] = {
+                pts->InsertNextPoint(xr - a * ny, yr + a * nx, 0.0),
+                pts->InsertNextPoint(xr - b * ny, yr + b * nx, 0.0)};
             lines->InsertNextCell(2, ends);
             mode.push_back(static_cast<int>(c.crack[p]));
             ga.push_back(c.grain_a[k]);
@@ -264,8 +270,9 @@ namespace demfem::dem::voronoi
     vtkNew<vtkPolyData> data;
     data->SetPoints(pts);
     data->SetLines(lines);
-    for (vtkDataArray *x : {static_cast<vtkDataArray *>(md), static_cast<vtkDataArray *>(a),
-                            static_cast<vtkDataArray *>(b)})
+    for (vtkDataArray *x :
+         {static_cast<vtkDataArray *>(md), static_cast<vtkDataArray *>(a),
+          static_cast<vtkDataArray *>(b)})
       data->GetCellData()->AddArray(x);
     write_polydata(path, data);
     return static_cast<int>(n);

@@ -74,8 +74,9 @@ TEST_CASE("Rigid Voronoi grains: polygon inertia, cell masses", "[voronoi][rigid
   CHECK(polygon_polar_moment(sx, sy, 4, 0, 0) ==
         Approx(2 * std::pow(a, 4) / 3).epsilon(1e-13));
 
-  const Packing     p = jittered(8, 9, 3);
-  const auto        t = laguerre_tessellation(p.x, p.y, p.r, ClipDomain::rectangle(0, 0, p.W, p.H));
+  const Packing p = jittered(8, 9, 3);
+  const auto    t =
+      laguerre_tessellation(p.x, p.y, p.r, ClipDomain::rectangle(0, 0, p.W, p.H));
   RigidVoronoiModel m(t, p.x, p.y, p.r, 2650, elastic_material(1));
   double            M = 0;
   for (int i = 0; i < m.n_grains(); ++i)
@@ -101,7 +102,8 @@ TEST_CASE("Rigid Voronoi grains: rigid-body motions give no contact force",
           "[voronoi][rigid_model]")
 {
   const Packing p = jittered(8, 9, 5);
-  const auto    t = laguerre_tessellation(p.x, p.y, p.r, ClipDomain::rectangle(0, 0, p.W, p.H));
+  const auto    t =
+      laguerre_tessellation(p.x, p.y, p.r, ClipDomain::rectangle(0, 0, p.W, p.H));
   RigidVoronoiModel m(t, p.x, p.y, p.r, 2650, elastic_material(1.5));
   m.damping       = 0;
   const double dt = m.stable_time_step(0.5);
@@ -137,12 +139,12 @@ TEST_CASE("Rigid Voronoi grains: rigid-body motions give no contact force",
         for (int i = 0; i < m.n_grains(); ++i)
           {
             const double rx = p.x[i] - cx, ry = p.y[i] - cy;
-            m.x[i]          = cx + c * rx - sn * ry;
-            m.y[i]          = cy + sn * rx + c * ry;
-            m.theta[i]      = phi;
-            m.vx[i]         = -w * (m.y[i] - cy);
-            m.vy[i]         = w * (m.x[i] - cx);
-            m.omega[i]      = w;
+            m.x[i]     = cx + c * rx - sn * ry;
+            m.y[i]     = cy + sn * rx + c * ry;
+            m.theta[i] = phi;
+            m.vx[i]    = -w * (m.y[i] - cy);
+            m.vy[i]    = w * (m.x[i] - cx);
+            m.omega[i] = w;
           }
         m.compute_forces(h);
       }
@@ -159,7 +161,8 @@ TEST_CASE("Rigid Voronoi grains: Newton's third law, momentum of free grains",
           "[voronoi][rigid_model]")
 {
   const Packing p = jittered(9, 10, 7);
-  const auto    t = laguerre_tessellation(p.x, p.y, p.r, ClipDomain::rectangle(0, 0, p.W, p.H));
+  const auto    t =
+      laguerre_tessellation(p.x, p.y, p.r, ClipDomain::rectangle(0, 0, p.W, p.H));
   RigidVoronoiModel m(t, p.x, p.y, p.r, 2650, elastic_material(1.5));
   m.damping = 0; // damping is an external force; the law alone here
   std::mt19937_64                        rng(11);
@@ -182,8 +185,8 @@ TEST_CASE("Rigid Voronoi grains: Newton's third law, momentum of free grains",
   momentum(px0, py0);
   for (int i = 0; i < m.n_grains(); ++i)
     pscale += m.mass[i] * std::hypot(m.vx[i], m.vy[i]);
-  const double dt       = m.stable_time_step(0.5);
-  double       worst_f  = 0, worst_m = 0;
+  const double dt      = m.stable_time_step(0.5);
+  double       worst_f = 0, worst_m = 0;
   for (int s = 0; s < 300; ++s)
     {
       const std::vector<double> xs = m.x, ys = m.y; // the forces' positions
@@ -219,8 +222,9 @@ TEST_CASE("Rigid Voronoi grains: the time step estimate is stable and not far fr
           "[voronoi][rigid_model]")
 {
   const Packing p = jittered(8, 8, 9);
-  const auto    t = laguerre_tessellation(p.x, p.y, p.r, ClipDomain::rectangle(0, 0, p.W, p.H));
-  auto          run = [&](double safety) {
+  const auto    t =
+      laguerre_tessellation(p.x, p.y, p.r, ClipDomain::rectangle(0, 0, p.W, p.H));
+  auto run = [&](double safety) {
     RigidVoronoiModel m(t, p.x, p.y, p.r, 2650, elastic_material(1.5));
     m.damping = 0;
     std::mt19937_64                        rng(2);
@@ -259,8 +263,9 @@ TEST_CASE("Rigid Voronoi grains: hydrostatic pressure gives the uniform strain "
   // cell edge, so the traction -p n on the boundary is in equilibrium with
   // eps = -p / E_c I, every grain translated by eps x, no rotation.
   const Packing p = jittered(10, 12, 13);
-  const auto    t = laguerre_tessellation(p.x, p.y, p.r, ClipDomain::rectangle(0, 0, p.W, p.H));
-  const double  E = 50e9, P = 20e6;
+  const auto    t =
+      laguerre_tessellation(p.x, p.y, p.r, ClipDomain::rectangle(0, 0, p.W, p.H));
+  const double      E = 50e9, P = 20e6;
   RigidVoronoiModel m(t, p.x, p.y, p.r, 2650, elastic_material(1));
   for (Side s : {Side::bottom, Side::right, Side::top, Side::left})
     m.set_pressure(s, P);
@@ -271,7 +276,8 @@ TEST_CASE("Rigid Voronoi grains: hydrostatic pressure gives the uniform strain "
     return (m.side_displacement(hi, k) - m.side_displacement(lo, k)) /
            (m.side_position(hi, k) - m.side_position(lo, k));
   };
-  const double ex = gauge(Side::left, Side::right, 0), ey = gauge(Side::bottom, Side::top, 1);
+  const double ex = gauge(Side::left, Side::right, 0),
+               ey = gauge(Side::bottom, Side::top, 1);
   // Each contact's centre distance changes by eps d (a measure blind to the
   // slow rigid drift the follower pressure on slightly turned edges leaves).
   double worst = 0;

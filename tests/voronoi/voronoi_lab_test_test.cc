@@ -76,7 +76,7 @@ TEST_CASE("Voronoi UCS, elastically uniform network: E = E_c, nu = 0; kappa > 1:
           "[voronoi][lab]")
 {
   // Elastic: strengths far above the stresses reached (strain 2e-4 -> 10 MPa).
-  auto p = params(VoronoiTest::unconfined_compression, 2e-4);
+  auto       p = params(VoronoiTest::unconfined_compression, 2e-4);
   const auto r = run_voronoi_lab_test(specimen(), material(1, 1e12, 1e12), 2650, p);
   INFO("E " << r.E << " Pa, nu " << r.nu << ", rows " << r.history.size() << ", steps "
             << r.loading_steps);
@@ -114,9 +114,11 @@ TEST_CASE("Voronoi direct tension, uniform strength, kappa = 1: peak = sigma_t",
   // Tolerance 1 %.
   const double sigma_t = 10e6;
   auto         p       = params(VoronoiTest::direct_tension, 2e-3);
-  const auto r = run_voronoi_lab_test(specimen(), material(1, sigma_t, 5 * sigma_t), 2650, p);
+  const auto   r =
+      run_voronoi_lab_test(specimen(), material(1, sigma_t, 5 * sigma_t), 2650, p);
   INFO("peak " << r.peak_stress << " Pa at strain " << r.peak_strain << ", ended by "
-               << r.ended_by << ", cracks " << r.cracks_tensile << " + " << r.cracks_shear);
+               << r.ended_by << ", cracks " << r.cracks_tensile << " + "
+               << r.cracks_shear);
   REQUIRE(r.status == VoronoiLabStatus::ok);
   CHECK(r.ended_by == "post-peak");
   CHECK(r.peak_stress == Approx(sigma_t).epsilon(0.01));
@@ -142,15 +144,15 @@ namespace
 TEST_CASE("Voronoi UCS: the peak does not depend on the time-step safety factor",
           "[voronoi][lab]")
 {
-  auto p   = params(VoronoiTest::unconfined_compression, 5e-3, 1.0);
-  p.safety = 0.5;
+  auto p       = params(VoronoiTest::unconfined_compression, 5e-3, 1.0);
+  p.safety     = 0.5;
   const auto a = run_voronoi_lab_test(specimen(), breakable(), 2650, p);
-  p.safety = 0.8;
+  p.safety     = 0.8;
   const auto b = run_voronoi_lab_test(specimen(), breakable(), 2650, p);
   INFO("peaks " << a.peak_stress << " and " << b.peak_stress << " Pa, strains "
-                << a.peak_strain << ", " << b.peak_strain << ", steps "
-                << a.loading_steps << ", " << b.loading_steps << ", E " << a.E << ", "
-                << b.E << ", cracks at peak " << a.cracks_tensile_peak << " + "
+                << a.peak_strain << ", " << b.peak_strain << ", steps " << a.loading_steps
+                << ", " << b.loading_steps << ", E " << a.E << ", " << b.E
+                << ", cracks at peak " << a.cracks_tensile_peak << " + "
                 << a.cracks_shear_peak << ", " << b.cracks_tensile_peak << " + "
                 << b.cracks_shear_peak);
   REQUIRE(a.status == VoronoiLabStatus::ok);
@@ -175,7 +177,7 @@ TEST_CASE("Voronoi confined compression: elastic superposition, the peak rises",
   // 1 % as the UCS case).
   auto p               = params(VoronoiTest::confined_compression, 2e-4);
   p.confining_pressure = 10e6;
-  const auto e         = run_voronoi_lab_test(specimen(), material(1, 1e12, 1e12), 2650, p);
+  const auto e = run_voronoi_lab_test(specimen(), material(1, 1e12, 1e12), 2650, p);
   INFO("elastic confined: E " << e.E << ", nu " << e.nu << ", confining steps "
                               << e.confining_steps);
   REQUIRE(e.status == VoronoiLabStatus::ok);
@@ -185,8 +187,8 @@ TEST_CASE("Voronoi confined compression: elastic superposition, the peak rises",
   CHECK(e.peak_stress == Approx(10e6 + e.peak_load).epsilon(1e-12));
 
   // Breakable: the confinement raises the peak by more than Pc itself.
-  auto q               = params(VoronoiTest::unconfined_compression, 5e-3, 1.0);
-  const auto ucs       = run_voronoi_lab_test(specimen(), breakable(), 2650, q);
+  auto       q   = params(VoronoiTest::unconfined_compression, 5e-3, 1.0);
+  const auto ucs = run_voronoi_lab_test(specimen(), breakable(), 2650, q);
   // Confined, the response hardens past 2e-3 (measured: no peak up to
   // 5e-3); the stress reached at 2e-3 already exceeds UCS + Pc.
   q.strain_limit       = 2e-3;
@@ -241,13 +243,13 @@ TEST_CASE("Voronoi UCS with flexible grains tends to the rigid grains as E grows
         }
     // Inset by 0.3 h: the sides then cut no cell near a vertex (a side
     // through a vertex leaves an edge of 4e-4 h and a sliver).
-    s.domain       = ClipDomain::rectangle(0.3 * h, 0.3 * h, 5.2 * h, 10 * 0.866 * h - 0.3 * h);
+    s.domain = ClipDomain::rectangle(0.3 * h, 0.3 * h, 5.2 * h, 10 * 0.866 * h - 0.3 * h);
     s.tessellation = laguerre_tessellation(s.x, s.y, s.radius, s.domain);
     for (double l : s.tessellation.edge_length)
       REQUIRE(l > 0.1 * h);
   }
-  const auto m = material(1, 1e12, 1e12);
-  auto       p = params(VoronoiTest::unconfined_compression, 1e-4);
+  const auto m     = material(1, 1e12, 1e12);
+  auto       p     = params(VoronoiTest::unconfined_compression, 1e-4);
   const auto rigid = run_voronoi_lab_test(s, m, 2650, p);
   double     excess[2], nu[2];
   for (int k = 0; k < 2; ++k)
@@ -260,8 +262,8 @@ TEST_CASE("Voronoi UCS with flexible grains tends to the rigid grains as E grows
       const auto f     = run_flexible_voronoi_lab_test(s, m, g, p);
       REQUIRE(f.status == VoronoiLabStatus::ok);
       excess[k] = 1 / f.E - 1 / rigid.E;
-      INFO("E_g " << g.youngs_modulus << ": E " << f.E << " (rigid " << rigid.E << "), nu "
-                  << f.nu << ", steps " << f.loading_steps);
+      INFO("E_g " << g.youngs_modulus << ": E " << f.E << " (rigid " << rigid.E
+                  << "), nu " << f.nu << ", steps " << f.loading_steps);
       CHECK(f.E < rigid.E);
       nu[k] = f.nu;
     }

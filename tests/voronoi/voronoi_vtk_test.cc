@@ -71,19 +71,20 @@ TEST_CASE("Voronoi VTK: cells, points and cracks of a broken specimen parse back
   p.test         = VoronoiTest::direct_tension;
   p.strain_limit = 2e-3;
   RigidVoronoiModel m(spec.tessellation, spec.x, spec.y, spec.radius, 2650, material());
-  const auto r = run_voronoi_lab_test(spec, material(), 2650, p, &m);
+  const auto        r = run_voronoi_lab_test(spec, material(), 2650, p, &m);
   REQUIRE(r.cracks_tensile + r.cracks_shear > 0);
 
   const auto dir = std::filesystem::temp_directory_path() / "demfem_voronoi_vtk_test";
   std::filesystem::create_directories(dir);
-  const std::string cells = (dir / "cells.vtp").string(), points = (dir / "points.vtp").string(),
+  const std::string cells  = (dir / "cells.vtp").string(),
+                    points = (dir / "points.vtp").string(),
                     cracks = (dir / "cracks.vtp").string();
   write_voronoi_cells_vtk(cells, spec.tessellation, m);
   write_voronoi_points_vtk(points, m);
   const int n_cracks = write_voronoi_cracks_vtk(cracks, m);
   CHECK(!std::filesystem::exists(cells + ".tmp")); // renamed
 
-  const auto c = read(cells);
+  const auto c      = read(cells);
   int        grains = 0, vertices = 0;
   for (int g = 0; g < m.n_grains(); ++g)
     if (!m.held[g])
@@ -105,7 +106,8 @@ TEST_CASE("Voronoi VTK: cells, points and cracks of a broken specimen parse back
       const int k = static_cast<int>(q->GetPointData()->GetArray("crack")->GetTuple1(i));
       tensile += k == 1;
       shear += k == 2;
-      CHECK(q->GetPointData()->GetArray("damage_t")->GetTuple1(i) == m.contacts.damage_t[i]);
+      CHECK(q->GetPointData()->GetArray("damage_t")->GetTuple1(i) ==
+            m.contacts.damage_t[i]);
     }
   CHECK(tensile == r.cracks_tensile);
   CHECK(shear == r.cracks_shear);
@@ -126,7 +128,8 @@ TEST_CASE("Voronoi VTK: cells, points and cracks of a broken specimen parse back
     }
   double expected = 0; // the same from the model: area / thickness
   for (int i = 0; i < m.contacts.n_points(); ++i)
-    if (m.contacts.crack[i] == PointCrack::tensile || m.contacts.crack[i] == PointCrack::shear)
+    if (m.contacts.crack[i] == PointCrack::tensile ||
+        m.contacts.crack[i] == PointCrack::shear)
       expected += m.contacts.area[i] / m.contacts.thickness();
   CHECK(total == Approx(expected).epsilon(1e-9));
   std::filesystem::remove_all(dir);
