@@ -292,7 +292,8 @@ TEST_CASE("Rigid Voronoi grains: hydrostatic pressure gives the uniform strain "
                 << ", worst contact strain error " << worst << ", kinetic "
                 << m.kinetic_energy());
   // The damped run converges geometrically; after 4000 steps (~40 transit
-  // times) the contact strains are eps within 2e-5 of it (measured).
+  // times) the gauge strains are within 4e-4 and the contact strains within
+  // 6e-5 of eps (measured).
   // Tolerance 1e-3.
   CHECK(ex == Approx(-P / E).epsilon(1e-3));
   CHECK(ey == Approx(-P / E).epsilon(1e-3));
