@@ -269,8 +269,8 @@ namespace demfem::dem::voronoi
 
   VoronoiLabResult run_voronoi_lab_test(const VoronoiSpecimen &spec,
                                         const ContactMaterial &contact, double density,
-                                        const VoronoiLabParams &p,
-                                        RigidVoronoiModel      *final_model)
+                                        const VoronoiLabParams           &p,
+                                        std::optional<RigidVoronoiModel> *final_model)
   {
     p.validate("Voronoi lab test");
     if (spec.domain.shape != ClipDomain::Shape::rectangle)
@@ -279,15 +279,14 @@ namespace demfem::dem::voronoi
                             contact, p.scheme);
     VoronoiLabResult  r = run_test(model, spec, contact, p);
     if (final_model)
-      *final_model = std::move(model);
+      final_model->emplace(std::move(model));
     return r;
   }
 
-  VoronoiLabResult run_flexible_voronoi_lab_test(const VoronoiSpecimen  &spec,
-                                                 const ContactMaterial  &contact,
-                                                 const GrainElasticity  &grain,
-                                                 const VoronoiLabParams &p,
-                                                 FlexibleVoronoiModel   *final_model)
+  VoronoiLabResult run_flexible_voronoi_lab_test(
+      const VoronoiSpecimen &spec, const ContactMaterial &contact,
+      const GrainElasticity &grain, const VoronoiLabParams &p,
+      std::optional<FlexibleVoronoiModel> *final_model)
   {
     p.validate("Voronoi lab test");
     if (spec.domain.shape != ClipDomain::Shape::rectangle)
@@ -298,7 +297,7 @@ namespace demfem::dem::voronoi
                                contact, p.scheme);
     VoronoiLabResult     r = run_test(model, spec, contact, p);
     if (final_model)
-      *final_model = std::move(model);
+      final_model->emplace(std::move(model));
     return r;
   }
 

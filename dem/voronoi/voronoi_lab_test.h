@@ -24,6 +24,7 @@
 #include "dem/voronoi/tessellation.h"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -126,10 +127,10 @@ namespace demfem::dem::voronoi
   /// Runs one test on a fresh rigid model of `specimen` (contact material
   /// `contact`, grain density rho). `final_model`, if given, receives the
   /// model at the end (for VTK output).
-  VoronoiLabResult run_voronoi_lab_test(const VoronoiSpecimen &specimen,
-                                        const ContactMaterial &contact, double density,
-                                        const VoronoiLabParams &params,
-                                        RigidVoronoiModel      *final_model = nullptr);
+  VoronoiLabResult run_voronoi_lab_test(
+      const VoronoiSpecimen &specimen, const ContactMaterial &contact, double density,
+      const VoronoiLabParams           &params,
+      std::optional<RigidVoronoiModel> *final_model = nullptr);
 
   /// The same test with flexible grains (dem/voronoi/flexible_model.h) of
   /// elasticity `grain` (its density and thickness; the thickness must be
@@ -138,7 +139,7 @@ namespace demfem::dem::voronoi
   VoronoiLabResult run_flexible_voronoi_lab_test(
       const VoronoiSpecimen &specimen, const ContactMaterial &contact,
       const GrainElasticity &grain, const VoronoiLabParams &params,
-      FlexibleVoronoiModel *final_model = nullptr);
+      std::optional<FlexibleVoronoiModel> *final_model = nullptr);
 
   /// Cracked grain-contact points by mode (tensile, shear).
   void count_cracks(const RigidVoronoiContacts &contacts, int &tensile, int &shear);

@@ -70,8 +70,10 @@ TEST_CASE("Voronoi VTK: cells, points and cracks of a broken specimen parse back
   VoronoiLabParams p;
   p.test         = VoronoiTest::direct_tension;
   p.strain_limit = 2e-3;
-  RigidVoronoiModel m(spec.tessellation, spec.x, spec.y, spec.radius, 2650, material());
-  const auto        r = run_voronoi_lab_test(spec, material(), 2650, p, &m);
+  std::optional<RigidVoronoiModel> end;
+  const auto r = run_voronoi_lab_test(spec, material(), 2650, p, &end);
+  REQUIRE(end.has_value());
+  const RigidVoronoiModel &m = *end;
   REQUIRE(r.cracks_tensile + r.cracks_shear > 0);
 
   const auto dir = std::filesystem::temp_directory_path() / "demfem_voronoi_vtk_test";
