@@ -54,6 +54,11 @@ namespace demfem::dem::voronoi
     double    fx = 0, fy = 0; ///< force of the grains on the platen, last step
     SofteningCoefficients frictional_law;                 ///< unbonded: friction only
     int                   point_begin = 0, point_end = 0; ///< its points
+    /// Gap-based platen of a disk specimen (Brazilian test): points on the
+    /// outline touch the plane n.x = plane + n.u only where they reach it.
+    bool   gap      = false;
+    double plane    = 0; ///< install position of the plane along n
+    double friction = 0;
   };
 
   /// A platen on `side` (bottom or top) with the frictional law of

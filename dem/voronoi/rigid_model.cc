@@ -74,6 +74,20 @@ namespace demfem::dem::voronoi
       }
     contacts.add_from_tessellation(tess, px, py, r, scheme);
 
+    for (int c = 0; c < n; ++c)
+      for (int e = tess.begin(c); e < tess.end(c); ++e)
+        if (tess.edge_neighbour[e] == Tessellation::boundary)
+          {
+            const int    f = tess.next(c, e);
+            BoundaryEdge edge;
+            edge.grain  = c;
+            edge.rx0    = tess.vertex_x[e] - px[c];
+            edge.ry0    = tess.vertex_y[e] - py[c];
+            edge.rx1    = tess.vertex_x[f] - px[c];
+            edge.ry1    = tess.vertex_y[f] - py[c];
+            edge.length = tess.edge_length[e];
+            outline_edges.push_back(edge);
+          }
     // Boundary edges of a rectangle (dem/voronoi/boundary.h).
     double xmin, ymin, xmax, ymax;
     for (const SideEdge &s : rectangle_side_edges(tess, xmin, ymin, xmax, ymax))
@@ -132,10 +146,73 @@ namespace demfem::dem::voronoi
           add(0.5 * (s0 + s1), A); // one point: the edge middle
       }
     p.point_end = static_cast<int>(pp_grain.size());
+    for (auto *v : {&pp_un, &pp_wn, &pp_fs, &pp_dt, &pp_ds, &pp_fn, &pp_rx, &pp_ry})
+      v->resize(pp_grain.size(), 0.0);
+    platens.push_back(p);
+    return static_cast<int>(platens.size()) - 1;
+  }
+
+  int RigidVoronoiModel::add_disk_platen(Side side, double friction, double cone_degrees)
+  {
+    check_range("RigidVoronoiModel disk platen", "cone_degrees", cone_degrees, 0, 90,
+                true, false);
+    const ContactMaterial &cm = contacts.contact_material();
+    Platen                 p  = make_platen(side, PlatenLaw::frictional, friction);
+    p.gap                     = true;
+    p.friction                = friction;
+    p.point_begin             = static_cast<int>(pp_grain.size());
+    const double cos_cone     = std::cos(cone_degrees * M_PI / 180);
+    p.plane                   = -HUGE_VAL;
+    for (const auto &e : outline_edges)
+      {
+        const double dx = e.rx1 - e.rx0, dy = e.ry1 - e.ry0;
+        // Outward normal of a counter-clockwise edge: (d_y, -d_x) / L.
+        if ((dy * p.nx - dx * p.ny) / e.length < cos_cone)
+          continue;
+        const int    g = e.grain;
+        const double h = (e.rx0 * dy - e.ry0 * dx) / e.length; // centre to edge line
+        // As the rectangle platens: kn = E_c / h in the deformability mode.
+        const double kn  = cm.deformability_mode() ? cm.contact_modulus / h : cm.kn;
+        const double A   = e.length * cm.thickness;
+        auto         add = [&](double rx, double ry, double a) {
+          pp_grain.push_back(g);
+          pp_rx.push_back(rx);
+          pp_ry.push_back(ry);
+          // Arm length for the time step estimate (h^2 + s^2 = |r|^2).
+          pp_h.push_back(std::hypot(rx, ry));
+          pp_s.push_back(0);
+          pp_area.push_back(a);
+          pp_kn.push_back(kn);
+          pp_ks.push_back(kn / cm.kratio);
+          pp_crack.push_back(PointCrack::unbonded);
+          p.plane = std::max(p.plane, (x[g] + rx) * p.nx + (y[g] + ry) * p.ny);
+        };
+        add(e.rx0, e.ry0, A / 6);
+        add(0.5 * (e.rx0 + e.rx1), 0.5 * (e.ry0 + e.ry1), 2 * A / 3);
+        add(e.rx1, e.ry1, A / 6);
+      }
+    p.point_end = static_cast<int>(pp_grain.size());
+    if (p.point_end == p.point_begin)
+      throw InputError("RigidVoronoiModel: no outline edge faces the disk platen");
     for (auto *v : {&pp_un, &pp_wn, &pp_fs, &pp_dt, &pp_ds, &pp_fn})
       v->resize(pp_grain.size(), 0.0);
     platens.push_back(p);
     return static_cast<int>(platens.size()) - 1;
+  }
+
+  void RigidVoronoiModel::platen_point_arm(int k, int i, double &rx, double &ry) const
+  {
+    const Platen &p = platens[k];
+    if (p.gap)
+      {
+        const int    g = pp_grain[i];
+        const double c = std::cos(theta[g]), s = std::sin(theta[g]);
+        rx = c * pp_rx[i] - s * pp_ry[i];
+        ry = s * pp_rx[i] + c * pp_ry[i];
+        return;
+      }
+    rx = pp_h[i] * p.nx - pp_s[i] * p.ny;
+    ry = pp_h[i] * p.ny + pp_s[i] * p.nx;
   }
 
   void RigidVoronoiModel::activate_platen(int k)
@@ -180,26 +257,43 @@ namespace demfem::dem::voronoi
 
   void RigidVoronoiModel::add_platen_forces(double dt)
   {
-    for (auto &p : platens)
+    for (int k = 0; k < static_cast<int>(platens.size()); ++k)
       {
+        Platen &p = platens[k];
         p.fx = p.fy = 0;
         if (!p.active)
           continue;
         const double nx = p.nx, ny = p.ny, tx = -ny, ty = nx;
+        const double plane = p.plane + p.ux * nx + p.uy * ny;
         for (int i = p.point_begin; i < p.point_end; ++i)
           {
-            const int    g  = pp_grain[i];
-            const double rx = pp_h[i] * nx + pp_s[i] * tx,
-                         ry = pp_h[i] * ny + pp_s[i] * ty;
+            const int g = pp_grain[i];
+            double    rx, ry;
+            platen_point_arm(k, i, rx, ry);
             // Velocity of the platen (B) relative to the grain (A) at the point.
             const double vrx  = p.vx - (vx[g] - omega[g] * ry);
             const double vry  = p.vy - (vy[g] + omega[g] * rx);
-            const double d_un = (vrx * nx + vry * ny) * dt;
             const double d_us = (vrx * tx + vry * ty) * dt;
-            const double f_n =
-                update_platen_point(p, pp_kn[i], pp_ks[i], pp_area[i], d_un, d_us,
-                                    PointState{pp_un[i], pp_wn[i], pp_fs[i], pp_dt[i],
-                                               pp_ds[i], pp_crack[i]});
+            double       f_n;
+            if (p.gap)
+              {
+                // Penetration of the plane; Coulomb shear while in touch.
+                const double pen = (x[g] + rx) * nx + (y[g] + ry) * ny - plane;
+                if (pen > 0)
+                  {
+                    f_n                = -pp_kn[i] * pp_area[i] * pen;
+                    const double trial = pp_fs[i] - pp_ks[i] * pp_area[i] * d_us;
+                    const double cap   = -p.friction * f_n;
+                    pp_fs[i]           = std::max(-cap, std::min(cap, trial));
+                  }
+                else
+                  f_n = pp_fs[i] = 0;
+              }
+            else
+              f_n = update_platen_point(p, pp_kn[i], pp_ks[i], pp_area[i],
+                                        (vrx * nx + vry * ny) * dt, d_us,
+                                        PointState{pp_un[i], pp_wn[i], pp_fs[i], pp_dt[i],
+                                                   pp_ds[i], pp_crack[i]});
             pp_fn[i] = f_n;
             // Point force on the platen -F_n n + F_s t, the opposite on the grain.
             const double Fx = -f_n * nx + pp_fs[i] * tx, Fy = -f_n * ny + pp_fs[i] * ty;

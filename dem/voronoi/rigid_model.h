@@ -84,6 +84,16 @@ namespace demfem::dem::voronoi
     /// Adds a platen on `side` (bottom or top): points on every boundary edge
     /// of that side. Inactive until `activate_platen`.
     int add_platen(Side side, PlatenLaw law, double friction = 0);
+    /// Brazilian test (docs/voronoi.md, "Boundary conditions"): a flat
+    /// frictional platen on `side` (bottom or top) of a disk specimen,
+    /// tangent to its outline at install. Points: the ends and middle of
+    /// every outline edge (Lobatto areas) within `cone_degrees` of the pole,
+    /// attached to their grains (turning with them); a point pushes on the
+    /// platen with kn A_i times its penetration of the plane, a Coulomb
+    /// shear force while in touch, nothing when apart.
+    int add_disk_platen(Side side, double friction, double cone_degrees = 30);
+    /// Current arm from the disk centre of platen point i of platen k.
+    void platen_point_arm(int k, int i, double &rx, double &ry) const;
     /// Starts the platen's contact points from zero force (the incremental
     /// law needs no platen position: it moves with the grains' faces).
     void activate_platen(int platen);
@@ -126,6 +136,7 @@ namespace demfem::dem::voronoi
     double               time    = 0;
 
     std::vector<BoundaryEdge> boundary_edges; ///< rectangular domain, by side
+    std::vector<BoundaryEdge> outline_edges;  ///< all boundary edges (side unused)
 
     // ---- platens ------------------------------------------------------------
     std::vector<Platen> platens;
@@ -133,7 +144,8 @@ namespace demfem::dem::voronoi
     // ---- platen points --------------------------------------------------------
     std::vector<int>        pp_grain;
     std::vector<double>     pp_h, pp_s, pp_area; ///< normal arm, tangential s, area
-    std::vector<double>     pp_kn, pp_ks;        ///< per unit area
+    std::vector<double>     pp_rx, pp_ry; ///< gap platens: arm from the centre, install
+    std::vector<double>     pp_kn, pp_ks; ///< per unit area
     std::vector<double>     pp_un, pp_wn, pp_fs, pp_dt, pp_ds, pp_fn;
     std::vector<PointCrack> pp_crack;
 

@@ -55,6 +55,29 @@ namespace demfem::dem::voronoi
     return out;
   }
 
+  VoronoiSpecimen make_voronoi_disk_specimen(const VoronoiSpecimenParams &p, int sides)
+  {
+    // The rectangular packing, its disks with centres inside the circle
+    // inscribed in it (a centre outside would own a cell that is not
+    // around it), clipped to the circle.
+    const VoronoiSpecimen box = make_voronoi_specimen(p);
+    const double          cx  = 0.5 * (box.domain.xmin + box.domain.xmax);
+    const double          cy  = 0.5 * (box.domain.ymin + box.domain.ymax);
+    const double          R   = 0.5 * std::min(box.domain.xmax - box.domain.xmin,
+                                               box.domain.ymax - box.domain.ymin);
+    VoronoiSpecimen       out;
+    for (std::size_t i = 0; i < box.x.size(); ++i)
+      if (std::hypot(box.x[i] - cx, box.y[i] - cy) < R)
+        {
+          out.x.push_back(box.x[i]);
+          out.y.push_back(box.y[i]);
+          out.radius.push_back(box.radius[i]);
+        }
+    out.domain       = ClipDomain::circle(cx, cy, R, sides);
+    out.tessellation = laguerre_tessellation(out.x, out.y, out.radius, out.domain);
+    return out;
+  }
+
   void VoronoiLabParams::validate(const std::string &where) const
   {
     const double inf = HUGE_VAL;
@@ -70,6 +93,7 @@ namespace demfem::dem::voronoi
     check_range(where, "fit_lo", fit_lo, 0, 1, false, true);
     check_range(where, "fit_hi", fit_hi, fit_lo, 1, true, false);
     check_range(where, "ratio_limit", ratio_limit, 0, inf, true, true);
+    check_range(where, "disk_platen_cone", disk_platen_cone, 0, 90, true, false);
     if (test != VoronoiTest::confined_compression && confining_pressure != 0)
       throw InputError(where + ": confining_pressure is for the confined test only");
   }
@@ -116,18 +140,36 @@ namespace demfem::dem::voronoi
     VoronoiLabResult run_test(Model &model, const VoronoiSpecimen &spec,
                               const ContactMaterial &contact, const VoronoiLabParams &p)
     {
-      model.damping        = p.damping;
-      const double W       = spec.domain.xmax - spec.domain.xmin;
-      const double H       = spec.domain.ymax - spec.domain.ymin;
+      model.damping     = p.damping;
+      const bool   disk = spec.domain.shape == ClipDomain::Shape::circle;
+      const double W =
+          disk ? 2 * spec.domain.radius : spec.domain.xmax - spec.domain.xmin;
+      const double H =
+          disk ? 2 * spec.domain.radius : spec.domain.ymax - spec.domain.ymin;
       const double t       = contact.thickness;
       const bool   tension = p.test == VoronoiTest::direct_tension;
       const double Pc =
           p.test == VoronoiTest::confined_compression ? p.confining_pressure : 0;
       // Direct tension: glued grips (bonded platens, no strength); compression:
       // frictional platens (docs/voronoi.md, "Boundary conditions").
-      const PlatenLaw law    = tension ? PlatenLaw::glued : PlatenLaw::frictional;
-      const int       bottom = model.add_platen(Side::bottom, law, p.platen_friction);
-      const int       top    = model.add_platen(Side::top, law, p.platen_friction);
+      // Brazilian: flat platens tangent to the disk (gap-based).
+      const bool      brazilian = p.test == VoronoiTest::brazilian;
+      const PlatenLaw law       = tension ? PlatenLaw::glued : PlatenLaw::frictional;
+      int             bottom = -1, top = -1;
+      if constexpr (std::is_same_v<Model, RigidVoronoiModel>)
+        if (brazilian)
+          {
+            bottom = model.add_disk_platen(Side::bottom, p.platen_friction,
+                                           p.disk_platen_cone);
+            top = model.add_disk_platen(Side::top, p.platen_friction, p.disk_platen_cone);
+          }
+      if (!brazilian)
+        {
+          bottom = model.add_platen(Side::bottom, law, p.platen_friction);
+          top    = model.add_platen(Side::top, law, p.platen_friction);
+        }
+      if (bottom < 0)
+        throw InputError("Voronoi lab test: the Brazilian test is for rigid grains");
 
       VoronoiLabResult r;
       r.n_grains =
@@ -161,6 +203,7 @@ namespace demfem::dem::voronoi
       const double ux_right0 = model.side_displacement(Side::right, 0);
       const double ux_left0  = model.side_displacement(Side::left, 0);
       const double area      = W * t;
+      const double R         = 0.5 * H; // Brazilian: disk radius (W = H = 2R)
 
       auto measure = [&](VoronoiLabRow &row) {
         row.axial_strain =
@@ -172,12 +215,23 @@ namespace demfem::dem::voronoi
             -0.5 * (model.platens[top].fy - model.platens[bottom].fy) / area;
         row.axial_stress = platen_stress - Pc;
         row.load         = tension ? platen_stress : -platen_stress;
+        if (brazilian)
+          {
+            // fistPkg Eq. 24 (dem/specimen/lab_tests.h, brazilian_strength):
+            // sigma_t = F / (pi R t), F the mean platen force; the axial
+            // stress is the mean over the diameter, -F / (2 R t).
+            const double F   = 0.5 * (model.platens[top].fy - model.platens[bottom].fy);
+            row.axial_stress = -F / (2 * R * t);
+            row.load         = brazilian_strength(F, R, t);
+          }
       };
       // Gauge length: between the mean centres of the side grains (see
       // RigidVoronoiModel::side_displacement).
       const double gauge =
           model.side_position(Side::right, 0) - model.side_position(Side::left, 0);
       auto lateral = [&]() {
+        if (brazilian) // no sides: not measured
+          return 0.0;
         return ((model.side_displacement(Side::right, 0) - ux_right0) -
                 (model.side_displacement(Side::left, 0) - ux_left0)) /
                gauge;
@@ -199,7 +253,9 @@ namespace demfem::dem::voronoi
           if (row.load > r.peak_load)
             {
               r.peak_load   = row.load;
-              r.peak_stress = std::abs(row.axial_stress);
+              r.peak_stress = brazilian ? row.load : std::abs(row.axial_stress);
+              if (brazilian)
+                r.peak_force = row.load * M_PI * R * t;
               r.peak_strain = std::abs(row.axial_strain);
               new_peak      = true;
             }
@@ -258,7 +314,7 @@ namespace demfem::dem::voronoi
               el.push_back(tension ? row.lateral_strain : -row.lateral_strain);
             }
         }
-      if (ea.size() >= 2)
+      if (ea.size() >= 2 && !brazilian) // no elastic constants from the disk
         {
           r.E  = ls_slope(ea, load);
           r.nu = -ls_slope(ea, el);
@@ -273,8 +329,10 @@ namespace demfem::dem::voronoi
                                         std::optional<RigidVoronoiModel> *final_model)
   {
     p.validate("Voronoi lab test");
-    if (spec.domain.shape != ClipDomain::Shape::rectangle)
-      throw InputError("Voronoi lab test: the specimen must be a rectangle");
+    if ((spec.domain.shape == ClipDomain::Shape::circle) !=
+        (p.test == VoronoiTest::brazilian))
+      throw InputError("Voronoi lab test: the Brazilian test needs a disk specimen, the "
+                       "others a rectangle");
     RigidVoronoiModel model(spec.tessellation, spec.x, spec.y, spec.radius, density,
                             contact, p.scheme);
     VoronoiLabResult  r = run_test(model, spec, contact, p);

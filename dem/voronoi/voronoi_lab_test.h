@@ -56,11 +56,19 @@ namespace demfem::dem::voronoi
   /// the vessel's inner box. Throws InputError for bad parameters.
   VoronoiSpecimen make_voronoi_specimen(const VoronoiSpecimenParams &p);
 
+  /// A disk specimen for the Brazilian test: the packing of
+  /// make_voronoi_specimen (set width = height = D), its disks whose
+  /// centres lie inside the inscribed circle, tessellated clipped to that
+  /// circle (a regular polygon of `sides`).
+  VoronoiSpecimen make_voronoi_disk_specimen(const VoronoiSpecimenParams &p,
+                                             int                          sides = 256);
+
   enum class VoronoiTest
   {
     unconfined_compression,
     confined_compression,
-    direct_tension
+    direct_tension,
+    brazilian ///< disk specimen, rigid grains only
   };
 
   struct VoronoiLabParams
@@ -73,8 +81,14 @@ namespace demfem::dem::voronoi
     std::int64_t step_limit         = 2000000;
     double       safety             = 0.5; ///< time step = safety * stable estimate
     double       damping            = 0.7; ///< local non-viscous damping alpha
-    double       platen_friction    = 0;   ///< compression platens (0: no end friction)
-    PointScheme  scheme             = PointScheme::lobatto3;
+    /// Compression and Brazilian platens (0: no end friction; a small 2D
+    /// disk between frictionless platens can slide out sideways, so give
+    /// the Brazilian test some, e.g. 0.5).
+    double platen_friction = 0;
+    /// Brazilian: the platens' points are on the outline within this angle
+    /// of the poles [deg] (the contact arc stays far smaller).
+    double      disk_platen_cone = 30;
+    PointScheme scheme           = PointScheme::lobatto3;
     /// History rows every this axial-strain increment (a physical interval,
     /// so the rows do not depend on the time step).
     double history_strain = 2e-6;
@@ -115,6 +129,7 @@ namespace demfem::dem::voronoi
     double peak_stress = 0; ///< |axial stress| at the peak (confined: Pc + deviator) [Pa]
     double peak_load   = 0; ///< peak of the load (confined: the deviator) [Pa]
     double peak_strain = 0; ///< |axial strain| at the peak
+    double peak_force  = 0; ///< Brazilian: F_max [N] (peak_stress: F_max / (pi R t))
     double E           = 0; ///< 2D modulus of the loading branch [Pa]
     double nu          = 0; ///< -d(lateral) / d(axial) strain
     int    cracks_tensile_peak = 0, cracks_shear_peak = 0; ///< at the peak row

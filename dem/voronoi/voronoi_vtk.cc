@@ -93,15 +93,16 @@ namespace demfem::dem::voronoi
             add(a, px - m.x[a], py - m.y[a], -fx, -fy);
           }
       }
-    for (const auto &pl : m.platens)
+    for (int k = 0; k < static_cast<int>(m.platens.size()); ++k)
       {
+        const auto &pl = m.platens[k];
         if (!pl.active)
           continue;
         const double tx = -pl.ny, ty = pl.nx;
         for (int i = pl.point_begin; i < pl.point_end; ++i)
           {
-            const double rx = m.pp_h[i] * pl.nx + m.pp_s[i] * tx;
-            const double ry = m.pp_h[i] * pl.ny + m.pp_s[i] * ty;
+            double rx, ry;
+            m.platen_point_arm(k, i, rx, ry);
             const double fx = -m.pp_fn[i] * pl.nx + m.pp_fs[i] * tx;
             const double fy = -m.pp_fn[i] * pl.ny + m.pp_fs[i] * ty;
             add(m.pp_grain[i], rx, ry, -fx, -fy); // the grain gets the opposite
