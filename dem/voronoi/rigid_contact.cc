@@ -106,10 +106,16 @@ namespace demfem::dem::voronoi
     yr                = g.y[a] + ra * ny;
   }
 
-  void RigidVoronoiContacts::update(const GrainKinematics &g, double dt,
-                                    const GrainForces &out)
+  void RigidVoronoiContacts::update_contacts(const GrainKinematics &g, double dt)
   {
     const int nc = n_contacts();
+    contact_fx.resize(nc); // no allocation once sized
+    contact_fy.resize(nc);
+    contact_ma.resize(nc);
+    contact_mb.resize(nc);
+    // Each contact touches only its own points and its own slots: the
+    // result does not depend on the thread count.
+#pragma omp parallel for schedule(static) if (nc >= parallel_threshold)
     for (int c = 0; c < nc; ++c)
       {
         const int a = grain_a[c], b = grain_b[c];
@@ -142,12 +148,27 @@ namespace demfem::dem::voronoi
             Mb += rbx * fy - rby * fx;
             Ma -= rax * fy - ray * fx;
           }
-        out.fx[b] += Fx;
-        out.fy[b] += Fy;
-        out.mz[b] += Mb;
-        out.fx[a] -= Fx;
-        out.fy[a] -= Fy;
-        out.mz[a] += Ma;
+        contact_fx[c] = Fx;
+        contact_fy[c] = Fy;
+        contact_ma[c] = Ma;
+        contact_mb[c] = Mb;
+      }
+  }
+
+  void RigidVoronoiContacts::update(const GrainKinematics &g, double dt,
+                                    const GrainForces &out)
+  {
+    update_contacts(g, dt);
+    const int nc = n_contacts();
+    for (int c = 0; c < nc; ++c)
+      {
+        const int a = grain_a[c], b = grain_b[c];
+        out.fx[b] += contact_fx[c];
+        out.fy[b] += contact_fy[c];
+        out.mz[b] += contact_mb[c];
+        out.fx[a] -= contact_fx[c];
+        out.fy[a] -= contact_fy[c];
+        out.mz[a] += contact_ma[c];
       }
   }
 } // namespace demfem::dem::voronoi

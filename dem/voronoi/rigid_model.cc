@@ -73,6 +73,23 @@ namespace demfem::dem::voronoi
                                           &tess.vertex_y[tess.begin(c)], k, px[c], py[c]);
       }
     contacts.add_from_tessellation(tess, px, py, r, scheme);
+    grain_contact_offset.assign(n + 1, 0);
+    for (int c = 0; c < contacts.n_contacts(); ++c)
+      {
+        ++grain_contact_offset[contacts.grain_a[c] + 1];
+        ++grain_contact_offset[contacts.grain_b[c] + 1];
+      }
+    for (int g = 0; g < n; ++g)
+      grain_contact_offset[g + 1] += grain_contact_offset[g];
+    grain_contact.resize(grain_contact_offset[n]);
+    {
+      std::vector<int> fill(grain_contact_offset.begin(), grain_contact_offset.end() - 1);
+      for (int c = 0; c < contacts.n_contacts(); ++c) // ascending c per grain
+        {
+          grain_contact[fill[contacts.grain_a[c]]++] = 2 * c;
+          grain_contact[fill[contacts.grain_b[c]]++] = 2 * c + 1;
+        }
+    }
 
     for (int c = 0; c < n; ++c)
       for (int e = tess.begin(c); e < tess.end(c); ++e)
@@ -314,7 +331,27 @@ namespace demfem::dem::voronoi
     add_pressure_forces();
     const GrainKinematics g{x.data(),  y.data(),  radius.data(),
                             vx.data(), vy.data(), omega.data()};
-    contacts.update(g, dt, GrainForces{fx.data(), fy.data(), mz.data()});
+    contacts.update_contacts(g, dt);
+    // Gather per grain in contact order: thread-count independent sums.
+    const int n = n_grains();
+#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
+    for (int i = 0; i < n; ++i)
+      for (int k = grain_contact_offset[i]; k < grain_contact_offset[i + 1]; ++k)
+        {
+          const int c = grain_contact[k] >> 1;
+          if (grain_contact[k] & 1) // grain B
+            {
+              fx[i] += contacts.contact_fx[c];
+              fy[i] += contacts.contact_fy[c];
+              mz[i] += contacts.contact_mb[c];
+            }
+          else
+            {
+              fx[i] -= contacts.contact_fx[c];
+              fy[i] -= contacts.contact_fy[c];
+              mz[i] += contacts.contact_ma[c];
+            }
+        }
     add_platen_forces(dt);
   }
 
@@ -324,6 +361,7 @@ namespace demfem::dem::voronoi
     const int    n     = n_grains();
     const double alpha = damping;
     auto         sign  = [](double v) { return (v > 0) - (v < 0); };
+#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
     for (int i = 0; i < n; ++i)
       {
         if (held[i])

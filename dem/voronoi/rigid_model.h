@@ -134,6 +134,10 @@ namespace demfem::dem::voronoi
     RigidVoronoiContacts contacts;
     double               damping = 0.7; ///< local non-viscous damping alpha
     double               time    = 0;
+    /// Grains: the gather of contact forces and the motion run in parallel
+    /// (OpenMP) from this many grains; the results do not depend on the
+    /// thread count (each grain sums its contacts in contact order).
+    int parallel_threshold = 4096;
 
     std::vector<BoundaryEdge> boundary_edges; ///< rectangular domain, by side
     std::vector<BoundaryEdge> outline_edges;  ///< all boundary edges (side unused)
@@ -150,6 +154,9 @@ namespace demfem::dem::voronoi
     std::vector<PointCrack> pp_crack;
 
   private:
+    /// Contacts of each grain (CSR over grains): entry 2 c + 1 if the grain
+    /// is the contact's B, 2 c if it is A, ascending c.
+    std::vector<int>      grain_contact_offset, grain_contact;
     PointScheme           scheme;
     std::array<double, 4> pressure{}; ///< by Side
     void                  add_pressure_forces();

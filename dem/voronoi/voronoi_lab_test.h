@@ -161,8 +161,10 @@ namespace demfem::dem::voronoi
 
   /// Seconds per grain-step of the rigid model (contacts, platen-free) on a
   /// jittered hexagonal lattice of about n_grains polydisperse disks (about
-  /// six contacts per grain, as a dense packing), `steps` steps, one thread.
-  /// For the benchmark; no genesis (it would dominate at 1e5 grains).
+  /// three contacts per grain, as a dense packing), `steps` steps, with the
+  /// current OpenMP thread count (parallel from 4096 grains / 8192
+  /// contacts). For the benchmark; no genesis (it would dominate at 1e5
+  /// grains).
   double voronoi_cost_per_grain_step(int n_grains, int steps = 200,
                                      std::uint64_t seed = 1);
 } // namespace demfem::dem::voronoi
