@@ -1,4 +1,5 @@
-// Laboratory tests on rigid Voronoi grains (dem/voronoi/voronoi_lab_test.h).
+// Laboratory tests on rigid or flexible Voronoi grains
+// (dem/voronoi/voronoi_lab_test.h).
 #include "dem/voronoi/voronoi_lab_test.h"
 
 #include "dem/specimen/genesis.h"
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <type_traits>
 
 namespace demfem::dem::voronoi
 {
@@ -239,10 +241,9 @@ namespace demfem::dem::voronoi
 
       double        next_row = p.history_strain;
       bool          new_peak = false;
-      VoronoiLabRow peak_row;
-      std::int64_t &k = r.loading_steps;
-      r.ended_by      = "step limit";
-      r.status        = VoronoiLabStatus::step_limit_reached;
+      std::int64_t &k        = r.loading_steps;
+      r.ended_by             = "step limit";
+      r.status               = VoronoiLabStatus::step_limit_reached;
       for (; k < p.step_limit; ++k)
         {
           model.step(dt);

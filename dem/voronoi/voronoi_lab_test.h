@@ -5,15 +5,18 @@
 // vessel's inner box), loaded by rigid platens at a strain rate given in
 // physical terms (1/s): unconfined compression (frictional platens),
 // confined compression (pressure Pc on the boundary edges, then the
-// platens add the deviator) and direct tension (glued platens).
+// platens add the deviator), direct tension (glued platens); and, rigid
+// grains only, the Brazilian test on a disk specimen between flat platens.
 //
 // Measures (the conventions of dem/specimen/lab_tests.h: tension positive
 // in the history, strengths reported as magnitudes):
 //  - axial stress from the platen reaction, mean of the two platens over
-//    W t, plus the confining pressure for the confined test;
+//    W t, minus the confining pressure for the confined test (Brazilian:
+//    the strength F / (pi R t));
 //  - axial strain from the platens' displacement over H; lateral strain
-//    from the mean displacement of the left and right boundary edges over W
-//    (both since the start of the axial loading);
+//    from the mean displacement of the grains (rigid: their centres;
+//    flexible: the side nodes) on the left and right sides over their
+//    distance (both since the start of the axial loading);
 //  - E and nu of the 2D specimen (sigma_xx = 0 at the sides, so plane
 //    stress of the rigid-body-spring network; for nu = 0 plane stress and
 //    plane strain coincide): least-squares slopes of the load and of minus
@@ -110,9 +113,12 @@ namespace demfem::dem::voronoi
     double       time           = 0; ///< loading-phase time [s]
     double       axial_strain   = 0;
     double       lateral_strain = 0;
-    double       axial_stress   = 0; ///< platens (+ confinement) [Pa]
-    double       load = 0; ///< what the test ends on: deviator (compression) or stress
-    int          cracks_tensile = 0, cracks_shear = 0;
+    /// Platen stress minus Pc (Brazilian: -F / (2 R t)) [Pa].
+    double axial_stress = 0;
+    /// What the test ends on [Pa]: deviator (compression), axial stress
+    /// (tension), F / (pi R t) (Brazilian).
+    double load           = 0;
+    int    cracks_tensile = 0, cracks_shear = 0;
   };
 
   enum class VoronoiLabStatus
@@ -126,14 +132,16 @@ namespace demfem::dem::voronoi
     VoronoiLabStatus           status = VoronoiLabStatus::ok;
     std::string                ended_by; ///< "post-peak", "strain limit", "step limit"
     std::vector<VoronoiLabRow> history;
-    double peak_stress = 0; ///< |axial stress| at the peak (confined: Pc + deviator) [Pa]
-    double peak_load   = 0; ///< peak of the load (confined: the deviator) [Pa]
-    double peak_strain = 0; ///< |axial strain| at the peak
-    double peak_force  = 0; ///< Brazilian: F_max [N] (peak_stress: F_max / (pi R t))
-    double E           = 0; ///< 2D modulus of the loading branch [Pa]
-    double nu          = 0; ///< -d(lateral) / d(axial) strain
-    int    cracks_tensile_peak = 0, cracks_shear_peak = 0; ///< at the peak row
-    int    cracks_tensile = 0, cracks_shear = 0;           ///< at the end
+    /// |axial stress| at the peak (confined: Pc + deviator; Brazilian: the
+    /// BTS F_max / (pi R t)) [Pa].
+    double       peak_stress = 0;
+    double       peak_load   = 0; ///< peak of the load (confined: the deviator) [Pa]
+    double       peak_strain = 0; ///< |axial strain| at the peak
+    double       peak_force = 0; ///< Brazilian: F_max [N] (peak_stress: F_max / (pi R t))
+    double       E          = 0; ///< 2D modulus of the loading branch [Pa]
+    double       nu         = 0; ///< -d(lateral) / d(axial) strain
+    int          cracks_tensile_peak = 0, cracks_shear_peak = 0; ///< at the peak row
+    int          cracks_tensile = 0, cracks_shear = 0;           ///< at the end
     std::int64_t confining_steps = 0, loading_steps = 0;
     double       time_step = 0; ///< [s]
     int          n_grains = 0, n_contacts = 0, n_points = 0;
