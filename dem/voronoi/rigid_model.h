@@ -31,7 +31,12 @@
 //    neighbour is rigid, which keeps the network elastically uniform);
 //  - pressure: a traction p (compression positive) on the cell edges of
 //    chosen sides, force p L t along the inward normal of the current
-//    (rotated) edge, at its current middle.
+//    (rotated) edge, at its current middle;
+//  - disk platens (Brazilian test on a circular specimen): flat platens
+//    tangent at the poles, gap-based points on the outline (add_disk_platen).
+//
+// Threads: contacts into per-contact slots, then a per-grain gather in
+// contact order, so the results do not depend on the thread count.
 #include "dem/voronoi/boundary.h"
 #include "dem/voronoi/rigid_contact.h"
 #include "dem/voronoi/tessellation.h"
