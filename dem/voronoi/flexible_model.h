@@ -20,10 +20,20 @@
 // its shape functions are evaluated in the current configuration, so a
 // point that drifts off the edge is extrapolated linearly). Detection of new
 // contacts (seed 004: the nearest Voronoi edge of each grain) is not done.
+//
+// Boundary conditions of a rectangular specimen (dem/voronoi/boundary.h;
+// docs/voronoi.md, "Boundary conditions"), as the rigid model's but on the
+// nodes: platen points at the two nodes of a side edge and its middle
+// (Lobatto; one point: the middle), the platen velocity against the nodes'
+// interpolated velocity, kn = E_c / h in the deformability mode (h from the
+// disk centre to the edge line); pressure p L t on the current edge, half
+// to each of its nodes.
+#include "dem/voronoi/boundary.h"
 #include "dem/voronoi/flexible_grain.h"
 #include "dem/voronoi/rigid_contact.h"
 #include "dem/voronoi/tessellation.h"
 
+#include <array>
 #include <vector>
 
 namespace demfem::dem::voronoi
@@ -62,6 +72,37 @@ namespace demfem::dem::voronoi
     /// Kinetic energy of the nodes.
     double kinetic_energy() const;
 
+    int n_grains() const { return mesh.n_grains(); }
+
+    // ---- boundary ---------------------------------------------------------
+    /// A platen on `side` (bottom or top), points on every cell edge of that
+    /// side; inactive until activate_platen (which zeroes its points).
+    int  add_platen(Side side, PlatenLaw law, double friction = 0);
+    void activate_platen(int platen);
+    /// Traction (compression positive) on the cell edges of `side`.
+    void set_pressure(Side side, double p) { pressure[static_cast<int>(side)] = p; }
+    /// Length-weighted mean displacement (component 0: x, 1: y) of the
+    /// nodes of the cell edges on `side` since install, and the same mean of
+    /// their install coordinate (the flexible grain carries its strain to
+    /// its boundary: the gauge is the side itself).
+    double side_displacement(Side side, int component) const;
+    double side_position(Side side, int component) const;
+
+    struct BoundaryEdge
+    {
+      int    grain = -1, node0 = -1, node1 = -1; ///< counter-clockwise ends
+      Side   side   = Side::bottom;
+      double length = 0; ///< at install
+      double h      = 0; ///< disk centre to the edge line, at install
+    };
+    std::vector<BoundaryEdge> boundary_edges;
+    std::vector<Platen>       platens;
+    // ---- platen points: a point is w0 node0 + (1 - w0) node1 of its edge --
+    std::vector<int>        pp_node0, pp_node1;
+    std::vector<double>     pp_w0, pp_area, pp_kn, pp_ks;
+    std::vector<double>     pp_un, pp_wn, pp_fs, pp_dt, pp_ds, pp_fn;
+    std::vector<PointCrack> pp_crack;
+
     FlexibleGrainMesh    mesh;
     RigidVoronoiContacts contacts; ///< contact geometry and law state
 
@@ -80,6 +121,9 @@ namespace demfem::dem::voronoi
     std::vector<int> triangle_a, triangle_b;
 
   private:
+    PointScheme           scheme;
+    std::array<double, 4> pressure{}; ///< by Side
+    void                  add_boundary_forces(double dt);
     /// Adds the contact forces to (fx, fy); dt scales the velocities into
     /// displacement increments.
     void add_contact_forces(double dt);

@@ -8,8 +8,8 @@ namespace demfem::dem::voronoi
 {
   RigidVoronoiContacts::RigidVoronoiContacts(const ContactMaterial &m)
       : material(m)
-      , coeff(SofteningCoefficients::derive(m))
   {
+    m.validate("Voronoi contact material");
     point_offset.push_back(0);
   }
 
@@ -58,6 +58,10 @@ namespace demfem::dem::voronoi
     const double L = std::hypot(ex1 - ex0, ey1 - ey0);
     const double A = L * material.thickness;
 
+    // Seed 004 §2.5: kn per unit area; in the deformability mode kn = E_c / d
+    // with d the centre distance at install (docs/voronoi.md).
+    law.push_back(SofteningCoefficients::derive(material.for_length(dist)));
+    const SofteningCoefficients &coeff = law.back();
     grain_a.push_back(a);
     grain_b.push_back(b);
     offset.push_back(delta);
@@ -102,10 +106,16 @@ namespace demfem::dem::voronoi
     yr                = g.y[a] + ra * ny;
   }
 
-  void RigidVoronoiContacts::update(const GrainKinematics &g, double dt,
-                                    const GrainForces &out)
+  void RigidVoronoiContacts::update_contacts(const GrainKinematics &g, double dt)
   {
     const int nc = n_contacts();
+    contact_fx.resize(nc); // no allocation once sized
+    contact_fy.resize(nc);
+    contact_ma.resize(nc);
+    contact_mb.resize(nc);
+    // Each contact touches only its own points and its own slots: the
+    // result does not depend on the thread count.
+#pragma omp parallel for schedule(static) if (nc >= parallel_threshold)
     for (int c = 0; c < nc; ++c)
       {
         const int a = grain_a[c], b = grain_b[c];
@@ -127,7 +137,7 @@ namespace demfem::dem::voronoi
             const double d_un = (vrx * nx + vry * ny) * dt;
             const double d_us = (vrx * tx + vry * ty) * dt;
             const double f_n  = update_point(
-                 coeff, area[p], d_un, d_us,
+                 law[c], area[p], d_un, d_us,
                  PointState{un[p], wn[p], fs[p], damage_t[p], damage_s[p], crack[p]});
             fn[p] = f_n;
             // Point force on B: -F_n n + F_s t.
@@ -138,12 +148,27 @@ namespace demfem::dem::voronoi
             Mb += rbx * fy - rby * fx;
             Ma -= rax * fy - ray * fx;
           }
-        out.fx[b] += Fx;
-        out.fy[b] += Fy;
-        out.mz[b] += Mb;
-        out.fx[a] -= Fx;
-        out.fy[a] -= Fy;
-        out.mz[a] += Ma;
+        contact_fx[c] = Fx;
+        contact_fy[c] = Fy;
+        contact_ma[c] = Ma;
+        contact_mb[c] = Mb;
+      }
+  }
+
+  void RigidVoronoiContacts::update(const GrainKinematics &g, double dt,
+                                    const GrainForces &out)
+  {
+    update_contacts(g, dt);
+    const int nc = n_contacts();
+    for (int c = 0; c < nc; ++c)
+      {
+        const int a = grain_a[c], b = grain_b[c];
+        out.fx[b] += contact_fx[c];
+        out.fy[b] += contact_fy[c];
+        out.mz[b] += contact_mb[c];
+        out.fx[a] -= contact_fx[c];
+        out.fy[a] -= contact_fy[c];
+        out.mz[a] += contact_ma[c];
       }
   }
 } // namespace demfem::dem::voronoi

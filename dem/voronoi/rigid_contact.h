@@ -29,9 +29,10 @@
 // the edge section (the Lobatto rule integrates s^2 exactly).
 //
 // Storage: structure of arrays over contacts and over their points (CSR
-// offsets); `update` allocates nothing and loops over contacts (it adds to
-// the grains' force arrays, so it is serial; threads would colour contacts
-// as dem/engine/contact_group.cc does).
+// offsets); `update` allocates nothing once sized. `update_contacts` runs
+// the contacts in parallel into per-contact results; `update` adds them to
+// the grains in contact order (serial), RigidVoronoiModel gathers them per
+// grain in parallel (dem/voronoi/rigid_model.h).
 #include "dem/voronoi/softening_law.h"
 #include "dem/voronoi/tessellation.h"
 
@@ -84,6 +85,11 @@ namespace demfem::dem::voronoi
     /// current positions and velocities and adds the contact forces and
     /// moments to `forces`.
     void update(const GrainKinematics &grains, double dt, const GrainForces &forces);
+    /// The per-contact part of `update`: advances all contacts and stores
+    /// each contact's force on B and moments on A and B (contact_fx, ...),
+    /// in parallel over contacts (OpenMP, from parallel_threshold contacts;
+    /// thread-count independent); the caller gathers them per grain.
+    void update_contacts(const GrainKinematics &grains, double dt);
 
     int n_contacts() const { return static_cast<int>(grain_a.size()); }
     int n_points() const { return static_cast<int>(s.size()); }
@@ -93,14 +99,18 @@ namespace demfem::dem::voronoi
     void reference_frame(int c, const GrainKinematics &grains, double &xr, double &yr,
                          double &nx, double &ny) const;
 
-    const SofteningCoefficients &coefficients() const { return coeff; }
+    /// Law constants of contact c (per contact: in the deformability mode
+    /// of ContactMaterial kn = E_c / d depends on the contact).
+    const SofteningCoefficients &coefficients(int c) const { return law[c]; }
     double                       thickness() const { return material.thickness; }
+    const ContactMaterial       &contact_material() const { return material; }
 
     // ---- per contact -----------------------------------------------------
     std::vector<int>    grain_a, grain_b;
     std::vector<double> offset;      ///< delta: cell edge minus PCM plane, along n
     std::vector<double> edge_length; ///< L at install
     std::vector<int> point_offset; ///< points of c: [point_offset[c], point_offset[c+1])
+    std::vector<SofteningCoefficients> law; ///< law constants (kn = E_c / d at install)
 
     // ---- per local contact point -----------------------------------------
     std::vector<double>     s;    ///< tangential coordinate from the reference point
@@ -109,8 +119,11 @@ namespace demfem::dem::voronoi
     std::vector<PointCrack> crack;
     std::vector<double>     fn; ///< normal force of the last update (> 0 tension)
 
+    // ---- per contact, last update: force on B, moments about the centres --
+    std::vector<double> contact_fx, contact_fy, contact_ma, contact_mb;
+    int                 parallel_threshold = 8192; ///< contacts; below: serial
+
   private:
-    ContactMaterial       material;
-    SofteningCoefficients coeff;
+    ContactMaterial material;
   };
 } // namespace demfem::dem::voronoi

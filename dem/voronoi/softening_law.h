@@ -58,6 +58,31 @@ namespace demfem::dem::voronoi
     double tensile_fracture_energy = 0; ///< G_t [J/m^2], >= sigma_t^2/(2 kn)
     double shear_fracture_energy   = 0; ///< G_s [J/m^2], >= c^2/(2 ks)
     double thickness               = 1; ///< out-of-plane thickness t [m]
+    /// Deformability mode (docs/voronoi.md, "Contact stiffness"): E_c > 0
+    /// sets kn = E_c / d per contact, d the distance of the two disk
+    /// centres (the rigid-body-spring network of Voronoi cells is then
+    /// elastically uniform for kappa = 1: a uniform strain is in equilibrium
+    /// with sigma = E_c eps, nu = 0); `kn` is then not used. In this mode a
+    /// fracture energy of 0 means the brittle value of each contact.
+    double contact_modulus = 0; ///< E_c [Pa]; 0: the uniform kn above
+
+    bool deformability_mode() const { return contact_modulus > 0; }
+    /// The material of one contact whose spring spans the length d: kn =
+    /// E_c / d (deformability mode; zero fracture energies set to the
+    /// contact's brittle values), or this material unchanged.
+    ContactMaterial for_length(double d) const
+    {
+      if (!deformability_mode())
+        return *this;
+      ContactMaterial m = *this;
+      m.kn              = contact_modulus / d;
+      m.contact_modulus = 0;
+      if (m.tensile_fracture_energy == 0)
+        m.tensile_fracture_energy = m.tensile_elastic_energy();
+      if (m.shear_fracture_energy == 0)
+        m.shear_fracture_energy = m.shear_elastic_energy();
+      return m;
+    }
 
     double ks() const { return kn / kratio; }
     /// Elastic energy per unit area at the tensile peak, sigma_t^2 / (2 kn):
@@ -80,6 +105,21 @@ namespace demfem::dem::voronoi
     void validate(const std::string &where) const
     {
       const double inf = HUGE_VAL;
+      if (deformability_mode())
+        {
+          // kn and the fracture-energy bounds are per contact (for_length).
+          check_range(where, "contact_modulus", contact_modulus, 0, inf, true, true);
+          check_range(where, "kratio", kratio, 0, inf, true, true);
+          check_range(where, "tensile_strength", tensile_strength, 0, inf, false, true);
+          check_range(where, "cohesion", cohesion, 0, inf, false, true);
+          check_range(where, "friction", friction, 0, inf, false, true);
+          check_range(where, "thickness", thickness, 0, inf, true, true);
+          check_range(where, "tensile_fracture_energy", tensile_fracture_energy, 0, inf,
+                      false, true);
+          check_range(where, "shear_fracture_energy", shear_fracture_energy, 0, inf,
+                      false, true);
+          return;
+        }
       check_range(where, "kn", kn, 0, inf, true, true);
       check_range(where, "kratio", kratio, 0, inf, true, true);
       check_range(where, "tensile_strength", tensile_strength, 0, inf, false, true);

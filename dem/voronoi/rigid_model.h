@@ -1,0 +1,175 @@
+#pragma once
+// Rigid Voronoi particle model (seed 004 §2.2 with rigid grains, the rigid
+// model the seed extends; docs/voronoi.md, "Rigid grains"): the grains are
+// the non-empty Laguerre cells of a disk packing, rigid bodies with three
+// degrees of freedom each, interacting through RigidVoronoiContacts (one
+// contact per shared cell edge).
+//
+// Reference point of a grain: its disk centre, the point the contact model
+// takes its normals, reference points and moments from
+// (dem/voronoi/rigid_contact.h). Mass rho t A_cell; polar moment of inertia
+// of the cell polygon about the disk centre (parallel-axis term included).
+// The diagonal mass matrix about the disk centre rather than the centroid is
+// exact for statics (equilibrium of forces and of moments about any point)
+// and neglects the translation-rotation coupling m (c - x) of the dynamics;
+// the lab tests are quasi-static (docs/voronoi.md).
+//
+// Motion per degree of freedom, as dem/engine/model.cc: F_d = F - alpha |F|
+// sign(v) (local non-viscous damping, seed 004 §2.2), v += dt F_d / m,
+// x += dt v (central differences / velocity Verlet with the contact
+// increments from the current velocities).
+//
+// Boundary conditions of a specimen clipped to a rectangle (docs/voronoi.md,
+// "Boundary conditions"):
+//  - platens: rigid straight walls on the bottom and top sides; each cell
+//    edge on the side gets local contact points (same scheme as the grain
+//    contacts) with the kn A law, frictional (no tension, Coulomb) or glued
+//    (linear, no strength; direct tension grips). The platen is grain B,
+//    the normal the outward normal of the side, the reference point the
+//    foot of the disk centre on the edge line, fixed distance h; in the
+//    deformability mode kn = E_c / h (the half spring of a cell whose
+//    neighbour is rigid, which keeps the network elastically uniform);
+//  - pressure: a traction p (compression positive) on the cell edges of
+//    chosen sides, force p L t along the inward normal of the current
+//    (rotated) edge, at its current middle;
+//  - disk platens (Brazilian test on a circular specimen): flat platens
+//    tangent at the poles, gap-based points on the outline (add_disk_platen).
+//
+// Threads: contacts into per-contact slots, then a per-grain gather in
+// contact order, so the results do not depend on the thread count.
+#include "dem/voronoi/boundary.h"
+#include "dem/voronoi/rigid_contact.h"
+#include "dem/voronoi/tessellation.h"
+
+#include <array>
+#include <vector>
+
+namespace demfem::dem::voronoi
+{
+  class RigidVoronoiModel
+  {
+  public:
+    /// A cell edge on a side of the rectangular domain.
+    struct BoundaryEdge
+    {
+      int    grain = -1;
+      Side   side  = Side::bottom;
+      double rx0 = 0, ry0 = 0, rx1 = 0, ry1 = 0; ///< ends from the disk centre, install
+      double length = 0;
+    };
+    /// Grains of the non-empty cells of `tess` (disks x, y, radius of the
+    /// tessellated packing), density rho; one contact per shared edge. The
+    /// boundary edges of a rectangular `tess` domain are sorted by side.
+    RigidVoronoiModel(const Tessellation &tess, const std::vector<double> &x,
+                      const std::vector<double> &y, const std::vector<double> &radius,
+                      double density, const ContactMaterial &contact_material,
+                      PointScheme scheme = PointScheme::lobatto3);
+
+    int n_grains() const { return static_cast<int>(x.size()); }
+
+    /// One step: compute_forces, then damping and central differences;
+    /// platens move with their velocities.
+    void step(double dt);
+    /// Forces (fx, fy, mz) at the current positions: applied + pressure +
+    /// grain contacts + platen contacts, the contact increments from the
+    /// current velocities times dt. Nothing moves. Allocation free.
+    void compute_forces(double dt);
+
+    /// Time step estimate: safety * 2 / sqrt(max over grains of
+    /// 2 (K_t / m + K_r / I)), K_t = sum of max(kn, ks) A_i over the grain's
+    /// points (grain and platen contacts), K_r = sum of max(kn, ks) A_i r_i^2
+    /// with r_i the arm from the disk centre (a Gershgorin-type bound of the
+    /// largest eigenfrequency: a grain vibrating against neighbours that
+    /// move the opposite way).
+    double stable_time_step(double safety = 0.5) const;
+
+    double kinetic_energy() const;
+
+    // ---- boundary ---------------------------------------------------------
+    /// Adds a platen on `side` (bottom or top): points on every boundary edge
+    /// of that side. Inactive until `activate_platen`.
+    int add_platen(Side side, PlatenLaw law, double friction = 0);
+    /// Brazilian test (docs/voronoi.md, "Boundary conditions"): a flat
+    /// frictional platen on `side` (bottom or top) of a disk specimen,
+    /// tangent to its outline at install. Points: the ends and middle of
+    /// every outline edge (Lobatto areas) within `cone_degrees` of the pole,
+    /// attached to their grains (turning with them); a point pushes on the
+    /// platen with kn A_i times its penetration of the plane, a Coulomb
+    /// shear force while in touch, nothing when apart.
+    int add_disk_platen(Side side, double friction, double cone_degrees = 30);
+    /// Current arm from the disk centre of platen point i of platen k.
+    void platen_point_arm(int k, int i, double &rx, double &ry) const;
+    /// Starts the platen's contact points from zero force (the incremental
+    /// law needs no platen position: it moves with the grains' faces).
+    void activate_platen(int platen);
+    /// Grain forces on platen k (the platen reaction is the opposite).
+    double platen_force_x(int k) const { return platens[k].fx; }
+    double platen_force_y(int k) const { return platens[k].fy; }
+
+    /// Traction (compression positive) on the boundary edges of `side`.
+    void   set_pressure(Side side, double p) { pressure[static_cast<int>(side)] = p; }
+    double pressure_on(Side side) const { return pressure[static_cast<int>(side)]; }
+    /// Force (Fx, Fy) of the pressure on boundary edge e and the arm of its
+    /// point of application (the current edge middle) from the disk centre.
+    void pressure_force(const BoundaryEdge &e, double &Fx, double &Fy, double &rx,
+                        double &ry) const;
+
+    /// Strain gauge of a side: mean displacement since install (component
+    /// 0: x, 1: y) of the disk centres of the grains with an edge on `side`,
+    /// weighted by the edge length, and the same mean of their install
+    /// coordinate. A rigid grain carries its boundary edge without any
+    /// spring between the centre and the edge, so a lateral strain is
+    /// (u_right - u_left) / (X_right - X_left) over these centres; the edge
+    /// middles would see the strain of the springs over the width W and
+    /// underestimate it by the boundary half-cells (about d / W).
+    double side_displacement(Side side, int component) const;
+    double side_position(Side side, int component) const;
+
+    // ---- per grain (index: cell; empty cells are inert: mass 0, held) ------
+    std::vector<double> x, y, theta;    ///< disk centre, rotation since install
+    std::vector<double> x0, y0;         ///< disk centre at install
+    std::vector<double> radius;         ///< disk radius
+    std::vector<double> vx, vy, omega;  ///< velocities
+    std::vector<double> fx, fy, mz;     ///< forces of the last step (undamped)
+    std::vector<double> fx_ext, fy_ext; ///< applied forces
+    std::vector<double> mz_ext;         ///< applied moments
+    std::vector<double> mass, inertia;  ///< rho t A, polar moment about the disk centre
+    std::vector<char>   held;           ///< velocities held at zero (empty cells)
+
+    RigidVoronoiContacts contacts;
+    double               damping = 0.7; ///< local non-viscous damping alpha
+    double               time    = 0;
+    /// Grains: the gather of contact forces and the motion run in parallel
+    /// (OpenMP) from this many grains; the results do not depend on the
+    /// thread count (each grain sums its contacts in contact order).
+    int parallel_threshold = 4096;
+
+    std::vector<BoundaryEdge> boundary_edges; ///< rectangular domain, by side
+    std::vector<BoundaryEdge> outline_edges;  ///< all boundary edges (side unused)
+
+    // ---- platens ------------------------------------------------------------
+    std::vector<Platen> platens;
+
+    // ---- platen points --------------------------------------------------------
+    std::vector<int>        pp_grain;
+    std::vector<double>     pp_h, pp_s, pp_area; ///< normal arm, tangential s, area
+    std::vector<double>     pp_rx, pp_ry; ///< gap platens: arm from the centre, install
+    std::vector<double>     pp_kn, pp_ks; ///< per unit area
+    std::vector<double>     pp_un, pp_wn, pp_fs, pp_dt, pp_ds, pp_fn;
+    std::vector<PointCrack> pp_crack;
+
+  private:
+    /// Contacts of each grain (CSR over grains): entry 2 c + 1 if the grain
+    /// is the contact's B, 2 c if it is A, ascending c.
+    std::vector<int>      grain_contact_offset, grain_contact;
+    PointScheme           scheme;
+    std::array<double, 4> pressure{}; ///< by Side
+    void                  add_pressure_forces();
+    void                  add_platen_forces(double dt);
+  };
+
+  /// Polar moment of inertia per unit mass-area density (integral of
+  /// |x - p|^2 over the polygon) of a counter-clockwise polygon about p.
+  double polygon_polar_moment(const double *vx, const double *vy, int n, double px,
+                              double py);
+} // namespace demfem::dem::voronoi
