@@ -89,6 +89,13 @@ namespace demfem::apps
     prm.declare_entry("solver", "amg-cg", Patterns::Selection("amg-cg|direct"),
                       "Unused by the explicit scheme (kept for demfem fem files)");
     prm.declare_entry("density", "2650", Patterns::Double(), "Density [kg/m^3] (> 0)");
+    prm.declare_entry("mass scaling", "1", Patterns::Anything(),
+                      "Density scaling factor of the continuum, in (0, 1e6] (1: its "
+                      "physical density); its static response does not depend on it. "
+                      "auto (explicit scheme): the "
+                      "lightest continuum whose coupled critical step still admits "
+                      "the DEM's (at most 1), so that the continuum settles in as few "
+                      "DEM steps as the grains (docs/tunnel.md, \"Where the steps go\")");
     prm.declare_entry(
         "axial extension", "0", Patterns::Double(),
         "3D only: length L [m] of continuum beyond each end of the DEM "
@@ -219,6 +226,11 @@ namespace demfem::apps
     s.continuum.young_modulus   = prm.get_double("young modulus");
     s.continuum.poisson_ratio   = prm.get_double("poisson ratio");
     s.continuum.density         = prm.get_double("density");
+    if (const auto ms = prm.get("mass scaling"); ms != "auto")
+      s.continuum.mass_scaling =
+          parse_number(key_name("Continuum/mass scaling"), ms, 1e-300, 1e6, "");
+    else
+      s.continuum.mass_scaling = 0; // automatic
     s.continuum.axial_extension = prm.get_double("axial extension");
     std::string cmat            = prm.get("material file");
     AssertThrow(prm.get_integer("element degree") == 1,

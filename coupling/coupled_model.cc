@@ -47,6 +47,17 @@ namespace demfem::coupling
                             " m) must be smaller than half of Continuum/outer radius (" +
                             std::to_string(outer_radius) + " m)");
     dem::check_range(w, "Continuum/axial extension", axial_extension, 0, inf);
+    if (mass_scaling > 0)
+      dem::check_range(w, "Continuum/mass scaling", mass_scaling, 0, 1e6, true);
+    else if (kp.variant != "slaved-layer" || kp.scheme != "explicit")
+      // The wall facets' grain contacts are not in the coupled critical
+      // step: a lighter continuum then went silently wrong (measured:
+      // centre stress -597 MPa for a -10 MPa patch test).
+      throw dem::InputError(w + ": Continuum/mass scaling = auto is implemented for "
+                            "Coupling/variant = slaved-layer with Coupling/scheme = "
+                            "explicit (given: " +
+                            kp.variant + ", " + kp.scheme +
+                            "); give a number, e.g. 1 (the physical density)");
     if (axial_extension > 0)
       {
         if (dim != 3)
@@ -173,7 +184,7 @@ namespace demfem::coupling
     es.young_modulus = cp.young_modulus;
     es.poisson_ratio = cp.poisson_ratio;
     es.density       = cp.density;
-    es.mass_scaling  = cp.mass_scaling;
+    es.mass_scaling  = cp.mass_scaling > 0 ? cp.mass_scaling : 1.0;
     es.degree        = 1; // vertices = nodes (straight chords, bilinear shapes)
     if (cp.damping >= 0)
       es.damping = cp.damping;
@@ -182,7 +193,7 @@ namespace demfem::coupling
         // Critical damping of the slowest mode, estimated as a quarter shear
         // wave over the annulus: omega_1 ~ (pi/2) c_s / (R - r_in).
         const double G  = cp.young_modulus / (2 * (1 + cp.poisson_ratio));
-        const double cs = std::sqrt(G / (cp.density * cp.mass_scaling));
+        const double cs = std::sqrt(G / (cp.density * es.mass_scaling));
         es.damping      = 2 * 0.5 * M_PI * cs / (cp.outer_radius - ms.radius);
       }
     es.fixed = {{fem::boundary_id::far_field, {true, true, true}}};
@@ -195,14 +206,14 @@ namespace demfem::coupling
     fem_->set_coupling_vertices(points);
     accum.assign(points.size(), Vec<dim>::Zero());
     nodal.assign(points.size(), Vec<dim>::Zero());
-    fem_crit = fem_->critical_time_step();
-    {
+    const auto coupled_critical_step = [&] {
       // Coupled limit of the continuum step (Gershgorin, as the continuum's
       // own bound): omega_a^2 <= (sum_b |K_ab| + 2 k_att,a) / M_a, the factor
       // 2 bounding the off-diagonal terms of the attached contacts. Without
       // it a sub-cycled slaved layer (k = 4, grains as stiff as the
       // continuum) went silently unstable during the in-situ ramp and
       // settled into a wrong state (region stress +200 MPa for -10 MPa).
+      const double        own = fem_->critical_time_step();
       std::vector<double> katt(points.size(), 0.0);
       add_attached_stiffness(katt);
       const auto mass  = fem_->interface_masses();
@@ -210,8 +221,27 @@ namespace demfem::coupling
       for (std::size_t k = 0; k < katt.size(); ++k)
         if (mass[k] > 0 && std::isfinite(mass[k]))
           extra = std::max(extra, 2 * katt[k] / mass[k]);
-      fem_crit = 2 / std::sqrt(4 / (fem_crit * fem_crit) + extra);
-    }
+      return 2 / std::sqrt(4 / (own * own) + extra);
+    };
+    fem_crit = coupled_critical_step();
+    if (!(cp.mass_scaling > 0) && kp.scheme == "explicit")
+      {
+        // Automatic mass scaling: every term of omega^2 is over a mass, so
+        // the coupled critical step grows as sqrt(s). The lightest continuum
+        // whose window k dt still fits (window fraction f): f sqrt(s)
+        // crit(1) / k = DEM critical step; never heavier than the physical
+        // one (s <= 1). The damping follows (critical for the slowest mode,
+        // a proportional to the shear-wave speed, as above).
+        const double dem_critical = dem.critical_timestep();
+        const double s            = std::min(
+            1.0, std::pow(kp.subcycles * dem_critical / (window_limit_fraction() * fem_crit), 2));
+        es.mass_scaling = s;
+        if (!(cp.damping >= 0))
+          es.damping /= std::sqrt(s);
+        fem_->set_mass_scaling(es.mass_scaling);
+        fem_->set_damping(es.damping);
+        fem_crit = coupled_critical_step();
+      }
     // The scheme, once (coupling_scheme.h): explicit dynamics or the
     // relaxed static response.
     scheme_  = make_coupling_scheme<dim>(kp, *fem_, tria, es, points, fem_crit,
@@ -229,7 +259,8 @@ namespace demfem::coupling
                 << " cells around r = " << ms.radius << " m, " << points.size()
                 << " coupling nodes, " << n_fem_dofs() << " continuum dofs, dt = " << dt_
                 << " s (DEM critical " << dem_crit << " s, continuum critical "
-                << fem_crit << " s, continuum damping " << es.damping << " 1/s)\n";
+                << fem_crit << " s, continuum damping " << es.damping
+                << " 1/s, mass scaling " << es.mass_scaling << ")\n";
   }
 
   template <int dim>
@@ -412,6 +443,12 @@ namespace demfem::coupling
   double CoupledModel<dim>::continuum_kinetic_energy() const
   {
     return scheme_->kinetic_energy();
+  }
+
+  template <int dim>
+  double CoupledModel<dim>::continuum_unbalanced_ratio() const
+  {
+    return scheme_->unbalanced_ratio();
   }
 
   template <int dim>

@@ -90,7 +90,13 @@ namespace demfem::coupling
     double       outer_radius  = 30; ///< R [m]
     unsigned int cells_around  = 0;  ///< 0: cells about 2 mean grain diameters wide
     double       damping       = -1; ///< mass-proportional a [1/s]; < 0: automatic
-    double       mass_scaling  = 1;
+    /// Density scaling of the continuum (its static response does not
+    /// depend on it). <= 0: automatic (explicit scheme): the lightest
+    /// continuum whose coupled critical step still admits the DEM's, so
+    /// that its waves cross and its damping acts in as few DEM steps as
+    /// possible, never heavier than the physical one (docs/tunnel.md,
+    /// "Where the steps go").
+    double mass_scaling = 1;
     /// 3D: length L of continuum beyond each end of the DEM section [m].
     /// 0: the plane-strain slab (continuum over 0 <= z <= t only); > 0: a
     /// tunnel section in a 3D continuum (below; slaved layer, explicit).
@@ -207,6 +213,9 @@ namespace demfem::coupling
     double imbalance_last() const { return imb_last; }
     /// Kinetic energy of the continuum (0 for the quasi-static scheme).
     double continuum_kinetic_energy() const;
+    /// The continuum's unbalanced-force ratio (fem::ExplicitDynamics::
+    /// unbalanced_force_ratio; 0 for the quasi-static scheme).
+    double continuum_unbalanced_ratio() const;
     /// Quasi-static scheme: relative interface residual |u* - u| / |u*| of
     /// the latest window (0 for the explicit scheme).
     double interface_residual() const;

@@ -96,6 +96,7 @@ namespace demfem::coupling
       }
 
       double      kinetic_energy() const override { return fem.kinetic_energy(); }
+      double      unbalanced_ratio() const override { return fem.unbalanced_force_ratio(); }
       double      residual() const override { return 0; }
       std::string instability_hint() const override { return ""; }
 
@@ -241,6 +242,7 @@ namespace demfem::coupling
       }
 
       double kinetic_energy() const override { return 0; }
+      double unbalanced_ratio() const override { return 0; }
       double residual() const override { return res; }
 
       std::string instability_hint() const override

@@ -61,6 +61,9 @@ namespace demfem::coupling
                          std::vector<dem::Vec<dim>> &v) = 0;
     /// The continuum's kinetic energy (0 without inertia).
     virtual double kinetic_energy() const = 0;
+    /// The continuum's unbalanced-force ratio |f - K u| / |K u| (0 for a
+    /// continuum solved statically every window).
+    virtual double unbalanced_ratio() const = 0;
     /// Relative interface residual |u* - u| / |u*| (0 for the explicit one).
     virtual double residual() const = 0;
     /// What to add to a DEM instability's diagnosis ("" : nothing).

@@ -218,6 +218,15 @@ namespace demfem::fem
   }
 
   template <int dim>
+  void ExplicitDynamics<dim>::set_mass_scaling(const double scaling)
+  {
+    AssertThrow(scaling > 0 && std::isfinite(scaling),
+                ExcMessage("mass scaling must be > 0"));
+    mass *= scaling / settings.mass_scaling;
+    settings.mass_scaling = scaling;
+  }
+
+  template <int dim>
   double ExplicitDynamics<dim>::critical_time_step() const
   {
     std::set<types::global_dof_index> fixed(fixed_dofs.begin(), fixed_dofs.end());
@@ -413,6 +422,30 @@ namespace demfem::fem
     for (const auto i : owned)
       e += 0.5 * mass(i) * v(i) * v(i);
     return Utilities::MPI::sum(e, comm);
+  }
+
+  template <int dim>
+  double ExplicitDynamics<dim>::unbalanced_force_ratio() const
+  {
+    TrilinosWrappers::MPI::Vector ku(u);
+    stiffness.vmult(ku, u);
+    // The reactions of the fixed dofs balance whatever reaches them: they
+    // are not part of the residual.
+    std::vector<bool> fixed(owned.n_elements(), false);
+    for (const auto d : fixed_dofs)
+      fixed[owned.index_within_set(d)] = true;
+    double r2 = 0, f2 = 0;
+    std::size_t k = 0;
+    for (const auto i : owned)
+      if (!fixed[k++])
+        {
+          const double r = f_ext(i) + boundary_factor * f_boundary(i) - ku(i);
+          r2 += r * r;
+          f2 += ku(i) * ku(i);
+        }
+    r2 = Utilities::MPI::sum(r2, comm);
+    f2 = Utilities::MPI::sum(f2, comm);
+    return f2 > 0 ? std::sqrt(r2 / f2) : 0.0;
   }
 
   template <int dim>

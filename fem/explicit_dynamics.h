@@ -55,6 +55,12 @@ namespace demfem::fem
     /** Distribute dofs, assemble K and the lumped mass; state = rest. */
     void setup();
 
+    /** Replaces the density scaling factor after setup(): the lumped masses
+     *  are rescaled (the static response does not depend on them). */
+    void set_mass_scaling(double scaling);
+    /** Replaces the mass-proportional damping coefficient a [1/s]. */
+    void set_damping(double a) { settings.damping = a; }
+    double mass_scaling() const { return settings.mass_scaling; }
     /** Safe time step limit of the undamped central-difference scheme. */
     double critical_time_step() const;
 
@@ -127,6 +133,11 @@ namespace demfem::fem
     dealii::Tensor<1, dim> interface_force_sum() const;
 
     double                                       kinetic_energy() const;
+    /** Unbalanced-force ratio of the free dofs: |f - K u| / |K u| (2-norms
+     *  over the dofs that are not fixed, f the coupling and boundary loads).
+     *  The continuum's static residual, as the DEM's unbalanced ratio; 0
+     *  when nothing is loaded. One matrix-vector product. */
+    double                                       unbalanced_force_ratio() const;
     double                                       time() const { return current_time; }
     const dealii::TrilinosWrappers::MPI::Vector &displacement() const { return u; }
     const dealii::DoFHandler<dim> &get_dof_handler() const { return dof_handler; }
