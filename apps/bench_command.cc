@@ -15,6 +15,7 @@
 // skin later get a linear contact (the usual default law).
 #include "apps/commands.h"
 #include "dem/laws/flat_joint_law.h"
+#include "dem/voronoi/voronoi_lab_test.h"
 #include "dem/specimen/genesis.h"
 #include "dem/laws/linear_law.h"
 #include "dem/specimen/material_file.h"
@@ -52,6 +53,9 @@ namespace
     bool         json    = false;
     bool         dim_set = false;
     std::string  material; ///< material.json: the scene is that material
+    /// `demfem bench voronoi`: the rigid Voronoi model (seed 004) against
+    /// the 2D flat-joint scene of the same N, steps and threads.
+    bool voronoi = false;
   };
 
   struct BenchResult
@@ -75,6 +79,7 @@ namespace
     out << "usage: demfem bench [dem] --dim 2|3 --n N --steps S --threads T [--json]\n"
            "       demfem bench [dem] --material FILE --n N --steps S --threads T "
            "[--json]\n"
+           "       demfem bench voronoi --n N --steps S --threads T [--json]\n"
            "\n"
            "Times S steps of a dense, fully flat-jointed assembly of N grains under\n"
            "constant-strain compression (2D Nr = 2; 3D Nr = 2, Nal = 8). Only the\n"
@@ -87,7 +92,12 @@ namespace
            "  --n N          number of grains, 8 <= N <= 100000000 (default 10000)\n"
            "  --steps S      number of timed steps, 1 <= S <= 1e9 (default 1000)\n"
            "  --threads T    OpenMP threads, 1 <= T <= 1024 (default 1)\n"
-           "  --json         print one JSON object instead of the text report\n";
+           "  --json         print one JSON object instead of the text report\n"
+           "\n"
+           "demfem bench voronoi: cost per grain-step of rigid Voronoi grains (seed\n"
+           "004: Laguerre cells of a jittered hexagonal packing, three contact points\n"
+           "per shared edge, bilinear softening) against the 2D flat-joint scene\n"
+           "above with the same N, steps and threads (docs/voronoi.md).\n";
   }
 
   /// Parses an integer option value in [lo, hi]; throws a message naming it.
@@ -111,6 +121,8 @@ namespace
     int          a = 1;
     if (a < argc && std::strcmp(argv[a], "dem") == 0)
       ++a;
+    else if (a < argc && std::strcmp(argv[a], "voronoi") == 0)
+      o.voronoi = true, ++a;
     for (; a < argc; ++a)
       {
         const std::string opt   = argv[a];
@@ -145,9 +157,12 @@ namespace
         else
           throw std::invalid_argument(
               "unknown option '" + opt +
-              "' (allowed: dem, --dim 2|3, --material FILE, --n N, "
+              "' (allowed: dem, voronoi, --dim 2|3, --material FILE, --n N, "
               "--steps S, --threads T, --json, --help)");
       }
+    if (o.voronoi && ((o.dim_set && o.dim != 2) || !o.material.empty()))
+      throw std::invalid_argument("demfem bench voronoi is 2D and uses its own scenes "
+                                  "(allowed: --n, --steps, --threads, --json)");
     return o;
   }
 
@@ -445,6 +460,38 @@ namespace
                   r.wall_s, r.cpu_s, ps, ps / o.threads, cs, r.unbalanced);
     std::cout << buf;
   }
+
+  /// The rigid Voronoi model's cost per grain-step next to the flat-joint
+  /// scene's `fj` (same N, steps, threads).
+  void report_voronoi(const BenchOptions &o, const BenchResult &fj)
+  {
+    const double fj_cost = fj.wall_s / (double(fj.n_particles) * o.steps);
+    const double vor_cost =
+        demfem::dem::voronoi::voronoi_cost_per_grain_step(static_cast<int>(o.n),
+                                                  static_cast<int>(o.steps));
+    if (o.json)
+      {
+        nlohmann::ordered_json j;
+        j["benchmark"]                         = "voronoi";
+        j["n"]                                 = o.n;
+        j["steps"]                             = o.steps;
+        j["threads"]                           = o.threads;
+        j["flatjoint_s_per_grain_step"]        = fj_cost;
+        j["rigid_voronoi_s_per_grain_step"]    = vor_cost;
+        j["rigid_voronoi_over_flatjoint_cost"] = vor_cost / fj_cost;
+        std::cout << j.dump() << "\n";
+        return;
+      }
+    char buf[1024];
+    std::snprintf(buf, sizeof buf,
+                  "demfem bench voronoi: %lld grains, %lld steps, %d thread(s)\n"
+                  "  flat joint (2D scene, Nr = 2)   %.3g us per grain-step\n"
+                  "  rigid Voronoi (3 points/edge)   %.3g us per grain-step\n"
+                  "  Voronoi / flat joint            %.3g\n",
+                  static_cast<long long>(o.n), static_cast<long long>(o.steps), o.threads,
+                  1e6 * fj_cost, 1e6 * vor_cost, vor_cost / fj_cost);
+    std::cout << buf;
+  }
 } // namespace
 
 int demfem::apps::run_bench(int argc, char **argv)
@@ -472,7 +519,10 @@ int demfem::apps::run_bench(int argc, char **argv)
       const SceneMaterial mat = scene_material(o);
       o.dim                   = mat.dim;
       const BenchResult r     = o.dim == 2 ? run_dem<2>(o, mat) : run_dem<3>(o, mat);
-      report(o, r);
+      if (o.voronoi)
+        report_voronoi(o, r);
+      else
+        report(o, r);
     }
   catch (const std::exception &e)
     {

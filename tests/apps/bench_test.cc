@@ -116,3 +116,27 @@ TEST_CASE("bench dem --material builds the scene of a material file", "[bench]")
   CHECK(arg.status == 2);
   CHECK_THAT(arg.out, Catch::Contains("--material"));
 }
+
+TEST_CASE("bench voronoi compares the rigid Voronoi model with the flat joint",
+          "[bench][voronoi]")
+{
+  const RunResult r = run_demfem("bench voronoi --n 400 --steps 20 --threads 1 --json");
+  INFO(r.out);
+  REQUIRE(r.status == 0);
+  const double fj  = json_number(r.out, "flatjoint_s_per_grain_step");
+  const double vor = json_number(r.out, "rigid_voronoi_s_per_grain_step");
+  CHECK(fj > 0);
+  CHECK(vor > 0);
+  // The ratio is the two costs' (no timing assertion: only consistency).
+  CHECK(json_number(r.out, "rigid_voronoi_over_flatjoint_cost") ==
+        Approx(vor / fj).epsilon(1e-9));
+  CHECK(json_number(r.out, "n") == 400);
+  // 2D only, its own scenes.
+  for (const char *bad : {"bench voronoi --dim 3", "bench voronoi --material x.json"})
+    {
+      const RunResult b = run_demfem(bad);
+      INFO(bad << "\n" << b.out);
+      CHECK(b.status == 2);
+      CHECK(b.out.find("demfem bench voronoi is 2D") != std::string::npos);
+    }
+}
