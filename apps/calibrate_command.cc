@@ -691,7 +691,7 @@ namespace demfem::apps
             // built before the output directory, so a material that fails
             // at install (a fracture energy below a contact's brittle
             // value) writes nothing.
-            const VoronoiCalibrateSettings v         = read_voronoi_settings(prm, file, fit);
+            const VoronoiCalibrateSettings v = read_voronoi_settings(prm, file, fit);
             const VoronoiSpecimens         specimens = make_voronoi_specimens(v);
             RunDirectory                   run(v.out, prm);
             const CalibrateOutcome outcome = run_voronoi_calibration(v, specimens);

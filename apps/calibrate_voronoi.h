@@ -17,10 +17,10 @@ namespace demfem::apps
   /// One test of a Voronoi calibration.
   struct VoronoiTestSpec
   {
-    std::string                label; ///< "ucs", "triaxial", "triaxial series 5 MPa", ...
-    dem::voronoi::VoronoiTest  test;
-    double                     confining_pressure = 0; ///< [Pa]
-    bool                       in_series = false;      ///< one of the triaxial series
+    std::string               label; ///< "ucs", "triaxial", "triaxial series 5 MPa", ...
+    dem::voronoi::VoronoiTest test;
+    double                    confining_pressure = 0;     ///< [Pa]
+    bool                      in_series          = false; ///< one of the triaxial series
   };
 
   /// Everything a Voronoi calibration needs, each value checked where it was
@@ -61,8 +61,7 @@ namespace demfem::apps
   /// repeats, the uniaxial-strain test, the Brazilian test of flexible
   /// grains).
   VoronoiCalibrateSettings read_voronoi_settings(dealii::ParameterHandler &prm,
-                                                 const std::string        &where,
-                                                 bool                      fit);
+                                                 const std::string &where, bool fit);
 
   /// The packed and tessellated specimens of a Voronoi calibration: the
   /// rectangle of the compression and tension tests, the disk of the
@@ -70,7 +69,7 @@ namespace demfem::apps
   struct VoronoiSpecimens
   {
     dem::voronoi::VoronoiSpecimen rectangle, disk;
-    bool                          has_disk = false;
+    bool                          has_disk  = false;
     double                        genesis_s = 0;
   };
 

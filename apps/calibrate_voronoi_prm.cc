@@ -8,6 +8,7 @@
 #include "apps/calibrate_voronoi.h"
 #include "dem/engine/types.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -138,12 +139,12 @@ namespace demfem::apps
     check(where, "Material/local damping", l.damping, 0, 1, false, true);
     sp.seed = prm.get_integer("seed");
     prm.enter_subsection("Voronoi");
-    const std::string v    = "Material/Voronoi/";
-    c.contact_modulus      = prm.get_double("contact modulus");
-    c.kratio               = prm.get_double("stiffness ratio");
-    c.tensile_strength     = prm.get_double("tensile strength");
-    c.cohesion             = prm.get_double("cohesion");
-    c.friction             = prm.get_double("friction");
+    const std::string v       = "Material/Voronoi/";
+    c.contact_modulus         = prm.get_double("contact modulus");
+    c.kratio                  = prm.get_double("stiffness ratio");
+    c.tensile_strength        = prm.get_double("tensile strength");
+    c.cohesion                = prm.get_double("cohesion");
+    c.friction                = prm.get_double("friction");
     c.tensile_fracture_energy = prm.get_double("tensile fracture energy");
     c.shear_fracture_energy   = prm.get_double("shear fracture energy");
     check(where, v + "contact modulus", c.contact_modulus, 0, HUGE_VAL, true, true);
@@ -156,7 +157,7 @@ namespace demfem::apps
     check(where, v + "shear fracture energy", c.shear_fracture_energy, 0, HUGE_VAL, false,
           true);
     l.scheme = prm.get("contact points") == "lobatto" ? vor::PointScheme::lobatto3
-                                                       : vor::PointScheme::reference_point;
+                                                      : vor::PointScheme::reference_point;
     l.safety = prm.get_double("time step safety");
     check(where, v + "time step safety", l.safety, 0, 1, true);
     if (s.flexible)
@@ -236,15 +237,21 @@ namespace demfem::apps
         else if (name == "triaxial")
           add(name, vor::VoronoiTest::confined_compression, Pc);
         else if (name == "triaxial series")
-          for (double p : series)
-            {
-              std::ostringstream label;
-              label << "triaxial series " << p / 1e6 << " MPa";
-              add(label.str(),
-                  p > 0 ? vor::VoronoiTest::confined_compression
-                        : vor::VoronoiTest::unconfined_compression,
-                  p, true);
-            }
+          {
+            if (std::count_if(series.begin(), series.end(),
+                              [&](double p) { return p != series[0]; }) == 0)
+              refuse(where, "Tests/confining pressures: the series needs at least two "
+                            "distinct pressures");
+            for (double p : series)
+              {
+                std::ostringstream label;
+                label << "triaxial series " << p / 1e6 << " MPa";
+                add(label.str(),
+                    p > 0 ? vor::VoronoiTest::confined_compression
+                          : vor::VoronoiTest::unconfined_compression,
+                    p, true);
+              }
+          }
         else if (name == "direct tension")
           add(name, vor::VoronoiTest::direct_tension, 0);
         else if (name == "brazilian")
@@ -257,8 +264,8 @@ namespace demfem::apps
             add(name, vor::VoronoiTest::brazilian, 0);
           }
         else
-          refuse(where, "Tests/tests: '" + name + "' is not available for Material/type = " +
-                            type +
+          refuse(where, "Tests/tests: '" + name +
+                            "' is not available for Material/type = " + type +
                             " (allowed: ucs, triaxial, triaxial series, direct tension" +
                             (s.flexible ? ")" : ", brazilian)"));
       }

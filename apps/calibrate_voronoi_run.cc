@@ -59,9 +59,9 @@ namespace demfem::apps
     void check_fracture_energies(const VoronoiCalibrateSettings &s,
                                  const vor::VoronoiSpecimen     &sp)
     {
-      const auto  &c = s.contact;
-      const double d = largest_contact_length(sp);
-      auto check     = [&](const char *key, double G, double brittle) {
+      const auto  &c     = s.contact;
+      const double d     = largest_contact_length(sp);
+      auto         check = [&](const char *key, double G, double brittle) {
         if (G > 0 && G < brittle * (1 - 1e-9))
           {
             std::ostringstream m;
@@ -69,7 +69,7 @@ namespace demfem::apps
               << " J/m^2 is below the brittle value " << brittle
               << " J/m^2 of the longest contact of the packing (d = " << d
               << " m); a smaller energy would need a snap-back (allowed: 0 for the "
-                 "brittle value of each contact, or >= "
+                         "brittle value of each contact, or >= "
               << brittle << ")";
             throw dem::InputError(m.str());
           }
@@ -120,9 +120,8 @@ namespace demfem::apps
           .num("tensile_fracture_energy_J_m2", c.tensile_fracture_energy)
           .num("shear_fracture_energy_J_m2", c.shear_fracture_energy)
           .str("fracture_energy_zero_means", "the brittle value of each contact")
-          .str("contact_points", s.lab.scheme == vor::PointScheme::lobatto3
-                                     ? "lobatto"
-                                     : "reference point")
+          .str("contact_points",
+               s.lab.scheme == vor::PointScheme::lobatto3 ? "lobatto" : "reference point")
           .num("thickness_m", c.thickness)
           .num("density_kg_m3", s.density);
       if (s.flexible)
@@ -146,8 +145,8 @@ namespace demfem::apps
     {
       Json j;
       j.str("ended_by", r.ended_by)
-          .str("status", r.status == vor::VoronoiLabStatus::ok ? "ok"
-                                                               : "step_limit_reached")
+          .str("status",
+               r.status == vor::VoronoiLabStatus::ok ? "ok" : "step_limit_reached")
           .num("confining_steps", double(r.confining_steps))
           .num("loading_steps", double(r.loading_steps))
           .num("time_step_s", r.time_step)
@@ -209,9 +208,9 @@ namespace demfem::apps
       fs::create_directories(vtk_dir);
     const std::string kind = s.flexible ? "flexible-voronoi" : "rigid-voronoi";
 
-    std::vector<std::string>                       truncated;
+    std::vector<std::string>                                   truncated;
     std::vector<std::pair<std::string, vor::VoronoiLabResult>> results;
-    Json                                           tests_json;
+    Json                                                       tests_json;
     for (const auto &t : s.tests)
       {
         vor::VoronoiLabParams lp = s.lab;
@@ -222,12 +221,12 @@ namespace demfem::apps
         const auto &specimen     = brazilian ? sp.disk : sp.rectangle;
         const auto  name         = file_name(t.label);
         std::cerr << "demfem calibrate: " << t.label << " (" << kind << ")\n";
-        const auto                       t_test = Clock::now();
+        const auto                            t_test = Clock::now();
         std::optional<vor::RigidVoronoiModel> final_model;
-        const vor::VoronoiLabResult      r =
+        const vor::VoronoiLabResult           r =
             s.flexible
-                     ? vor::run_flexible_voronoi_lab_test(specimen, s.contact, s.grain, lp)
-                     : vor::run_voronoi_lab_test(specimen, s.contact, s.density, lp,
+                          ? vor::run_flexible_voronoi_lab_test(specimen, s.contact, s.grain, lp)
+                          : vor::run_voronoi_lab_test(specimen, s.contact, s.density, lp,
                                             vtk ? &final_model : nullptr);
         const double test_s = seconds_since(t_test);
         if (vtk && final_model)
@@ -242,17 +241,17 @@ namespace demfem::apps
                                            history_csv(r.history));
         // Compression positive for compression and Brazilian, tension
         // positive for direct tension (as the bonded materials' plots).
-        const double sign = t.test == vor::VoronoiTest::direct_tension ? 1 : -1;
+        const double        sign = t.test == vor::VoronoiTest::direct_tension ? 1 : -1;
         std::vector<double> x, y;
         for (const auto &h : r.history)
-          x.push_back(100 * sign * h.axial_strain), y.push_back(sign * h.axial_stress / 1e6);
+          x.push_back(100 * sign * h.axial_strain),
+              y.push_back(sign * h.axial_stress / 1e6);
         dem::vtkout::write_text_atomically(
             s.out + "/" + name + "_stress_strain.svg",
-            svg_plot(t.label + " (2D " + kind + ", " + std::to_string(r.n_grains) +
-                         " grains)",
-                     "axial strain [%]",
-                     brazilian ? "F / (2 R t)  [MPa]" : "axial stress (platens) [MPa]", x,
-                     y));
+            svg_plot(
+                t.label + " (2D " + kind + ", " + std::to_string(r.n_grains) + " grains)",
+                "axial strain [%]",
+                brazilian ? "F / (2 R t)  [MPa]" : "axial stress (platens) [MPa]", x, y));
         Json j = result_json(r);
         j.num("run_time_s", test_s)
             .num("strain_rate_1_s", lp.strain_rate)
@@ -275,13 +274,14 @@ namespace demfem::apps
       }
 
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    auto get = [&](const std::string &label) -> const vor::VoronoiLabResult * {
+    auto         get = [&](const std::string &label) -> const vor::VoronoiLabResult         *{
       for (const auto &[l, r] : results)
         if (l == label)
           return &r;
       return nullptr;
     };
-    const vor::VoronoiLabResult *ucs = get("ucs") ? get("ucs") : get("triaxial series 0 MPa");
+    const vor::VoronoiLabResult *ucs =
+        get("ucs") ? get("ucs") : get("triaxial series 0 MPa");
     const vor::VoronoiLabResult *el  = ucs ? ucs : get("triaxial");
     const vor::VoronoiLabResult *dt  = get("direct tension");
     const vor::VoronoiLabResult *bts = get("brazilian");
@@ -295,9 +295,9 @@ namespace demfem::apps
     const double nups = el ? el->nu : nan;
     const double nu   = nups / (1 + nups);
     const double E    = Eps * (1 - nu * nu);
-    auto peak         = [&](const vor::VoronoiLabResult *r) { return r ? r->peak_stress : nan; };
-    auto ratio        = [&](double a, double b) { return b > 0 ? a / b : nan; };
-    const double ci   = el ? crack_initiation(*el, s.crack_initiation_fraction) : nan;
+    auto peak  = [&](const vor::VoronoiLabResult *r) { return r ? r->peak_stress : nan; };
+    auto ratio = [&](double a, double b) { return b > 0 ? a / b : nan; };
+    const double ci = el ? crack_initiation(*el, s.crack_initiation_fraction) : nan;
     double       triaxial_pc = nan;
     for (const auto &t : s.tests)
       if (t.label == "triaxial")
@@ -335,23 +335,39 @@ namespace demfem::apps
       {
         Json e;
         e.nums("confining_pressures_Pa", s3).nums("peak_axial_stresses_Pa", s1);
-        const auto mc = dem::fit_mohr_coulomb(s3, s1, s.where + ": Tests/confining pressures");
-        const auto hb = dem::fit_hoek_brown(s3, s1, s.where + ": Tests/confining pressures");
-        Json m, h;
-        m.num("cohesion_Pa", mc.cohesion)
-            .num("friction_angle_deg", mc.friction_angle * 180 / M_PI)
-            .num("sigma_c_Pa", mc.sigma_c)
-            .num("slope_q", mc.q)
-            .num("r2", mc.r2);
-        h.num("sigma_ci_Pa", hb.sigma_ci).num("mi", hb.mi).num("r2", hb.r2);
-        e.obj("mohr_coulomb", m).obj("hoek_brown", h);
+        try
+          {
+            const std::string what = s.where + ": Tests/confining pressures";
+            const auto        mc   = dem::fit_mohr_coulomb(s3, s1, what);
+            const auto        hb   = dem::fit_hoek_brown(s3, s1, what);
+            Json              m, h;
+            m.num("cohesion_Pa", mc.cohesion)
+                .num("friction_angle_deg", mc.friction_angle * 180 / M_PI)
+                .num("sigma_c_Pa", mc.sigma_c)
+                .num("slope_q", mc.q)
+                .num("r2", mc.r2);
+            h.num("sigma_ci_Pa", hb.sigma_ci).num("mi", hb.mi).num("r2", hb.r2);
+            e.obj("mohr_coulomb", m).obj("hoek_brown", h);
+          }
+        catch (const std::invalid_argument &error)
+          {
+            // Peaks that no envelope fits (e.g. a test stopped at the strain
+            // limit below sigma_3): the peaks are kept, the fit is not.
+            std::cerr << "demfem calibrate: warning: no envelope fitted: " << error.what()
+                      << "\n";
+            e.str("fit_error", error.what());
+          }
         mat.obj("envelope", e);
       }
     Json units;
-    for (const char *k : {"E", "E_plane_stress", "ucs", "triaxial_strength",
-                          "confining_pressure", "bts", "direct_tension", "crack_initiation"})
+    for (const char *k :
+         {"E", "E_plane_stress", "ucs", "triaxial_strength", "confining_pressure", "bts",
+          "direct_tension", "crack_initiation"})
       units.str(k, "Pa");
-    units.str("nu", "1").str("nu_plane_stress", "1").str("porosity", "1").str("n_grains", "1");
+    units.str("nu", "1")
+        .str("nu_plane_stress", "1")
+        .str("porosity", "1")
+        .str("n_grains", "1");
     mat.obj("units", units);
     mat.str("elastic_constants",
             "E, nu: plane-strain pair for the continuum (docs/architecture.md: nu = "
@@ -359,7 +375,8 @@ namespace demfem::apps
             "free-sided Voronoi specimen (E_plane_stress, nu_plane_stress)");
     mat.str("porosity_note", "Voronoi cells tile the specimen: no pore space");
     mat.str("fit_window", "least squares between " + std::to_string(s.lab.fit_lo) +
-                              " and " + std::to_string(s.lab.fit_hi) + " of the peak load");
+                              " and " + std::to_string(s.lab.fit_hi) +
+                              " of the peak load");
     mat.obj("microparameters", microparameters(s));
     dem::vtkout::write_text_atomically(s.out + "/material.json", mat.text() + "\n");
 

@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -23,8 +24,9 @@ namespace
 {
   fs::path work_dir()
   {
-    static const fs::path d = fs::temp_directory_path() /
-                              ("demfem_calibrate_voronoi_test_" + std::to_string(getpid()));
+    static const fs::path d =
+        fs::temp_directory_path() /
+        ("demfem_calibrate_voronoi_test_" + std::to_string(getpid()));
     fs::create_directories(d);
     return d;
   }
@@ -44,8 +46,8 @@ namespace
   demfem::testing::CommandResult run_example(const fs::path    &out,
                                              const std::string &sets = "")
   {
-    return run_demfem("calibrate " + example + " --set \"Problem/output directory=" +
-                      out.string() + "\" " + sets);
+    return run_demfem("calibrate " + example +
+                      " --set \"Problem/output directory=" + out.string() + "\" " + sets);
   }
 
   // A number attribute of the <Piece> element of a VTK XML PolyData file.
@@ -67,8 +69,8 @@ TEST_CASE("calibrate voronoi: the rigid example end to end", "[calibrate][vorono
   REQUIRE(r.exit_code == 0);
   const auto mat = nlohmann::json::parse(read(out / "material.json"));
   // Finite elastic constants and strengths, each test's own.
-  for (const char *k : {"E", "nu", "E_plane_stress", "nu_plane_stress", "ucs", "bts",
-                        "direct_tension"})
+  for (const char *k :
+       {"E", "nu", "E_plane_stress", "nu_plane_stress", "ucs", "bts", "direct_tension"})
     {
       INFO(k);
       REQUIRE(mat[k].is_number());
@@ -107,13 +109,14 @@ TEST_CASE("calibrate voronoi: the rigid example end to end", "[calibrate][vorono
       const std::string csv = read(out / (std::string("history_") + t + ".csv"));
       CHECK(csv.rfind("step,time_s,axial_strain", 0) == 0);
       CHECK(std::count(csv.begin(), csv.end(), '\n') > 20);
-      const auto base = out / "vtk" / (std::string(t) + "_end_");
-      const auto cells = read(base.string() + "cells.vtp");
+      const auto base   = out / "vtk" / (std::string(t) + "_end_");
+      const auto cells  = read(base.string() + "cells.vtp");
       const auto points = read(base.string() + "points.vtp");
       const auto cracks = read(base.string() + "cracks.vtp");
       CHECK(cells.find("<VTKFile type=\"PolyData\"") != std::string::npos);
       CHECK(piece_count(cells, "NumberOfPolys") > 50);
-      CHECK(piece_count(points, "NumberOfPoints") > 3 * piece_count(cells, "NumberOfPolys"));
+      CHECK(piece_count(points, "NumberOfPoints") >
+            3 * piece_count(cells, "NumberOfPolys"));
       // Every test ended after its peak: cracks were written.
       CHECK(piece_count(cracks, "NumberOfLines") > 0);
       CHECK(sum["tests"][t]["ended_by"] == "post-peak");
@@ -130,18 +133,20 @@ TEST_CASE("calibrate voronoi: bad input is refused naming the key, writing nothi
   const Case cases[] = {
       {"modulus", "--set \"Material/Voronoi/contact modulus=-1\"",
        "Material/Voronoi/contact modulus", "allowed range"},
-      {"poisson", "--set \"Material/type=flexible-voronoi\" --set \"Tests/tests=ucs\" "
-                  "--set \"Material/Voronoi/grain poisson ratio=0.5\"",
+      {"poisson",
+       "--set \"Material/type=flexible-voronoi\" --set \"Tests/tests=ucs\" "
+       "--set \"Material/Voronoi/grain poisson ratio=0.5\"",
        "Material/Voronoi/grain poisson ratio", "allowed range"},
       {"fracture energy", "--set \"Material/Voronoi/tensile fracture energy=1e-6\"",
        "Material/Voronoi/tensile fracture energy", "brittle value"},
-      {"3D", "--set \"Problem/dimension=3\"", "Material/type",
-       "flatjointed"},
+      {"3D", "--set \"Problem/dimension=3\"", "Material/type", "flatjointed"},
       {"flexible brazilian", "--set \"Material/type=flexible-voronoi\"", "brazilian",
        "flexible-voronoi"},
       {"uniaxial strain", "--set \"Tests/tests=uniaxial strain\"", "uniaxial strain",
        "allowed"},
-      {"sizes", "--set \"Material/size distribution=uniform 1e-3 2e-3 0.5; uniform 2e-3 3e-3 0.5\"",
+      {"sizes",
+       "--set \"Material/size distribution=uniform 1e-3 2e-3 0.5; uniform 2e-3 3e-3 "
+       "0.5\"",
        "Material/size distribution", "uniform D_lo D_hi 1"},
   };
   for (const auto &c : cases)
@@ -164,7 +169,8 @@ TEST_CASE("calibrate voronoi: a test stopped by the step limit exits 3",
 {
   const fs::path out = work_dir() / "step_limit";
   fs::remove_all(out);
-  const auto r = run_example(out, "--set \"Tests/tests=ucs\" --set \"Tests/step limit=300\"");
+  const auto r =
+      run_example(out, "--set \"Tests/tests=ucs\" --set \"Tests/step limit=300\"");
   INFO(r.out);
   CHECK(r.exit_code == 3);
   CHECK(r.out.find("Tests/step limit") != std::string::npos);
@@ -183,15 +189,17 @@ TEST_CASE("calibrate voronoi: flexible grains are softer than rigid ones",
   // The same contacts with deformable grains: the grains' compliance adds to
   // the contacts' (docs/voronoi.md, "flexible -> rigid"), so E' falls; no
   // VTK is written (the writers hold rigid grains).
-  const std::string sets = "--set \"Tests/tests=ucs\" --set \"Material/number of grains=60\"";
-  const fs::path    rigid = work_dir() / "rigid60", flex = work_dir() / "flex60";
+  const std::string sets =
+      "--set \"Tests/tests=ucs\" --set \"Material/number of grains=60\"";
+  const fs::path rigid = work_dir() / "rigid60", flex = work_dir() / "flex60";
   fs::remove_all(rigid);
   fs::remove_all(flex);
   const auto a = run_example(rigid, sets);
   INFO(a.out);
   REQUIRE(a.exit_code == 0);
-  const auto b = run_example(flex, sets + " --set \"Material/type=flexible-voronoi\""
-                                          " --set \"Material/Voronoi/grain youngs modulus=50e9\"");
+  const auto b =
+      run_example(flex, sets + " --set \"Material/type=flexible-voronoi\""
+                               " --set \"Material/Voronoi/grain youngs modulus=50e9\"");
   INFO(b.out);
   REQUIRE(b.exit_code == 0);
   const auto ma = nlohmann::json::parse(read(rigid / "material.json"));
