@@ -9,12 +9,15 @@
 #include <nlohmann/json.hpp>
 
 #include <unistd.h>
+#include <vtkCellData.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataReader.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -50,13 +53,13 @@ namespace
                       " --set \"Problem/output directory=" + out.string() + "\" " + sets);
   }
 
-  // A number attribute of the <Piece> element of a VTK XML PolyData file.
-  long piece_count(const std::string &text, const std::string &attribute)
+  // A VTK XML PolyData file read back as ParaView reads it.
+  vtkSmartPointer<vtkPolyData> read_vtp(const fs::path &path)
   {
-    std::smatch m;
-    if (!std::regex_search(text, m, std::regex(attribute + "=\"([0-9]+)\"")))
-      return -1;
-    return std::stol(m[1]);
+    vtkNew<vtkXMLPolyDataReader> r;
+    r->SetFileName(path.c_str());
+    r->Update();
+    return r->GetOutput();
   }
 } // namespace
 
@@ -110,15 +113,22 @@ TEST_CASE("calibrate voronoi: the rigid example end to end", "[calibrate][vorono
       CHECK(csv.rfind("step,time_s,axial_strain", 0) == 0);
       CHECK(std::count(csv.begin(), csv.end(), '\n') > 20);
       const auto base   = out / "vtk" / (std::string(t) + "_end_");
-      const auto cells  = read(base.string() + "cells.vtp");
-      const auto points = read(base.string() + "points.vtp");
-      const auto cracks = read(base.string() + "cracks.vtp");
-      CHECK(cells.find("<VTKFile type=\"PolyData\"") != std::string::npos);
-      CHECK(piece_count(cells, "NumberOfPolys") > 50);
-      CHECK(piece_count(points, "NumberOfPoints") >
-            3 * piece_count(cells, "NumberOfPolys"));
-      // Every test ended after its peak: cracks were written.
-      CHECK(piece_count(cracks, "NumberOfLines") > 0);
+      const auto cells  = read_vtp(base.string() + "cells.vtp");
+      const auto points = read_vtp(base.string() + "points.vtp");
+      const auto cracks = read_vtp(base.string() + "cracks.vtp");
+      // A polygon per grain with its stress; about three contacts of three
+      // Lobatto points per grain; every test ended after its peak, so
+      // cracks were written, each with its mode.
+      const int n_grains = sum["tests"][t]["n_grains"];
+      CHECK(cells->GetNumberOfPolys() == n_grains);
+      CHECK(cells->GetCellData()->GetArray("stress") != nullptr);
+      CHECK(points->GetNumberOfPoints() == sum["tests"][t]["n_points"].get<int>());
+      CHECK(points->GetNumberOfPoints() > 6 * n_grains);
+      CHECK(cracks->GetNumberOfLines() > 0);
+      CHECK(cracks->GetNumberOfLines() ==
+            sum["tests"][t]["cracks_tensile_at_end"].get<int>() +
+                sum["tests"][t]["cracks_shear_at_end"].get<int>());
+      CHECK(cracks->GetCellData()->GetArray("mode") != nullptr);
       CHECK(sum["tests"][t]["ended_by"] == "post-peak");
     }
 }
@@ -216,4 +226,25 @@ TEST_CASE("calibrate voronoi: flexible grains are softer than rigid ones",
   CHECK(Eb < 0.9 * Ea);
   CHECK(Eb > 0.2 * Ea);
   CHECK_FALSE(fs::exists(flex / "vtk"));
+}
+
+TEST_CASE("calibrate voronoi: confinement raises the peak", "[calibrate][voronoi]")
+{
+  // Pc = 1 MPa on the sides (docs/voronoi.md, "Lab tests": the confined
+  // peak exceeds UCS + Pc); material.json reports it with its pressure.
+  const fs::path out = work_dir() / "triaxial";
+  fs::remove_all(out);
+  const auto r = run_example(out, "--set \"Tests/tests=ucs, triaxial\" --set "
+                                  "\"Tests/confining pressure=1e6\" --set "
+                                  "\"Problem/vtk=false\"");
+  INFO(r.out);
+  REQUIRE(r.exit_code == 0);
+  const auto   mat = nlohmann::json::parse(read(out / "material.json"));
+  const double ucs = mat["ucs"], triaxial = mat["triaxial_strength"];
+  CHECK(mat["confining_pressure"] == 1e6);
+  CHECK(triaxial > ucs + 1e6);
+  const auto sum = nlohmann::json::parse(read(out / "summary.json"));
+  CHECK(sum["tests"]["triaxial"]["confining_steps"].get<double>() > 0);
+  CHECK(sum["tests"]["triaxial"]["Pc_Pa"] == 1e6);
+  CHECK_FALSE(fs::exists(out / "vtk"));
 }
