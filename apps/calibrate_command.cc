@@ -7,6 +7,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include "apps/calibrate.h"
+#include "apps/calibrate_voronoi.h"
 #include "apps/cli.h"
 #include "apps/commands.h"
 #include "apps/output_dir.h"
@@ -45,6 +46,9 @@ namespace demfem::apps
         "VTK of the specimen and of each test at peak and at the end (.pvd).\n"
         "Exit 3 (summary.json status step_limit_reached) when a test ended at\n"
         "Tests/step limit before its post-peak end.\n"
+        "Material/type = rigid-voronoi | flexible-voronoi (2D): Voronoi grains\n"
+        "(subsection Material/Voronoi, docs/voronoi.md) in the same tests (no uniaxial\n"
+        "strain; brazilian rigid only), with VTK of cells, contact points, cracks.\n"
         "\n"
         "--fit  automatic calibration: searches the microparameters of Fit/parameters\n"
         "       for the targets of Fit/Targets (E, nu, ucs, bts, direct tension, crack\n"
@@ -91,8 +95,11 @@ namespace demfem::apps
       prm.enter_subsection("Material");
       prm.declare_entry(
           "type", "flatjointed",
-          Patterns::Selection("linear|contactbonded|parallelbonded|flatjointed"),
-          "Material type (fistPkg Tables 2-5)");
+          Patterns::Selection(
+              std::string("linear|contactbonded|parallelbonded|flatjointed|") +
+              voronoi_type_names()),
+          "Material type (fistPkg Tables 2-5); rigid-voronoi, flexible-voronoi: "
+          "Voronoi grains (2D, subsection Voronoi, docs/voronoi.md)");
       prm.declare_entry(
           "size distribution", "uniform 1.6e-3 2.4e-3 1", Patterns::Anything(),
           "Grain diameters [m] (fistPkg Table 1), pieces separated by ';': "
@@ -148,6 +155,7 @@ namespace demfem::apps
       dist(prm, "cohesion", "0", "Cohesion [Pa]");
       prm.declare_entry("friction angle", "0", Patterns::Double(), "[deg]");
       prm.leave_subsection();
+      declare_voronoi_parameters(prm);
       prm.leave_subsection();
 
       prm.enter_subsection("Vessel");
@@ -674,6 +682,22 @@ namespace demfem::apps
         if (answered(read_parameters(int(args.size()), args.data(), prm, usage, file),
                      prm, usage, &std::cout))
           return 0;
+        prm.enter_subsection("Material");
+        const bool voronoi = is_voronoi_type(prm.get("type"));
+        prm.leave_subsection();
+        if (voronoi)
+          {
+            // Voronoi grains: their own keys and runner; the specimens are
+            // built before the output directory, so a material that fails
+            // at install (a fracture energy below a contact's brittle
+            // value) writes nothing.
+            const VoronoiCalibrateSettings v = read_voronoi_settings(prm, file, fit);
+            const VoronoiSpecimens         specimens = make_voronoi_specimens(v);
+            RunDirectory                   run(v.out, prm);
+            const CalibrateOutcome outcome = run_voronoi_calibration(v, specimens);
+            run.finish(outcome.status, outcome.exit_code);
+            return outcome.exit_code;
+          }
         const Settings s = read_settings(prm, file, fit);
         // The run owns its output directory: lock, manifest.json, and an
         // earlier run's results refused unless --overwrite.

@@ -1,0 +1,250 @@
+// `demfem calibrate` with Voronoi grains (Material/type = rigid-voronoi |
+// flexible-voronoi, docs/calibrate.md "Voronoi grains"): the example runs and
+// writes a complete material.json, VTK and a manifest; bad keys and the
+// options the Voronoi grains do not have are refused naming the key and the
+// file, writing nothing; a test stopped by its step limit exits 3.
+#include "run_command.h"
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+#include <vtkCellData.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using demfem::testing::run_demfem;
+
+namespace
+{
+  fs::path work_dir()
+  {
+    static const fs::path d =
+        fs::temp_directory_path() /
+        ("demfem_calibrate_voronoi_test_" + std::to_string(getpid()));
+    fs::create_directories(d);
+    return d;
+  }
+
+  std::string read(const fs::path &p)
+  {
+    std::ifstream     f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  }
+
+  const std::string example =
+      std::string(DEMFEM_SOURCE_DIR) + "/apps/examples/voronoi_rigid_2d.prm";
+
+  // The example into `out` with extra --set overrides.
+  demfem::testing::CommandResult run_example(const fs::path    &out,
+                                             const std::string &sets = "")
+  {
+    return run_demfem("calibrate " + example +
+                      " --set \"Problem/output directory=" + out.string() + "\" " + sets);
+  }
+
+  // A VTK XML PolyData file read back as ParaView reads it.
+  vtkSmartPointer<vtkPolyData> read_vtp(const fs::path &path)
+  {
+    vtkNew<vtkXMLPolyDataReader> r;
+    r->SetFileName(path.c_str());
+    r->Update();
+    return r->GetOutput();
+  }
+} // namespace
+
+TEST_CASE("calibrate voronoi: the rigid example end to end", "[calibrate][voronoi]")
+{
+  const fs::path out = work_dir() / "example";
+  fs::remove_all(out);
+  const auto r = run_example(out);
+  INFO(r.out);
+  REQUIRE(r.exit_code == 0);
+  const auto mat = nlohmann::json::parse(read(out / "material.json"));
+  // Finite elastic constants and strengths, each test's own.
+  for (const char *k :
+       {"E", "nu", "E_plane_stress", "nu_plane_stress", "ucs", "bts", "direct_tension"})
+    {
+      INFO(k);
+      REQUIRE(mat[k].is_number());
+      CHECK(std::isfinite(mat[k].get<double>()));
+    }
+  const double E = mat["E"], nu = mat["nu"], Eps = mat["E_plane_stress"],
+               nups = mat["nu_plane_stress"];
+  // kappa = 1.5: nu' > 0 and E' < E_c = 50 GPa (docs/voronoi.md: 0.918 E_c,
+  // nu' = 0.090 at 0.25/s); the plane-strain pair follows from it.
+  CHECK(Eps > 0.8 * 50e9);
+  CHECK(Eps < 50e9);
+  CHECK(nups > 0.02);
+  CHECK(nups < 0.2);
+  CHECK(nu == Approx(nups / (1 + nups)).epsilon(1e-12));
+  CHECK(E == Approx(Eps * (1 - nu * nu)).epsilon(1e-12));
+  // A rock-like order: UCS well above the tensile strengths.
+  const double ucs = mat["ucs"], bts = mat["bts"], dt = mat["direct_tension"];
+  CHECK(ucs > 0);
+  CHECK(bts > 0);
+  CHECK(dt > 0);
+  CHECK(ucs > 3 * dt);
+  CHECK(ucs > 3 * bts);
+  CHECK(mat["microparameters"]["type"] == "rigid-voronoi");
+  CHECK(mat["microparameters"]["contact_modulus_Pa"] == 50e9);
+  CHECK(mat["microparameters"]["stiffness_ratio"] == 1.5);
+  CHECK(mat["microparameters"]["tensile_strength_Pa"] == 2.5e6);
+  // Histories, the manifest and VTK of cells, points, cracks per test.
+  const auto sum = nlohmann::json::parse(read(out / "summary.json"));
+  CHECK(sum["status"] == "ok");
+  const auto manifest = nlohmann::json::parse(read(out / "manifest.json"));
+  CHECK(manifest["status"] == "ok");
+  CHECK(manifest["exit_code"] == 0);
+  for (const char *t : {"ucs", "brazilian", "direct_tension"})
+    {
+      INFO(t);
+      const std::string csv = read(out / (std::string("history_") + t + ".csv"));
+      CHECK(csv.rfind("step,time_s,axial_strain", 0) == 0);
+      CHECK(std::count(csv.begin(), csv.end(), '\n') > 20);
+      const auto base   = out / "vtk" / (std::string(t) + "_end_");
+      const auto cells  = read_vtp(base.string() + "cells.vtp");
+      const auto points = read_vtp(base.string() + "points.vtp");
+      const auto cracks = read_vtp(base.string() + "cracks.vtp");
+      // A polygon per grain with its stress; about three contacts of three
+      // Lobatto points per grain; every test ended after its peak, so
+      // cracks were written, each with its mode.
+      const int n_grains = sum["tests"][t]["n_grains"];
+      CHECK(cells->GetNumberOfPolys() == n_grains);
+      CHECK(cells->GetCellData()->GetArray("stress") != nullptr);
+      CHECK(points->GetNumberOfPoints() == sum["tests"][t]["n_points"].get<int>());
+      CHECK(points->GetNumberOfPoints() > 6 * n_grains);
+      CHECK(cracks->GetNumberOfLines() > 0);
+      CHECK(cracks->GetNumberOfLines() ==
+            sum["tests"][t]["cracks_tensile_at_end"].get<int>() +
+                sum["tests"][t]["cracks_shear_at_end"].get<int>());
+      CHECK(cracks->GetCellData()->GetArray("mode") != nullptr);
+      CHECK(sum["tests"][t]["ended_by"] == "post-peak");
+    }
+}
+
+TEST_CASE("calibrate voronoi: bad input is refused naming the key, writing nothing",
+          "[calibrate][voronoi]")
+{
+  struct Case
+  {
+    const char *name, *sets, *expect1, *expect2;
+  };
+  const Case cases[] = {
+      {"modulus", "--set \"Material/Voronoi/contact modulus=-1\"",
+       "Material/Voronoi/contact modulus", "allowed range"},
+      {"poisson",
+       "--set \"Material/type=flexible-voronoi\" --set \"Tests/tests=ucs\" "
+       "--set \"Material/Voronoi/grain poisson ratio=0.5\"",
+       "Material/Voronoi/grain poisson ratio", "allowed range"},
+      {"fracture energy", "--set \"Material/Voronoi/tensile fracture energy=1e-6\"",
+       "Material/Voronoi/tensile fracture energy", "brittle value"},
+      {"3D", "--set \"Problem/dimension=3\"", "Material/type", "flatjointed"},
+      {"flexible brazilian", "--set \"Material/type=flexible-voronoi\"", "brazilian",
+       "flexible-voronoi"},
+      {"uniaxial strain", "--set \"Tests/tests=uniaxial strain\"", "uniaxial strain",
+       "allowed"},
+      {"sizes",
+       "--set \"Material/size distribution=uniform 1e-3 2e-3 0.5; uniform 2e-3 3e-3 "
+       "0.5\"",
+       "Material/size distribution", "uniform D_lo D_hi 1"},
+  };
+  for (const auto &c : cases)
+    {
+      INFO("case " << c.name);
+      const fs::path out = work_dir() / (std::string("bad_") + c.name);
+      fs::remove_all(out);
+      const auto r = run_example(out, c.sets);
+      INFO(r.out);
+      CHECK(r.exit_code == 1);
+      CHECK(r.out.find(c.expect1) != std::string::npos);
+      CHECK(r.out.find(c.expect2) != std::string::npos);
+      CHECK(r.out.find(example) != std::string::npos); // names the file
+      CHECK_FALSE(fs::exists(out));
+    }
+}
+
+TEST_CASE("calibrate voronoi: a test stopped by the step limit exits 3",
+          "[calibrate][voronoi]")
+{
+  const fs::path out = work_dir() / "step_limit";
+  fs::remove_all(out);
+  const auto r =
+      run_example(out, "--set \"Tests/tests=ucs\" --set \"Tests/step limit=300\"");
+  INFO(r.out);
+  CHECK(r.exit_code == 3);
+  CHECK(r.out.find("Tests/step limit") != std::string::npos);
+  const auto sum = nlohmann::json::parse(read(out / "summary.json"));
+  CHECK(sum["status"] == "step_limit_reached");
+  CHECK(sum["tests"]["ucs"]["ended_by"] == "step limit");
+  const auto manifest = nlohmann::json::parse(read(out / "manifest.json"));
+  CHECK(manifest["status"] == "step_limit_reached");
+  CHECK(manifest["exit_code"] == 3);
+  CHECK(fs::is_regular_file(out / "material.json"));
+}
+
+TEST_CASE("calibrate voronoi: flexible grains are softer than rigid ones",
+          "[calibrate][voronoi]")
+{
+  // The same contacts with deformable grains: the grains' compliance adds to
+  // the contacts' (docs/voronoi.md, "flexible -> rigid"), so E' falls; no
+  // VTK is written (the writers hold rigid grains). Elastic range only
+  // (strain limit 3e-4, the peak is near 7e-4): a sliver element of the
+  // flexible grains' centroid fans makes their time step ~40 x smaller.
+  const std::string sets  = "--set \"Tests/tests=ucs\" --set \"Material/number of "
+                            "grains=60\" --set \"Tests/strain limit=3e-4\"";
+  const fs::path    rigid = work_dir() / "rigid60", flex = work_dir() / "flex60";
+  fs::remove_all(rigid);
+  fs::remove_all(flex);
+  const auto a = run_example(rigid, sets);
+  INFO(a.out);
+  REQUIRE(a.exit_code == 0);
+  const auto b =
+      run_example(flex, sets + " --set \"Material/type=flexible-voronoi\""
+                               " --set \"Material/Voronoi/grain youngs modulus=50e9\"");
+  INFO(b.out);
+  REQUIRE(b.exit_code == 0);
+  const auto ma = nlohmann::json::parse(read(rigid / "material.json"));
+  const auto mb = nlohmann::json::parse(read(flex / "material.json"));
+  CHECK(mb["microparameters"]["type"] == "flexible-voronoi");
+  const auto sb = nlohmann::json::parse(read(flex / "summary.json"));
+  CHECK(sb["status"] == "ok");
+  CHECK(sb["tests"]["ucs"]["ended_by"] == "strain limit");
+  CHECK(mb["microparameters"]["grain_youngs_modulus_Pa"] == 50e9);
+  const double Ea = ma["E_plane_stress"], Eb = mb["E_plane_stress"];
+  CHECK(std::isfinite(mb["ucs"].get<double>()));
+  CHECK(Eb < 0.9 * Ea);
+  CHECK(Eb > 0.2 * Ea);
+  CHECK_FALSE(fs::exists(flex / "vtk"));
+}
+
+TEST_CASE("calibrate voronoi: confinement raises the peak", "[calibrate][voronoi]")
+{
+  // Pc = 1 MPa on the sides (docs/voronoi.md, "Lab tests": the confined
+  // peak exceeds UCS + Pc); material.json reports it with its pressure.
+  const fs::path out = work_dir() / "triaxial";
+  fs::remove_all(out);
+  const auto r = run_example(out, "--set \"Tests/tests=ucs, triaxial\" --set "
+                                  "\"Tests/confining pressure=1e6\" --set "
+                                  "\"Problem/vtk=false\"");
+  INFO(r.out);
+  REQUIRE(r.exit_code == 0);
+  const auto   mat = nlohmann::json::parse(read(out / "material.json"));
+  const double ucs = mat["ucs"], triaxial = mat["triaxial_strength"];
+  CHECK(mat["confining_pressure"] == 1e6);
+  CHECK(triaxial > ucs + 1e6);
+  const auto sum = nlohmann::json::parse(read(out / "summary.json"));
+  CHECK(sum["tests"]["triaxial"]["confining_steps"].get<double>() > 0);
+  CHECK(sum["tests"]["triaxial"]["Pc_Pa"] == 1e6);
+  CHECK_FALSE(fs::exists(out / "vtk"));
+}
