@@ -94,6 +94,13 @@ namespace demfem::apps
     std::string status    = "ok";
   };
 
+  /// The end of a calibration whose material.json and summary.json are in
+  /// `out`: reports where they are after `wall_s` seconds, and exit 3 with
+  /// step_limit_reached when `n_at_step_limit` tests ended at their step
+  /// limit (apps/calibrate_output.cc).
+  CalibrateOutcome calibration_outcome(const std::string &out, double wall_s,
+                                       std::size_t n_at_step_limit);
+
   /// Runs the automatic fit, then the calibration of the best material
   /// (run_calibration): that run's outcome when it failed, else
   /// targets_not_reached when a target stayed outside its tolerance.

@@ -282,11 +282,6 @@ namespace demfem::apps
         return n;
       }
 
-      static double seconds_since(Clock::time_point t0)
-      {
-        return std::chrono::duration<double>(Clock::now() - t0).count();
-      }
-
       static double objective(unsigned n, const double *u, double *, void *data)
       {
         auto &self = *static_cast<Fit *>(data);

@@ -1,10 +1,13 @@
 // Output helpers of `demfem calibrate` (see calibrate_output.h).
 #include "apps/calibrate_output.h"
+
+#include "apps/calibrate.h"
 #include "dem/io/json_number.h"
 
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <iostream>
 #include <sstream>
 
 namespace demfem::apps
@@ -171,5 +174,18 @@ namespace demfem::apps
       << "<text transform=\"translate(20," << (t + Hh - b) / 2
       << ") rotate(-90)\" text-anchor=\"middle\">" << xml(ylabel) << "</text>\n</svg>\n";
     return s.str();
+  }
+
+  CalibrateOutcome calibration_outcome(const std::string &out, const double wall_s,
+                                       const std::size_t n_at_step_limit)
+  {
+    std::cerr << "demfem calibrate: wrote " << out << "/material.json (" << wall_s
+              << " s)\n";
+    if (n_at_step_limit == 0)
+      return {};
+    std::cerr << "demfem calibrate: " << n_at_step_limit
+              << " test(s) ended at the step limit (summary.json: status "
+                 "step_limit_reached); exit 3\n";
+    return {3, "step_limit_reached"};
   }
 } // namespace demfem::apps

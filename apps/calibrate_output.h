@@ -6,12 +6,29 @@
 
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace demfem::apps
 {
+  /// Wall time since t0 [s].
+  inline double seconds_since(std::chrono::steady_clock::time_point t0)
+  {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  /// A test label as a file-name part ("triaxial 5 MPa" -> "triaxial_5_MPa").
+  inline std::string file_name(const std::string &label)
+  {
+    std::string s = label;
+    for (auto &c : s)
+      if (c == ' ')
+        c = '_';
+    return s;
+  }
+
   /// Flat-or-nested JSON object built in order of insertion.
   class Json
   {

@@ -34,20 +34,6 @@ namespace demfem::apps
     namespace fs = std::filesystem;
     using Clock  = std::chrono::steady_clock;
 
-    double seconds_since(Clock::time_point t0)
-    {
-      return std::chrono::duration<double>(Clock::now() - t0).count();
-    }
-
-    std::string file_name(const std::string &test)
-    {
-      std::string s = test;
-      for (auto &c : s)
-        if (c == ' ')
-          c = '_';
-      return s;
-    }
-
     // Progress line on stderr (phase, step, stress, cracks, ETA), at most
     // every 0.5 s on a terminal and every 5 s into a file.
     class Progress
@@ -636,16 +622,7 @@ namespace demfem::apps
     dem::vtkout::write_text_atomically(s.out + "/summary.json", sum.text() + "\n");
     fs::remove(ckpt);
     fs::remove(ckpt + ".prev");
-    std::cerr << "demfem calibrate: wrote " << s.out << "/material.json ("
-              << seconds_since(t_start) << " s)\n";
-    if (!truncated.empty())
-      {
-        std::cerr << "demfem calibrate: " << truncated.size()
-                  << " test(s) ended at the step limit (summary.json: status "
-                     "step_limit_reached); exit 3\n";
-        return {3, "step_limit_reached"};
-      }
-    return {};
+    return calibration_outcome(s.out, seconds_since(t_start), truncated.size());
   }
 
   template CalibrateOutcome run_calibration<2>(const CalibrateSettings &);

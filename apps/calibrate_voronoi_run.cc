@@ -28,20 +28,6 @@ namespace demfem::apps
     namespace vor = dem::voronoi;
     using Clock   = std::chrono::steady_clock;
 
-    double seconds_since(Clock::time_point t0)
-    {
-      return std::chrono::duration<double>(Clock::now() - t0).count();
-    }
-
-    std::string file_name(const std::string &label)
-    {
-      std::string s = label;
-      for (auto &c : s)
-        if (c == ' ')
-          c = '_';
-      return s;
-    }
-
     // The largest centre distance of two neighbouring grains: the contact
     // whose brittle fracture energies (sigma_t^2 d / (2 E_c), c^2 kappa d /
     // (2 E_c); docs/voronoi.md, "Contact stiffness") are the largest.
@@ -393,15 +379,6 @@ namespace demfem::apps
                                  : "off"));
     sum.obj("tests", tests_json);
     dem::vtkout::write_text_atomically(s.out + "/summary.json", sum.text() + "\n");
-    std::cerr << "demfem calibrate: wrote " << s.out << "/material.json ("
-              << seconds_since(t_start) << " s)\n";
-    if (!truncated.empty())
-      {
-        std::cerr << "demfem calibrate: " << truncated.size()
-                  << " test(s) ended at the step limit (summary.json: status "
-                     "step_limit_reached); exit 3\n";
-        return {3, "step_limit_reached"};
-      }
-    return {};
+    return calibration_outcome(s.out, seconds_since(t_start), truncated.size());
   }
 } // namespace demfem::apps

@@ -1,5 +1,6 @@
 // VTK XML writers of the DEM model (see vtk_output.h).
 #include "dem/io/vtk_output.h"
+#include "dem/io/vtk_polydata.h"
 
 #include "common/atomic_file.h"
 
@@ -28,6 +29,40 @@
 
 namespace demfem::dem::vtkout
 {
+  vtkSmartPointer<vtkDoubleArray> double_array(const char *name, int components,
+                                               vtkIdType n)
+  {
+    auto a = vtkSmartPointer<vtkDoubleArray>::New();
+    a->SetName(name);
+    a->SetNumberOfComponents(components);
+    a->SetNumberOfTuples(n);
+    return a;
+  }
+
+  vtkSmartPointer<vtkIntArray> int_array(const char *name, vtkIdType n)
+  {
+    auto a = vtkSmartPointer<vtkIntArray>::New();
+    a->SetName(name);
+    a->SetNumberOfTuples(n);
+    return a;
+  }
+
+  void write_polydata(const std::string &path, vtkPolyData *data)
+  {
+    const std::string            tmp = path + ".tmp"; // same folder: atomic rename
+    vtkNew<vtkXMLPolyDataWriter> w;
+    w->SetFileName(tmp.c_str());
+    w->SetInputData(data);
+    w->SetDataModeToAppended();
+    w->EncodeAppendedDataOff();
+    if (w->Write() != 1)
+      {
+        std::remove(tmp.c_str());
+        throw std::runtime_error("cannot write VTK file " + path);
+      }
+    std::filesystem::rename(tmp, path);
+  }
+
   namespace
   {
     namespace fs = std::filesystem;
@@ -36,42 +71,6 @@ namespace demfem::dem::vtkout
     std::array<double, 3> p3(const Vec<dim> &x)
     {
       return {x[0], x[1], dim == 3 ? x[dim - 1] : 0.0};
-    }
-
-    vtkSmartPointer<vtkDoubleArray> array(const char *name, int components, vtkIdType n)
-    {
-      auto a = vtkSmartPointer<vtkDoubleArray>::New();
-      a->SetName(name);
-      a->SetNumberOfComponents(components);
-      a->SetNumberOfTuples(n);
-      return a;
-    }
-
-    vtkSmartPointer<vtkIntArray> int_array(const char *name, vtkIdType n)
-    {
-      auto a = vtkSmartPointer<vtkIntArray>::New();
-      a->SetName(name);
-      a->SetNumberOfTuples(n);
-      return a;
-    }
-
-    // Temporary name in the same folder, so the rename is atomic.
-    std::string temporary(const std::string &path) { return path + ".tmp"; }
-
-    void write_polydata(const std::string &path, vtkPolyData *data)
-    {
-      const std::string            tmp = temporary(path);
-      vtkNew<vtkXMLPolyDataWriter> w;
-      w->SetFileName(tmp.c_str());
-      w->SetInputData(data);
-      w->SetDataModeToAppended();
-      w->EncodeAppendedDataOff();
-      if (w->Write() != 1)
-        {
-          std::remove(tmp.c_str());
-          throw std::runtime_error("cannot write VTK file " + path);
-        }
-      fs::rename(tmp, path);
     }
 
     /// Fraction of the interface that is bonded, by law (0 for unbonded laws).
@@ -130,14 +129,14 @@ namespace demfem::dem::vtkout
     vtkNew<vtkPoints> pts;
     pts->SetDataTypeToDouble();
     pts->SetNumberOfPoints(n);
-    auto                 radius = array("radius", 1, n);
-    auto                 vel    = array("velocity", 3, n);
-    auto                 disp   = array("displacement", 3, n);
-    auto                 omega  = array("angular_velocity", 3, n);
+    auto                 radius = double_array("radius", 1, n);
+    auto                 vel    = double_array("velocity", 3, n);
+    auto                 disp   = double_array("displacement", 3, n);
+    auto                 omega  = double_array("angular_velocity", 3, n);
     auto                 group  = int_array("group", n);
     auto                 id     = int_array("id", n);
     auto                 fix    = int_array("fixity", n);
-    auto                 stress = array("averaged_stress", 9, n);
+    auto                 stress = double_array("averaged_stress", 9, n);
     vtkNew<vtkCellArray> verts;
     for (vtkIdType i = 0; i < n; ++i)
       {
@@ -189,15 +188,15 @@ namespace demfem::dem::vtkout
     auto                 group  = int_array("group", nc);
     auto                 wall   = int_array("wall", nc);
     auto                 active = int_array("active", nc);
-    auto                 bonded = array("bonded", 1, nc);
-    auto                 force  = array("force", 3, nc);
-    auto                 fn     = array("normal_force", 1, nc);
-    auto                 gap    = array("gap", 1, nc);
+    auto                 bonded = double_array("bonded", 1, nc);
+    auto                 force  = double_array("force", 3, nc);
+    auto                 fn     = double_array("normal_force", 1, nc);
+    auto                 gap    = double_array("gap", 1, nc);
     // Per-contact properties (memo §1.9): the translational stiffness [N/m]
     // (memo Eq. 41, whatever the law's units), strengths, initial type.
-    auto      kn    = array("kn", 1, nc);
-    auto      ten   = array("tensile_strength", 1, nc);
-    auto      shear = array("cohesion", 1, nc);
+    auto      kn    = double_array("kn", 1, nc);
+    auto      ten   = double_array("tensile_strength", 1, nc);
+    auto      shear = double_array("cohesion", 1, nc);
     auto      mtype = int_array("initial_type", nc);
     auto      btype = int_array("bond_type", nc);
     vtkIdType c     = 0;
@@ -262,10 +261,10 @@ namespace demfem::dem::vtkout
     vtkNew<vtkCellArray> cells;
     auto                 mode   = int_array("mode", n);
     auto                 type   = int_array("type", n); // BondType
-    auto                 size   = array("size", 1, n);
-    auto                 gap    = array("gap", 1, n);
+    auto                 size   = double_array("size", 1, n);
+    auto                 gap    = double_array("gap", 1, n);
     auto                 step   = int_array("step", n);
-    auto                 normal = array("normal", 3, n);
+    auto                 normal = double_array("normal", 3, n);
     for (vtkIdType c = 0; c < n; ++c)
       {
         const auto &r = cracks[c];

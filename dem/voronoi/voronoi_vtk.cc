@@ -1,6 +1,8 @@
 // VTK XML output of rigid Voronoi grains (dem/voronoi/voronoi_vtk.h).
 #include "dem/voronoi/voronoi_vtk.h"
 
+#include "dem/io/vtk_polydata.h"
+
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
@@ -18,42 +20,12 @@
 
 namespace demfem::dem::voronoi
 {
+  using vtkout::double_array;
+  using vtkout::int_array;
+  using vtkout::write_polydata;
+
   namespace
   {
-    vtkSmartPointer<vtkDoubleArray> array(const char *name, int components, vtkIdType n)
-    {
-      auto a = vtkSmartPointer<vtkDoubleArray>::New();
-      a->SetName(name);
-      a->SetNumberOfComponents(components);
-      a->SetNumberOfTuples(n);
-      return a;
-    }
-
-    vtkSmartPointer<vtkIntArray> int_array(const char *name, vtkIdType n)
-    {
-      auto a = vtkSmartPointer<vtkIntArray>::New();
-      a->SetName(name);
-      a->SetNumberOfTuples(n);
-      return a;
-    }
-
-    /// Written to path.tmp and renamed, as dem/io/vtk_output.cc.
-    void write_polydata(const std::string &path, vtkPolyData *data)
-    {
-      const std::string            tmp = path + ".tmp";
-      vtkNew<vtkXMLPolyDataWriter> w;
-      w->SetFileName(tmp.c_str());
-      w->SetInputData(data);
-      w->SetDataModeToAppended();
-      w->EncodeAppendedDataOff();
-      if (w->Write() != 1)
-        {
-          std::remove(tmp.c_str());
-          throw std::runtime_error("cannot write VTK file " + path);
-        }
-      std::filesystem::rename(tmp, path);
-    }
-
     GrainKinematics kinematics(const RigidVoronoiModel &m)
     {
       return GrainKinematics{m.x.data(),  m.y.data(),  m.radius.data(),
@@ -153,11 +125,11 @@ namespace demfem::dem::voronoi
           }
         cells.push_back(c);
       }
-    const vtkIdType     n     = static_cast<vtkIdType>(cells.size());
-    auto                id    = int_array("grain", n);
-    auto                disp  = array("displacement", 3, n);
-    auto                rot   = array("rotation", 1, n);
-    auto                sigma = array("stress", 3, n); // xx, yy, xy (tension positive)
+    const vtkIdType n     = static_cast<vtkIdType>(cells.size());
+    auto            id    = int_array("grain", n);
+    auto            disp  = double_array("displacement", 3, n);
+    auto            rot   = double_array("rotation", 1, n);
+    auto            sigma = double_array("stress", 3, n); // xx, yy, xy (tension positive)
     std::vector<double> sxx, syy, sxy;
     voronoi_grain_stress(tess, m, sxx, syy, sxy);
     for (vtkIdType k = 0; k < n; ++k)
@@ -186,8 +158,8 @@ namespace demfem::dem::voronoi
     vtkNew<vtkPoints> pts;
     pts->SetDataTypeToDouble(); // micrometre displacements on metre coordinates
     vtkNew<vtkCellArray> verts;
-    auto                 dt = array("damage_t", 1, n), ds = array("damage_s", 1, n);
-    auto fn = array("normal_force", 1, n), fs = array("shear_force", 1, n);
+    auto dt = double_array("damage_t", 1, n), ds = double_array("damage_s", 1, n);
+    auto fn = double_array("normal_force", 1, n), fs = double_array("shear_force", 1, n);
     auto crack = int_array("crack", n), ga = int_array("grain_a", n),
          gb = int_array("grain_b", n);
     for (int k = 0; k < c.n_contacts(); ++k)
