@@ -7,6 +7,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include "apps/calibrate.h"
+#include "apps/calibrate_fit.h"
 #include "apps/calibrate_voronoi.h"
 #include "apps/cli.h"
 #include "apps/commands.h"
@@ -19,6 +20,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <limits>
@@ -304,98 +306,6 @@ namespace demfem::apps
       return d;
     }
 
-    // Subsection Fit (`--fit`): targets and searched parameters, each value
-    // checked once here, naming the key (docs/calibrate.md, "Automatic
-    // calibration").
-    void read_fit(ParameterHandler &prm, const std::string &where, CalibrateSettings &s)
-    {
-      auto      &f   = s.fit;
-      const auto key = [&](const std::string &k) { return where + ": Fit/" + k; };
-      f.seeds        = int(parse_integer(key("seeds"), prm.get("seeds"), 1, 100));
-      f.evaluations =
-          int(parse_integer(key("evaluations"), prm.get("evaluations"), 1, 100000));
-      f.algorithm = prm.get("algorithm");
-      f.elastic_strain =
-          parse_number(key("elastic strain"), prm.get("elastic strain"), 1e-6, 0.01);
-      std::stringstream all(prm.get("parameters"));
-      for (std::string item; std::getline(all, item, ';');)
-        {
-          std::stringstream        w(item);
-          std::vector<std::string> words;
-          for (std::string x; w >> x;)
-            words.push_back(x);
-          if (words.empty())
-            continue;
-          if (words.size() < 3)
-            throw std::invalid_argument(key("parameters") + ": '" + item +
-                                        "' is not 'name lo hi'");
-          FitParameter p;
-          for (std::size_t i = 0; i + 2 < words.size(); ++i)
-            p.name += (i ? " " : "") + words[i];
-          const std::string what = key("parameters") + " (" + p.name + ")";
-          p.lo = parse_number(what + " lower bound", words[words.size() - 2], 0);
-          p.hi = parse_number(what + " upper bound", words.back(), 0);
-          dem::MaterialParams probe = s.mat;
-          fit_parameter(probe, p.name, where); // a known name for this material type
-          if (!(p.hi > p.lo))
-            throw std::invalid_argument(what + ": empty search space, the upper bound " +
-                                        words.back() + " must exceed the lower bound " +
-                                        words[words.size() - 2]);
-          const bool fraction =
-              p.name == "bonded fraction" || p.name == "gapped fraction";
-          if (fraction && p.hi > 1)
-            throw std::invalid_argument(what + ": a fraction lies in [0, 1]");
-          f.parameters.push_back(p);
-        }
-      prm.enter_subsection("Targets");
-      for (const char *name :
-           {"E", "nu", "ucs", "bts", "direct tension", "crack initiation ratio", "mi"})
-        {
-          const std::string text = prm.get(name);
-          if (text.find_first_not_of(" \t") == std::string::npos)
-            continue;
-          const std::string what = key(std::string("Targets/") + name);
-          const auto        v    = split_list(what, text);
-          if (v.size() > 3)
-            throw std::invalid_argument(what +
-                                        ": 'value[, weight[, tolerance]]' expected");
-          FitTarget t;
-          t.name        = name;
-          const bool nu = t.name == "nu", ratio = t.name == "crack initiation ratio";
-          t.value = parse_number(what, v[0], nu ? 0.0 : std::nextafter(0.0, 1.0),
-                                 nu ? std::nextafter(0.5, 0.0)
-                                    : (ratio ? 1.0 : std::numeric_limits<double>::max()));
-          if (nu && !(t.value > 0))
-            throw std::invalid_argument(what + ": Poisson's ratio must lie in (0, 0.5)");
-          if (v.size() > 1)
-            t.weight = parse_number(what + " weight", v[1], 0);
-          if (v.size() > 2)
-            t.tolerance = parse_number(what + " tolerance", v[2], 1e-6, 1);
-          if (!(t.weight > 0))
-            throw std::invalid_argument(what + " weight: must be > 0");
-          f.targets.push_back(t);
-        }
-      prm.leave_subsection();
-      auto target = [&](const std::string &n) -> const FitTarget * {
-        for (const auto &t : f.targets)
-          if (t.name == n)
-            return &t;
-        return nullptr;
-      };
-      if (target("direct tension") && target("ucs") &&
-          target("direct tension")->value >= target("ucs")->value)
-        throw std::invalid_argument(key("Targets/direct tension") +
-                                    ": a direct tensile strength at or above the UCS is "
-                                    "not a rock (allowed: below Fit/Targets/ucs)");
-      if (!f.enabled)
-        return;
-      if (f.targets.empty())
-        throw std::invalid_argument(key("Targets") + ": --fit needs at least one target");
-      if (f.parameters.empty())
-        throw std::invalid_argument(key("parameters") +
-                                    ": --fit needs at least one parameter to search");
-    }
-
     std::vector<dem::SizePiece> parse_sizes(const std::string &text,
                                             const std::string &where)
     {
@@ -643,7 +553,14 @@ namespace demfem::apps
       prm.leave_subsection();
 
       prm.enter_subsection("Fit");
-      read_fit(prm, where, s);
+      read_fit_settings(prm, where, s.fit, [&](const FitParameter &p) {
+        dem::MaterialParams probe = s.mat;
+        fit_parameter(probe, p.name, where); // a known name for this material type
+        const bool fraction = p.name == "bonded fraction" || p.name == "gapped fraction";
+        if (fraction && p.hi > 1)
+          throw std::invalid_argument(where + ": Fit/parameters (" + p.name +
+                                      "): a fraction lies in [0, 1]");
+      });
       prm.leave_subsection();
 
       // The library's own checks (same ranges; any remaining combination).
@@ -662,6 +579,92 @@ namespace demfem::apps
       return s;
     }
   } // namespace
+
+  // Subsection Fit (`--fit`): targets and searched parameters, each value
+  // checked once here, naming the key (docs/calibrate.md, "Automatic
+  // calibration").
+  void read_fit_settings(ParameterHandler &prm, const std::string &where, FitSettings &f,
+                         const std::function<void(const FitParameter &)> &check_parameter)
+  {
+    const auto key = [&](const std::string &k) { return where + ": Fit/" + k; };
+    f.seeds        = int(parse_integer(key("seeds"), prm.get("seeds"), 1, 100));
+    f.evaluations =
+        int(parse_integer(key("evaluations"), prm.get("evaluations"), 1, 100000));
+    f.algorithm = prm.get("algorithm");
+    f.elastic_strain =
+        parse_number(key("elastic strain"), prm.get("elastic strain"), 1e-6, 0.01);
+    std::stringstream all(prm.get("parameters"));
+    for (std::string item; std::getline(all, item, ';');)
+      {
+        std::stringstream        w(item);
+        std::vector<std::string> words;
+        for (std::string x; w >> x;)
+          words.push_back(x);
+        if (words.empty())
+          continue;
+        if (words.size() < 3)
+          throw std::invalid_argument(key("parameters") + ": '" + item +
+                                      "' is not 'name lo hi'");
+        FitParameter p;
+        for (std::size_t i = 0; i + 2 < words.size(); ++i)
+          p.name += (i ? " " : "") + words[i];
+        const std::string what = key("parameters") + " (" + p.name + ")";
+        p.lo = parse_number(what + " lower bound", words[words.size() - 2], 0);
+        p.hi = parse_number(what + " upper bound", words.back(), 0);
+        if (!(p.hi > p.lo))
+          throw std::invalid_argument(what + ": empty search space, the upper bound " +
+                                      words.back() + " must exceed the lower bound " +
+                                      words[words.size() - 2]);
+        check_parameter(p); // a known name for this material type, sane bounds
+        f.parameters.push_back(p);
+      }
+    prm.enter_subsection("Targets");
+    for (const char *name :
+         {"E", "nu", "ucs", "bts", "direct tension", "crack initiation ratio", "mi"})
+      {
+        const std::string text = prm.get(name);
+        if (text.find_first_not_of(" \t") == std::string::npos)
+          continue;
+        const std::string what = key(std::string("Targets/") + name);
+        const auto        v    = split_list(what, text);
+        if (v.size() > 3)
+          throw std::invalid_argument(what + ": 'value[, weight[, tolerance]]' expected");
+        FitTarget t;
+        t.name        = name;
+        const bool nu = t.name == "nu", ratio = t.name == "crack initiation ratio";
+        t.value = parse_number(what, v[0], nu ? 0.0 : std::nextafter(0.0, 1.0),
+                               nu ? std::nextafter(0.5, 0.0)
+                                  : (ratio ? 1.0 : std::numeric_limits<double>::max()));
+        if (nu && !(t.value > 0))
+          throw std::invalid_argument(what + ": Poisson's ratio must lie in (0, 0.5)");
+        if (v.size() > 1)
+          t.weight = parse_number(what + " weight", v[1], 0);
+        if (v.size() > 2)
+          t.tolerance = parse_number(what + " tolerance", v[2], 1e-6, 1);
+        if (!(t.weight > 0))
+          throw std::invalid_argument(what + " weight: must be > 0");
+        f.targets.push_back(t);
+      }
+    prm.leave_subsection();
+    auto target = [&](const std::string &n) -> const FitTarget * {
+      for (const auto &t : f.targets)
+        if (t.name == n)
+          return &t;
+      return nullptr;
+    };
+    if (target("direct tension") && target("ucs") &&
+        target("direct tension")->value >= target("ucs")->value)
+      throw std::invalid_argument(key("Targets/direct tension") +
+                                  ": a direct tensile strength at or above the UCS is "
+                                  "not a rock (allowed: below Fit/Targets/ucs)");
+    if (!f.enabled)
+      return;
+    if (f.targets.empty())
+      throw std::invalid_argument(key("Targets") + ": --fit needs at least one target");
+    if (f.parameters.empty())
+      throw std::invalid_argument(key("parameters") +
+                                  ": --fit needs at least one parameter to search");
+  }
 
   int run_calibrate(int argc, char **argv)
   {
@@ -692,8 +695,15 @@ namespace demfem::apps
             // at install (a fracture energy below a contact's brittle
             // value) writes nothing.
             const VoronoiCalibrateSettings v = read_voronoi_settings(prm, file, fit);
-            const VoronoiSpecimens         specimens = make_voronoi_specimens(v);
-            RunDirectory                   run(v.out, prm);
+            if (v.fit.enabled)
+              {
+                RunDirectory           run(v.out, prm);
+                const CalibrateOutcome outcome = run_voronoi_fit(v);
+                run.finish(outcome.status, outcome.exit_code);
+                return outcome.exit_code;
+              }
+            const VoronoiSpecimens specimens = make_voronoi_specimens(v);
+            RunDirectory           run(v.out, prm);
             const CalibrateOutcome outcome = run_voronoi_calibration(v, specimens);
             run.finish(outcome.status, outcome.exit_code);
             return outcome.exit_code;

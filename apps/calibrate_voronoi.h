@@ -7,8 +7,10 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include "apps/calibrate.h"
+#include "apps/calibrate_fit.h"
 #include "dem/voronoi/voronoi_lab_test.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,6 +45,7 @@ namespace demfem::apps
     /// this fraction of the count at the peak (docs/calibrate.md).
     double                       crack_initiation_fraction = 0.01;
     std::vector<VoronoiTestSpec> tests;
+    FitSettings                  fit; ///< --fit (subsection Fit)
   };
 
   /// True for the Material/type values of Voronoi grains.
@@ -57,9 +60,8 @@ namespace demfem::apps
 
   /// Reads and checks every key a Voronoi calibration uses (errors name the
   /// key, the file and the allowed range), refusing the keys and options
-  /// the Voronoi grains do not have (3D, --fit, a joint, the loading-rate
-  /// repeats, the uniaxial-strain test, the Brazilian test of flexible
-  /// grains).
+  /// the Voronoi grains do not have (3D, a joint, the loading-rate repeats,
+  /// the uniaxial-strain test); with `fit`, subsection Fit too.
   VoronoiCalibrateSettings read_voronoi_settings(dealii::ParameterHandler &prm,
                                                  const std::string &where, bool fit);
 
@@ -84,4 +86,39 @@ namespace demfem::apps
   /// 3) when a test ended at its step limit.
   CalibrateOutcome run_voronoi_calibration(const VoronoiCalibrateSettings &s,
                                            const VoronoiSpecimens         &specimens);
+
+  /// One test of a calibration on its specimen (the disk for the
+  /// Brazilian test): the test's kind, Pc and platen friction on the
+  /// shared parameters s.lab. `final_model` (rigid grains) receives the
+  /// model at the end.
+  dem::voronoi::VoronoiLabResult run_voronoi_test(
+      const VoronoiCalibrateSettings &s, const VoronoiSpecimens &sp,
+      const VoronoiTestSpec                          &t,
+      std::optional<dem::voronoi::RigidVoronoiModel> *final_model = nullptr);
+
+  /// Axial stress magnitude when the crack count first reaches `fraction`
+  /// of the count at the peak row (as the bonded materials,
+  /// docs/calibrate.md); NaN without cracks at the peak.
+  double voronoi_crack_initiation(const dem::voronoi::VoronoiLabResult &r,
+                                  double                                fraction);
+
+  /// The plane-strain pair for the continuum from the 2D constants E', nu'
+  /// of the free-sided specimen (docs/architecture.md).
+  struct PlaneStrainConstants
+  {
+    double E = 0, nu = 0;
+  };
+  PlaneStrainConstants plane_strain_constants(double E_2d, double nu_2d);
+
+  /// The member of `s` a Fit/parameters name searches (contact modulus,
+  /// stiffness ratio, tensile strength, cohesion, friction, tensile|shear
+  /// fracture energy; flexible grains: grain youngs modulus, grain poisson
+  /// ratio); std::invalid_argument naming `where` and the allowed names.
+  double &voronoi_fit_parameter(VoronoiCalibrateSettings &s, const std::string &name,
+                                const std::string &where);
+
+  /// `demfem calibrate --fit` for Voronoi grains (calibrate_voronoi_fit.cc):
+  /// the staged search (apps/calibrate_fit.h) with `Fit/seeds` packings per
+  /// evaluation, then the calibration of the best material into s.out.
+  CalibrateOutcome run_voronoi_fit(const VoronoiCalibrateSettings &s);
 } // namespace demfem::apps

@@ -106,11 +106,8 @@ namespace demfem::apps
     prm.enter_subsection("Material");
     const std::string type = prm.get("type");
     prm.leave_subsection();
-    s.flexible = type == "flexible-voronoi";
-    if (fit)
-      refuse(where, "--fit is not available for Material/type = " + type +
-                        " (allowed with --fit: linear, contactbonded, parallelbonded, "
-                        "flatjointed)");
+    s.flexible    = type == "flexible-voronoi";
+    s.fit.enabled = fit;
 
     prm.enter_subsection("Problem");
     if (prm.get_integer("dimension") != 2)
@@ -272,6 +269,29 @@ namespace demfem::apps
     if (s.tests.empty())
       refuse(where, "Tests/tests: no test given");
     prm.leave_subsection();
+
+    // Subsection Fit: the searched keys of Material/Voronoi and bounds that
+    // give a material (moduli and kappa > 0, the grains' nu < 0.5).
+    prm.enter_subsection("Fit");
+    read_fit_settings(prm, where, s.fit, [&](const FitParameter &p) {
+      VoronoiCalibrateSettings probe = s;
+      voronoi_fit_parameter(probe, p.name, where);
+      const std::string what = "Fit/parameters (" + p.name + ")";
+      const bool positive = p.name == "contact modulus" || p.name == "stiffness ratio" ||
+                            p.name == "grain youngs modulus";
+      if (positive && !(p.lo > 0))
+        refuse(where, what + ": the lower bound must be > 0");
+      if (p.name == "grain poisson ratio" && !(p.hi < 0.5))
+        refuse(where, what + ": the upper bound must be < 0.5");
+    });
+    prm.leave_subsection();
+    if (s.fit.enabled)
+      for (const auto &t : s.fit.targets)
+        if (t.name == "mi" &&
+            std::none_of(s.tests.begin(), s.tests.end(),
+                         [](const VoronoiTestSpec &x) { return x.in_series; }))
+          refuse(where, "Fit/Targets/mi needs 'triaxial series' in Tests/tests (the "
+                        "Hoek-Brown fit of its peaks)");
 
     // The library's own checks (same ranges; any remaining combination).
     c.validate(where + ", subsection Material/Voronoi");

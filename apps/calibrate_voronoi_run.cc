@@ -79,19 +79,6 @@ namespace demfem::apps
       return o.str();
     }
 
-    // Axial stress magnitude when the crack count first reaches `fraction`
-    // of the count at the peak row (as the bonded materials, docs/calibrate.md).
-    double crack_initiation(const vor::VoronoiLabResult &r, double fraction)
-    {
-      const double at_peak = r.cracks_tensile_peak + r.cracks_shear_peak;
-      if (!(at_peak > 0))
-        return std::numeric_limits<double>::quiet_NaN();
-      for (const auto &h : r.history)
-        if (h.cracks_tensile + h.cracks_shear >= fraction * at_peak)
-          return std::abs(h.axial_stress);
-      return std::numeric_limits<double>::quiet_NaN();
-    }
-
     Json microparameters(const VoronoiCalibrateSettings &s)
     {
       const auto &c = s.contact;
@@ -154,6 +141,45 @@ namespace demfem::apps
     }
   } // namespace
 
+  double voronoi_crack_initiation(const vor::VoronoiLabResult &r, double fraction)
+  {
+    const double at_peak = r.cracks_tensile_peak + r.cracks_shear_peak;
+    if (!(at_peak > 0))
+      return std::numeric_limits<double>::quiet_NaN();
+    for (const auto &h : r.history)
+      if (h.cracks_tensile + h.cracks_shear >= fraction * at_peak)
+        return std::abs(h.axial_stress);
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+
+  PlaneStrainConstants plane_strain_constants(double E_2d, double nu_2d)
+  {
+    // The library's E, nu are the 2D constants of the free-sided specimen
+    // (E' = d sigma / d eps_a, nu' = -d eps_r / d eps_a), the pair fistPkg
+    // Eq. 19 gives for disks; the continuum gets the plane-strain pair as
+    // for the bonded materials (docs/architecture.md): nu = nu'/(1+nu'),
+    // E = E'(1-nu^2). Flexible grains are plane-strain elements, so this
+    // reading is theirs too.
+    const double nu = nu_2d / (1 + nu_2d);
+    return {E_2d * (1 - nu * nu), nu};
+  }
+
+  vor::VoronoiLabResult run_voronoi_test(
+      const VoronoiCalibrateSettings &s, const VoronoiSpecimens &sp,
+      const VoronoiTestSpec &t, std::optional<vor::RigidVoronoiModel> *final_model)
+  {
+    vor::VoronoiLabParams lp = s.lab;
+    lp.test                  = t.test;
+    lp.confining_pressure    = t.confining_pressure;
+    const bool brazilian     = t.test == vor::VoronoiTest::brazilian;
+    lp.platen_friction       = brazilian ? s.brazilian_platen_friction : 0.0;
+    const auto &specimen     = brazilian ? sp.disk : sp.rectangle;
+    return s.flexible
+               ? vor::run_flexible_voronoi_lab_test(specimen, s.contact, s.grain, lp)
+               : vor::run_voronoi_lab_test(specimen, s.contact, s.density, lp,
+                                           final_model);
+  }
+
   VoronoiSpecimens make_voronoi_specimens(const VoronoiCalibrateSettings &s)
   {
     const auto       t0 = Clock::now();
@@ -199,21 +225,14 @@ namespace demfem::apps
     Json                                                       tests_json;
     for (const auto &t : s.tests)
       {
-        vor::VoronoiLabParams lp = s.lab;
-        lp.test                  = t.test;
-        lp.confining_pressure    = t.confining_pressure;
-        const bool brazilian     = t.test == vor::VoronoiTest::brazilian;
-        lp.platen_friction       = brazilian ? s.brazilian_platen_friction : 0.0;
-        const auto &specimen     = brazilian ? sp.disk : sp.rectangle;
-        const auto  name         = file_name(t.label);
+        const bool  brazilian = t.test == vor::VoronoiTest::brazilian;
+        const auto &specimen  = brazilian ? sp.disk : sp.rectangle;
+        const auto  name      = file_name(t.label);
         std::cerr << "demfem calibrate: " << t.label << " (" << kind << ")\n";
         const auto                            t_test = Clock::now();
         std::optional<vor::RigidVoronoiModel> final_model;
         const vor::VoronoiLabResult           r =
-            s.flexible
-                          ? vor::run_flexible_voronoi_lab_test(specimen, s.contact, s.grain, lp)
-                          : vor::run_voronoi_lab_test(specimen, s.contact, s.density, lp,
-                                            vtk ? &final_model : nullptr);
+            run_voronoi_test(s, sp, t, vtk ? &final_model : nullptr);
         const double test_s = seconds_since(t_test);
         if (vtk && final_model)
           {
@@ -240,10 +259,11 @@ namespace demfem::apps
                 brazilian ? "F / (2 R t)  [MPa]" : "axial stress (platens) [MPa]", x, y));
         Json j = result_json(r);
         j.num("run_time_s", test_s)
-            .num("strain_rate_1_s", lp.strain_rate)
-            .num("Pc_Pa", lp.confining_pressure)
-            .num("platen_friction", lp.platen_friction)
-            .num("crack_initiation_Pa", crack_initiation(r, s.crack_initiation_fraction));
+            .num("strain_rate_1_s", s.lab.strain_rate)
+            .num("Pc_Pa", t.confining_pressure)
+            .num("platen_friction", brazilian ? s.brazilian_platen_friction : 0.0)
+            .num("crack_initiation_Pa",
+                 voronoi_crack_initiation(r, s.crack_initiation_fraction));
         tests_json.obj(name, j);
         std::cerr << "demfem calibrate: " << t.label << ": peak " << r.peak_stress / 1e6
                   << " MPa (" << r.ended_by << ", " << r.loading_steps << " steps, "
@@ -268,23 +288,17 @@ namespace demfem::apps
     };
     const vor::VoronoiLabResult *ucs =
         get("ucs") ? get("ucs") : get("triaxial series 0 MPa");
-    const vor::VoronoiLabResult *el  = ucs ? ucs : get("triaxial");
-    const vor::VoronoiLabResult *dt  = get("direct tension");
-    const vor::VoronoiLabResult *bts = get("brazilian");
-    // The library's E, nu are the 2D constants of the free-sided specimen
-    // (E' = d sigma / d eps_a, nu' = -d eps_r / d eps_a), the pair fistPkg
-    // Eq. 19 gives for disks; the continuum gets the plane-strain pair as
-    // for the bonded materials (docs/architecture.md): nu = nu'/(1+nu'),
-    // E = E'(1-nu^2). Flexible grains are plane-strain elements, so this
-    // reading is theirs too.
-    const double Eps  = el ? el->E : nan;
-    const double nups = el ? el->nu : nan;
-    const double nu   = nups / (1 + nups);
-    const double E    = Eps * (1 - nu * nu);
+    const vor::VoronoiLabResult *el   = ucs ? ucs : get("triaxial");
+    const vor::VoronoiLabResult *dt   = get("direct tension");
+    const vor::VoronoiLabResult *bts  = get("brazilian");
+    const double                 Eps  = el ? el->E : nan;
+    const double                 nups = el ? el->nu : nan;
+    const auto [E, nu]                = plane_strain_constants(Eps, nups);
     auto peak  = [&](const vor::VoronoiLabResult *r) { return r ? r->peak_stress : nan; };
     auto ratio = [&](double a, double b) { return b > 0 ? a / b : nan; };
-    const double ci = el ? crack_initiation(*el, s.crack_initiation_fraction) : nan;
-    double       triaxial_pc = nan;
+    const double ci =
+        el ? voronoi_crack_initiation(*el, s.crack_initiation_fraction) : nan;
+    double triaxial_pc = nan;
     for (const auto &t : s.tests)
       if (t.label == "triaxial")
         triaxial_pc = t.confining_pressure;

@@ -248,3 +248,117 @@ TEST_CASE("calibrate voronoi: confinement raises the peak", "[calibrate][voronoi
   CHECK(sum["tests"]["triaxial"]["Pc_Pa"] == 1e6);
   CHECK_FALSE(fs::exists(out / "vtk"));
 }
+
+namespace
+{
+  // About 100 rigid grains with unbreakable contacts loaded to an axial
+  // strain of 1e-3: the elastic stage's small-strain test and the full UCS
+  // test are the same test, so E and nu are one deterministic function of
+  // (E_c, kappa) on the fixed packing.
+  demfem::testing::CommandResult run_fit(const fs::path &out, double Ec, double kappa,
+                                         const std::string &fit)
+  {
+    std::ostringstream s;
+    s.precision(17);
+    s << "--fit --set \"Material/number of grains=100\" --set \"Tests/tests=ucs\" "
+         "--set \"Tests/strain limit=1e-3\" "
+         "--set \"Material/Voronoi/tensile strength=1e12\" "
+         "--set \"Material/Voronoi/cohesion=1e12\" "
+         "--set \"Material/Voronoi/tensile fracture energy=0\" "
+         "--set \"Material/Voronoi/shear fracture energy=0\" "
+         "--set \"Material/Voronoi/contact modulus="
+      << Ec << "\" --set \"Material/Voronoi/stiffness ratio=" << kappa
+      << "\" --set \"Fit/seeds=1\" --set \"Fit/elastic strain=1e-3\" "
+         "--set \"Fit/parameters=contact modulus 10e9 100e9; stiffness ratio 1 4\" "
+      << fit;
+    return run_example(out, s.str());
+  }
+} // namespace
+
+TEST_CASE("calibrate voronoi --fit recovers known microparameters",
+          "[calibrate][voronoi][fit]")
+{
+  // 1. The properties of the known material E_c = 40 GPa, kappa = 2: one
+  //    evaluation at the start point, targets unreachable (exit 3).
+  const fs::path out1 = work_dir() / "fit_known";
+  fs::remove_all(out1);
+  const auto r1 =
+      run_fit(out1, 40e9, 2, "--set \"Fit/evaluations=1\" --set \"Fit/Targets/E=1e9\"");
+  INFO(r1.out);
+  REQUIRE(r1.exit_code == 3);
+  CHECK(nlohmann::json::parse(read(out1 / "fit.json"))["status"] ==
+        "targets_not_reached");
+  CHECK(nlohmann::json::parse(read(out1 / "manifest.json"))["status"] ==
+        "targets_not_reached");
+  const auto   m1       = nlohmann::json::parse(read(out1 / "material.json"));
+  const double E_known  = m1["E"];
+  const double nu_known = m1["nu"];
+  REQUIRE(m1["microparameters"]["contact_modulus_Pa"].get<double>() == 40e9);
+
+  // 2. Start elsewhere (E_c 25 GPa, kappa 3.2) with those properties as
+  //    targets: the search must come back to the known microparameters.
+  const fs::path out2 = work_dir() / "fit_search";
+  fs::remove_all(out2);
+  std::ostringstream t;
+  t.precision(17);
+  t << "--set \"Fit/evaluations=60\" --set \"Fit/Targets/E=" << E_known
+    << ", 1, 0.002\" --set \"Fit/Targets/nu=" << nu_known << ", 1, 0.005\"";
+  const auto r2 = run_fit(out2, 25e9, 3.2, t.str());
+  INFO(r2.out);
+  REQUIRE(r2.exit_code == 0);
+  const auto fit = nlohmann::json::parse(read(out2 / "fit.json"));
+  CHECK(fit["status"] == "ok");
+  CHECK(nlohmann::json::parse(read(out2 / "manifest.json"))["status"] == "ok");
+  // E is proportional to E_c at a fixed kappa on a fixed packing, and nu
+  // depends on kappa only: the 0.2 % and 0.5 % tolerances leave E_c and
+  // kappa within about 1 % and 5 % (nu moves slowly with kappa).
+  CHECK(fit["best_parameters"]["contact modulus"].get<double>() ==
+        Approx(40e9).epsilon(0.01));
+  CHECK(fit["best_parameters"]["stiffness ratio"].get<double>() ==
+        Approx(2).epsilon(0.05));
+  // The calibrated best material is the one written.
+  const auto m2 = nlohmann::json::parse(read(out2 / "material.json"));
+  CHECK(m2["microparameters"]["contact_modulus_Pa"].get<double>() ==
+        fit["best_parameters"]["contact modulus"].get<double>());
+  for (const char *f : {"fit.csv", "fit_convergence.svg", "summary.json"})
+    CHECK(fs::is_regular_file(out2 / f));
+}
+
+TEST_CASE("calibrate voronoi --fit refuses what it cannot search",
+          "[calibrate][voronoi][fit]")
+{
+  struct Case
+  {
+    const char *name, *sets, *key;
+  };
+  const Case cases[] = {
+      {"rigid_grain_modulus",
+       "--set \"Fit/parameters=grain youngs modulus 10e9 100e9\" "
+       "--set \"Fit/Targets/E=30e9\"",
+       "grain youngs modulus"},
+      {"zero_modulus",
+       "--set \"Fit/parameters=contact modulus 0 100e9\" --set \"Fit/Targets/E=30e9\"",
+       "Fit/parameters (contact modulus)"},
+      {"grain_nu_half",
+       "--set \"Material/type=flexible-voronoi\" --set \"Tests/tests=ucs\" "
+       "--set \"Fit/parameters=grain poisson ratio 0.1 0.5\" "
+       "--set \"Fit/Targets/nu=0.2\"",
+       "Fit/parameters (grain poisson ratio)"},
+      {"mi_without_series",
+       "--set \"Fit/parameters=friction 0.1 1\" --set \"Fit/Targets/mi=20\"",
+       "Fit/Targets/mi"},
+      {"no_target", "--set \"Fit/parameters=friction 0.1 1\"", "Fit/Targets"}};
+  for (const auto &c : cases)
+    {
+      SECTION(c.name)
+      {
+        const fs::path out = work_dir() / (std::string("fit_bad_") + c.name);
+        fs::remove_all(out);
+        const auto r = run_example(out, std::string("--fit ") + c.sets);
+        INFO(r.out);
+        CHECK(r.exit_code == 1);
+        CHECK(r.out.find(c.key) != std::string::npos);
+        CHECK(!fs::exists(out));
+      }
+    }
+}

@@ -1,0 +1,83 @@
+#pragma once
+// The search of `demfem calibrate FILE.prm --fit` (docs/calibrate.md,
+// "Automatic calibration"), independent of the material family: a
+// derivative-free optimizer from NLopt searches the listed microparameters,
+// normalised to [0, 1] within their bounds, for the targets. The family
+// (bonded disks in calibrate_fit.cc, Voronoi grains in
+// calibrate_voronoi_fit.cc) says which parameters are elastic and measures a
+// parameter set: it packs Fit/seeds specimens and averages their test
+// results, so the objective is a deterministic function of the parameters.
+#include "apps/calibrate.h"
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace dealii
+{
+  class ParameterHandler;
+}
+
+namespace demfem::apps
+{
+  /// Reads subsection Fit (the caller has entered it): the seeds, budget,
+  /// algorithm, searched parameters and targets, each checked where it
+  /// enters naming the key; `check_parameter` refuses a name the material
+  /// family does not search, or bounds it does not allow.
+  /// std::invalid_argument on bad input; with f.enabled, no target or no
+  /// parameter is an error too.
+  void read_fit_settings(
+      dealii::ParameterHandler &prm, const std::string &where, FitSettings &f,
+      const std::function<void(const FitParameter &)> &check_parameter);
+
+  /// Seed mean and sample standard deviation of each measured target.
+  struct FitMeasurement
+  {
+    std::map<std::string, double> mean, sd;
+    std::string                   error; ///< non-empty: the evaluation failed
+  };
+
+  /// The mean and sample standard deviation of each list of per-seed values.
+  FitMeasurement summarize_seeds(const std::map<std::string, std::vector<double>> &values,
+                                 const std::string                                &error);
+
+  /// Whether a target needs `test` ("ucs", "brazilian", "direct tension",
+  /// "triaxial series"): the tests a measurement runs.
+  bool fit_needs(const std::vector<std::string> &targets, const std::string &test);
+
+  /// What the search needs of a material family.
+  struct FitProblem
+  {
+    /// The start value of each Fit/parameters entry (same order).
+    std::vector<double> initial;
+    /// Stiffness parameters: searched first, on the small-strain test.
+    std::function<bool(const std::string &name)> is_elastic_parameter;
+    /// Measures the material whose Fit/parameters have `values` (same
+    /// order) on the `targets`: with `elastic`, only E and nu from a test
+    /// stopped at Fit/elastic strain. Failures go into `error`, not throws.
+    std::function<FitMeasurement(const std::vector<double>      &values,
+                                 const std::vector<std::string> &targets, bool elastic)>
+        measure;
+  };
+
+  struct FitSearchResult
+  {
+    std::vector<double> best;        ///< best value of each Fit/parameters entry
+    FitMeasurement      measurement; ///< of `best`, on every target
+    bool                all_within = false;
+  };
+
+  /// The staged search (elastic first when both stiffness parameters and
+  /// E/nu targets are given, then the strengths, then every parameter when
+  /// the full tests miss a target): writes out/fit.csv (every evaluation),
+  /// out/fit.json and out/fit_convergence.svg, with a progress line and ETA
+  /// per evaluation on stderr.
+  FitSearchResult run_fit_search(const FitSettings &fit, const FitProblem &problem,
+                                 const std::string &out);
+
+  /// The outcome of a fit whose best material was calibrated successfully:
+  /// ok, or targets_not_reached (exit 3) with a message, when a target
+  /// stayed outside its tolerance.
+  CalibrateOutcome fit_outcome(const FitSearchResult &fit);
+} // namespace demfem::apps
