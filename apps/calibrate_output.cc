@@ -8,10 +8,26 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 namespace demfem::apps
 {
+  double post_peak_strain_ratio(const std::vector<double> &strain,
+                                const std::vector<double> &stress, double fraction)
+  {
+    std::size_t peak = 0;
+    for (std::size_t i = 0; i < stress.size(); ++i)
+      if (std::abs(stress[i]) > std::abs(stress[peak]))
+        peak = i;
+    const double s_peak = std::abs(stress.empty() ? 0.0 : stress[peak]);
+    const double e_peak = std::abs(stress.empty() ? 0.0 : strain[peak]);
+    for (std::size_t i = peak + 1; i < stress.size(); ++i)
+      if (std::abs(stress[i]) < fraction * s_peak && e_peak > 0)
+        return (std::abs(strain[i]) - e_peak) / e_peak;
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+
   namespace
   {
     std::string xml(const std::string &s)

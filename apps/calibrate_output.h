@@ -29,6 +29,14 @@ namespace demfem::apps
     return s;
   }
 
+  /// Post-peak brittleness of a compression test (docs/calibrate.md,
+  /// "Outputs"): the axial strain from the peak of |stress| to the first
+  /// later row where |stress| falls below `fraction` of the peak, over the
+  /// strain at the peak (both magnitudes). Small: brittle (a sudden drop);
+  /// NaN when the curve never falls that far.
+  double post_peak_strain_ratio(const std::vector<double> &strain,
+                                const std::vector<double> &stress, double fraction = 0.8);
+
   /// Flat-or-nested JSON object built in order of insertion.
   class Json
   {

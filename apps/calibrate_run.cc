@@ -550,6 +550,13 @@ namespace demfem::apps
                      const dem::LabTestResult *b) {
       return a && b && b->peak > 0 ? a->*x / b->peak : nan;
     };
+    // Post-peak brittleness of the unconfined test (calibrate_output.h).
+    auto ucs_post_peak = [](const dem::LabTestResult &r) {
+      std::vector<double> e, q;
+      for (const auto &h : r.history)
+        e.push_back(h.axial_strain), q.push_back(h.axial_stress);
+      return post_peak_strain_ratio(e, q);
+    };
     Json mat;
     mat.num("dim", dim)
         .num("n_grains", n_grains)
@@ -573,7 +580,8 @@ namespace demfem::apps
              ratio(ucs, &dem::LabTestResult::crack_initiation, ucs))
         .num("crack_damage_to_ucs", ratio(ucs, &dem::LabTestResult::crack_damage, ucs))
         .num("direct_tension_to_bts", ratio(dt, &dem::LabTestResult::peak, bts))
-        .num("ucs_to_bts", ratio(ucs, &dem::LabTestResult::peak, bts));
+        .num("ucs_to_bts", ratio(ucs, &dem::LabTestResult::peak, bts))
+        .num("post_peak_strain_ratio", ucs ? ucs_post_peak(*ucs) : nan);
     mat.obj("ratios", ratios);
     if (envelope)
       mat.obj("envelope", envelope->json());

@@ -303,6 +303,13 @@ namespace demfem::apps
       if (t.label == "triaxial")
         triaxial_pc = t.confining_pressure;
 
+    // Post-peak brittleness of the unconfined test (calibrate_output.h).
+    auto post_peak = [](const vor::VoronoiLabResult &r) {
+      std::vector<double> e, q;
+      for (const auto &h : r.history)
+        e.push_back(h.axial_strain), q.push_back(h.axial_stress);
+      return post_peak_strain_ratio(e, q);
+    };
     Json mat;
     mat.num("dim", 2)
         .str("material_type", kind)
@@ -323,7 +330,8 @@ namespace demfem::apps
     ratios.num("crack_initiation_to_ucs", ratio(ci, peak(ucs)))
         .num("direct_tension_to_bts", ratio(peak(dt), peak(bts)))
         .num("ucs_to_bts", ratio(peak(ucs), peak(bts)))
-        .num("ucs_to_direct_tension", ratio(peak(ucs), peak(dt)));
+        .num("ucs_to_direct_tension", ratio(peak(ucs), peak(dt)))
+        .num("post_peak_strain_ratio", ucs ? post_peak(*ucs) : nan);
     mat.obj("ratios", ratios);
     // Triaxial series: the peaks and, with two or more pressures, the
     // Mohr-Coulomb and Hoek-Brown fits (dem/specimen/envelope.h).

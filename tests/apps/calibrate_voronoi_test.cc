@@ -96,6 +96,31 @@ TEST_CASE("calibrate voronoi: the rigid example end to end", "[calibrate][vorono
   CHECK(dt > 0);
   CHECK(ucs > 3 * dt);
   CHECK(ucs > 3 * bts);
+  // Post-peak brittleness, recomputed from the UCS history: the strain
+  // from the peak to the first row below 0.8 of it, over the peak strain.
+  {
+    std::istringstream csv(read(out / "history_ucs.csv"));
+    std::string        line;
+    std::getline(csv, line);
+    std::vector<double> e, q;
+    while (std::getline(csv, line))
+      {
+        std::vector<double> v;
+        std::stringstream   row(line);
+        for (std::string c; std::getline(row, c, ',');)
+          v.push_back(std::stod(c));
+        e.push_back(std::abs(v[2])), q.push_back(std::abs(v[4]));
+      }
+    const auto peak = std::max_element(q.begin(), q.end()) - q.begin();
+    const auto drop = std::find_if(q.begin() + peak, q.end(),
+                                   [&](double x) { return x < 0.8 * q[peak]; }) -
+                      q.begin();
+    REQUIRE(drop < long(q.size()));
+    const double ratio = mat["ratios"]["post_peak_strain_ratio"];
+    // The CSV holds 10 digits: the difference of two strains keeps ~1e-7.
+    CHECK(ratio == Approx((e[drop] - e[peak]) / e[peak]).epsilon(1e-6));
+    CHECK(ratio > 0);
+  }
   CHECK(mat["microparameters"]["type"] == "rigid-voronoi");
   CHECK(mat["microparameters"]["contact_modulus_Pa"] == 50e9);
   CHECK(mat["microparameters"]["stiffness_ratio"] == 1.5);
