@@ -97,7 +97,7 @@ TEST_CASE("Voronoi Brazilian test: splits along the loaded diameter, BTS indepen
   CHECK(a.cracks_tensile > a.cracks_shear);
 }
 
-TEST_CASE("Voronoi Brazilian test: specimen shape and grain kind are checked",
+TEST_CASE("Voronoi Brazilian test: the specimen shape is checked",
           "[voronoi][lab][brazilian]")
 {
   VoronoiLabParams p;
@@ -112,7 +112,8 @@ TEST_CASE("Voronoi Brazilian test: specimen shape and grain kind are checked",
   GrainElasticity g;
   g.youngs_modulus = 50e9;
   g.density        = 2650;
-  CHECK_THROWS_AS(run_flexible_voronoi_lab_test(disk(), breakable(), g, p), InputError);
+  CHECK_THROWS_AS(run_flexible_voronoi_lab_test(rect, breakable(), g, p), InputError);
   p.test = VoronoiTest::unconfined_compression;
   CHECK_THROWS_AS(run_voronoi_lab_test(disk(), breakable(), 2650, p), InputError);
+  CHECK_THROWS_AS(run_flexible_voronoi_lab_test(disk(), breakable(), g, p), InputError);
 }
