@@ -166,7 +166,7 @@ TEST_CASE("Voronoi grain stress: the Love-Weber average is the applied pressure"
   CHECK(std::abs(mxy) < 1e-3 * P);
 }
 
-TEST_CASE("Voronoi VTK of flexible grains: triangles, points and cracks parse back; "
+TEST_CASE("Voronoi VTK of flexible grains: triangles, points and cracks parse back, "
           "a uniform strain gives the closed-form Cauchy stress",
           "[voronoi][vtk][flexible]")
 {
