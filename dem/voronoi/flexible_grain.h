@@ -69,7 +69,7 @@ namespace demfem::dem::voronoi
     /// Cell vertices closer than this fraction of the mean equivalent cell
     /// diameter are merged into one node (0: the full centroid fan). The
     /// default is the measured trade of docs/voronoi.md, "Short cell edges".
-    double min_edge_fraction = 0.05;
+    double min_edge_fraction = 0.1;
     void   validate(const std::string &where) const;
   };
 
