@@ -10,6 +10,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <iostream>
 #include <random>
 #include <vector>
 
@@ -316,4 +317,44 @@ TEST_CASE("Flexible Voronoi model: 1 and 2 threads give bit-identical results",
   CHECK(one.contacts.fs == two.contacts.fs);
   CHECK(one.contacts.damage_t == two.contacts.damage_t);
   CHECK(one.pp_fn == two.pp_fn);
+}
+
+TEST_CASE("Flexible Voronoi model: measure the thread speed-up",
+          "[.measure][voronoi][flexible][threads]")
+{
+  // By hand (docs/voronoi.md, "Threads"): seconds per grain-step of a
+  // 64 x 64 jittered lattice, elastic, random velocities, 1 and 2 threads.
+  std::vector<double>                    x, y, r;
+  std::mt19937_64                        rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double                           h = 1e-3;
+  for (int j = 0; j < 64; ++j)
+    for (int i = 0; i < 64; ++i)
+      {
+        x.push_back((i + 0.5 + 0.5 * (j % 2)) * h + 0.15 * h * u(rng));
+        y.push_back((j + 0.5) * 0.866 * h + 0.15 * h * u(rng));
+        r.push_back(0.45 * h + 0.05 * h * u(rng));
+      }
+  const auto t = laguerre_tessellation(
+      x, y, r, ClipDomain::rectangle(0, 0, 64.5 * h, 64 * 0.866 * h));
+  for (int threads : {1, 2, 1, 2})
+    {
+      const int old = omp_get_max_threads();
+      omp_set_num_threads(threads);
+      FlexibleVoronoiModel model(t, x, y, r, grain_material(50e9), contact_material());
+      model.parallel_threshold = 0;
+      for (int k = 0; k < model.mesh.n_nodes(); ++k)
+        {
+          model.vx[k] = 1e-3 * u(rng);
+          model.vy[k] = 1e-3 * u(rng);
+        }
+      const double dt    = model.stable_time_step(0.5);
+      const double start = omp_get_wtime();
+      for (int s = 0; s < 200; ++s)
+        model.step(dt);
+      const double sec = omp_get_wtime() - start;
+      omp_set_num_threads(old);
+      std::cout << threads << " threads: " << sec / (200.0 * model.n_grains()) * 1e6
+                << " us per grain-step\n";
+    }
 }
