@@ -107,8 +107,8 @@ namespace demfem::dem::voronoi
     /// Traction (compression positive) on the cell edges of `side`.
     void set_pressure(Side side, double p) { pressure[static_cast<int>(side)] = p; }
     /// Length-weighted mean displacement (component 0: x, 1: y) of the
-    /// nodes of the cell edges on `side` since install, and the same mean of
-    /// their install coordinate (the flexible grain carries its strain to
+    /// ends of the cell edges on `side` since install (interpolated from
+    /// the nodes), and the same mean of their install coordinate (the flexible grain carries its strain to
     /// its boundary: the gauge is the side itself).
     double side_displacement(Side side, int component) const;
     double side_position(Side side, int component) const;

@@ -15,8 +15,8 @@
 //    the strength F / (pi R t));
 //  - axial strain from the platens' displacement over H; lateral strain
 //    from the mean displacement of the grains (rigid: their centres;
-//    flexible: the side nodes) on the left and right sides over their
-//    distance (both since the start of the axial loading);
+//    flexible: the ends of their side edges) on the left and right sides
+//    over their distance (both since the start of the axial loading);
 //  - E and nu of the 2D specimen (sigma_xx = 0 at the sides, so plane
 //    stress of the rigid-body-spring network; for nu = 0 plane stress and
 //    plane strain coincide): least-squares slopes of the load and of minus
