@@ -83,4 +83,23 @@ namespace demfem::dem::voronoi
     k.ks                    = ks;
     return update_point(k, A, d_un, d_us, s);
   }
+
+  /// Advances one point of a gap-based (disk) platen by its penetration of
+  /// the platen plane and the shear increment d_us; returns its normal
+  /// force (<= 0): kn A x penetration while in touch, with an incremental
+  /// Coulomb shear force fs (platen friction); apart, no force.
+  inline double update_gap_point(const Platen &p, double kn, double ks, double A,
+                                 double penetration, double d_us, double &fs)
+  {
+    if (!(penetration > 0))
+      {
+        fs = 0;
+        return 0;
+      }
+    const double f_n   = -kn * A * penetration;
+    const double trial = fs - ks * A * d_us;
+    const double cap   = -p.friction * f_n;
+    fs                 = trial > cap ? cap : trial < -cap ? -cap : trial;
+    return f_n;
+  }
 } // namespace demfem::dem::voronoi

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace demfem::dem::voronoi
 {
@@ -17,13 +18,124 @@ namespace demfem::dem::voronoi
     check_range(where, "thickness", thickness, 0, inf, true, true);
   }
 
-  FlexibleGrainMesh::FlexibleGrainMesh(const Tessellation &tess, const GrainElasticity &m)
+  void FlexibleMeshOptions::validate(const std::string &where) const
+  {
+    // Above 0.5 a merge could swallow an edge of an average cell.
+    check_range(where, "min_edge_fraction", min_edge_fraction, 0, 0.5, false, true);
+  }
+
+  namespace
+  {
+    /// Twice the signed area of (a, b, d).
+    double area2(double xa, double ya, double xb, double yb, double xd, double yd)
+    {
+      return (xb - xa) * (yd - ya) - (xd - xa) * (yb - ya);
+    }
+
+    /// The boundary nodes of one cell: consecutive runs of its vertices
+    /// (cyclic), each at the mean of its vertices.
+    struct Clusters
+    {
+      std::vector<std::vector<int>> members; ///< local vertex indices
+      std::vector<double>           x, y;
+      void                          place(int j, const double *vx, const double *vy)
+      {
+        x[j] = y[j] = 0;
+        for (int v : members[j])
+          {
+            x[j] += vx[v];
+            y[j] += vy[v];
+          }
+        x[j] /= members[j].size();
+        y[j] /= members[j].size();
+      }
+    };
+
+    /// Greedy merging of the cell's vertices (vx, vy; k of them, counter-
+    /// clockwise around the centroid cx, cy): the shortest boundary edge
+    /// below `tol` is merged first, the lengths re-measured after each merge;
+    /// a merge that would give a fan triangle of non-positive area is
+    /// skipped; at least three nodes stay.
+    Clusters merge_vertices(const double *vx, const double *vy, int k, double cx,
+                            double cy, double tol)
+    {
+      Clusters cl;
+      for (int v = 0; v < k; ++v)
+        {
+          cl.members.push_back({v});
+          cl.x.push_back(vx[v]);
+          cl.y.push_back(vy[v]);
+        }
+      std::vector<std::pair<double, int>> order;
+      while (tol > 0 && cl.x.size() > 3)
+        {
+          const int n = static_cast<int>(cl.x.size());
+          order.clear();
+          for (int j = 0; j < n; ++j)
+            {
+              const int    l = (j + 1) % n;
+              const double d = std::hypot(cl.x[l] - cl.x[j], cl.y[l] - cl.y[j]);
+              if (d < tol)
+                order.emplace_back(d, j);
+            }
+          std::sort(order.begin(), order.end());
+          bool merged = false;
+          for (const auto &[d, j] : order)
+            {
+              const int l = (j + 1) % n, prv = (j + n - 1) % n, nxt = (l + 1) % n;
+              double    mx = 0, my = 0, count = 0;
+              for (int q : {j, l})
+                for (int v : cl.members[q])
+                  {
+                    mx += vx[v];
+                    my += vy[v];
+                    ++count;
+                  }
+              mx /= count;
+              my /= count;
+              // The two fan triangles next to the merged node must stay
+              // positive (a convex cell keeps them so unless the centroid is
+              // very close to the boundary).
+              if (!(area2(cx, cy, cl.x[prv], cl.y[prv], mx, my) > 0 &&
+                    area2(cx, cy, mx, my, cl.x[nxt], cl.y[nxt]) > 0))
+                continue;
+              cl.members[j].insert(cl.members[j].end(), cl.members[l].begin(),
+                                   cl.members[l].end());
+              cl.place(j, vx, vy);
+              cl.members.erase(cl.members.begin() + l);
+              cl.x.erase(cl.x.begin() + l);
+              cl.y.erase(cl.y.begin() + l);
+              merged = true;
+              break;
+            }
+          if (!merged)
+            break;
+        }
+      return cl;
+    }
+  } // namespace
+
+  FlexibleGrainMesh::FlexibleGrainMesh(const Tessellation &tess, const GrainElasticity &m,
+                                       const FlexibleMeshOptions &options)
       : mat(m)
   {
     m.validate("FlexibleGrainMesh");
+    options.validate("FlexibleGrainMesh");
     lambda      = m.lame_lambda();
     mu          = m.shear_modulus();
     const int n = tess.n_cells();
+    // Mean equivalent diameter of the non-empty cells: one length for the
+    // whole tessellation (see the header).
+    double d_sum = 0;
+    int    cells = 0;
+    for (int c = 0; c < n; ++c)
+      if (tess.end(c) - tess.begin(c) >= 3)
+        {
+          d_sum += 2 * std::sqrt(tess.area[c] / M_PI);
+          ++cells;
+        }
+    merge_distance = cells ? options.min_edge_fraction * d_sum / cells : 0.0;
+    vertex_node.assign(tess.vertex_x.size(), -1);
     grain_node_offset.assign(1, 0);
     grain_triangle_offset.assign(1, 0);
     for (int c = 0; c < n; ++c)
@@ -31,24 +143,30 @@ namespace demfem::dem::voronoi
         const int k = tess.end(c) - tess.begin(c);
         if (k >= 3)
           {
-            const int first = n_nodes();
+            const int      first = n_nodes();
+            const Clusters cl    = merge_vertices(
+                   &tess.vertex_x[tess.begin(c)], &tess.vertex_y[tess.begin(c)], k,
+                   tess.centroid_x[c], tess.centroid_y[c], merge_distance);
+            const int kc = static_cast<int>(cl.x.size());
             x0.push_back(tess.centroid_x[c]);
             y0.push_back(tess.centroid_y[c]);
-            for (int e = tess.begin(c); e < tess.end(c); ++e)
+            for (int j = 0; j < kc; ++j)
               {
-                x0.push_back(tess.vertex_x[e]);
-                y0.push_back(tess.vertex_y[e]);
+                x0.push_back(cl.x[j]);
+                y0.push_back(cl.y[j]);
+                for (int v : cl.members[j])
+                  vertex_node[tess.begin(c) + v] = first + 1 + j;
               }
             node_grain.resize(x0.size(), c);
             mass.resize(x0.size(), 0.0);
-            for (int j = 0; j < k; ++j)
+            double coarse_area = 0;
+            for (int j = 0; j < kc; ++j)
               {
-                const int a = first, b = first + 1 + j, d = first + 1 + (j + 1) % k;
+                const int a = first, b = first + 1 + j, d = first + 1 + (j + 1) % kc;
                 // Reference gradients of the linear shape functions:
                 // grad N_a = (y_b - y_d, x_d - x_b) / (2 A), cyclic.
                 const int    v[3] = {a, b, d};
-                const double A2 =
-                    (x0[b] - x0[a]) * (y0[d] - y0[a]) - (x0[d] - x0[a]) * (y0[b] - y0[a]);
+                const double A2   = area2(x0[a], y0[a], x0[b], y0[b], x0[d], y0[d]);
                 if (!(A2 > 0))
                   throw InputError("FlexibleGrainMesh: cell " + std::to_string(c) +
                                    " gives a triangle of non-positive area (is its "
@@ -62,7 +180,12 @@ namespace demfem::dem::voronoi
                     mass[v[i]] += m.density * m.thickness * A2 / 6;
                   }
                 triangle_area0.push_back(A2 / 2);
+                coarse_area += A2 / 2;
               }
+            // The grain keeps the mass of its cell (see the header).
+            const double scale = tess.area[c] / coarse_area;
+            for (int a = first; a < n_nodes(); ++a)
+              mass[a] *= scale;
           }
         grain_node_offset.push_back(n_nodes());
         grain_triangle_offset.push_back(n_triangles());
@@ -98,33 +221,65 @@ namespace demfem::dem::voronoi
     S[2]             = 2 * mu * Exy;
   }
 
+  void FlexibleGrainMesh::cauchy_stress(int e, const double *x, const double *y,
+                                        double sigma[4]) const
+  {
+    double F[4], S[3];
+    deformation_gradient(e, x, y, F);
+    second_piola_kirchhoff(e, x, y, S);
+    const double J = F[0] * F[3] - F[1] * F[2];
+    // F S = {FS_xX, FS_xY; FS_yX, FS_yY}, then (F S) F^T / J.
+    const double a = F[0] * S[0] + F[1] * S[2], b = F[0] * S[2] + F[1] * S[1];
+    const double c = F[2] * S[0] + F[3] * S[2], d = F[2] * S[2] + F[3] * S[1];
+    sigma[0] = (a * F[0] + b * F[1]) / J;
+    sigma[1] = (c * F[2] + d * F[3]) / J;
+    sigma[2] = (a * F[2] + b * F[3]) / J;
+    // S_zz = lambda tr(E) (E_zz = 0), sigma_zz = S_zz / J (F_zz = 1).
+    const double Exx = 0.5 * (F[0] * F[0] + F[2] * F[2] - 1);
+    const double Eyy = 0.5 * (F[1] * F[1] + F[3] * F[3] - 1);
+    sigma[3]         = lambda * (Exx + Eyy) / J;
+  }
+
+  double FlexibleGrainMesh::triangle_forces(int e, const double *x, const double *y,
+                                            double *fx, double *fy) const
+  {
+    double F[4], S[3];
+    deformation_gradient(e, x, y, F);
+    second_piola_kirchhoff(e, x, y, S);
+    // First Piola-Kirchhoff P = F S.
+    const double Pxx = F[0] * S[0] + F[1] * S[2], PxY = F[0] * S[2] + F[1] * S[1];
+    const double Pyx = F[2] * S[0] + F[3] * S[2], PyY = F[2] * S[2] + F[3] * S[1];
+    const double V = triangle_area0[e] * mat.thickness;
+    for (int i = 0; i < 3; ++i)
+      {
+        const int    a  = triangle_nodes[3 * e + i];
+        const double gx = dN_dX[3 * e + i], gy = dN_dY[3 * e + i];
+        fx[a] -= V * (Pxx * gx + PxY * gy);
+        fy[a] -= V * (Pyx * gx + PyY * gy);
+      }
+    // W = lambda/2 tr(E)^2 + mu E:E, with E:E from S: W = S:E / 2.
+    const double Exx = 0.5 * (F[0] * F[0] + F[2] * F[2] - 1);
+    const double Eyy = 0.5 * (F[1] * F[1] + F[3] * F[3] - 1);
+    const double Exy = 0.5 * (F[0] * F[1] + F[2] * F[3]);
+    return 0.5 * V * (S[0] * Exx + S[1] * Eyy + 2 * S[2] * Exy);
+  }
+
+  double FlexibleGrainMesh::add_grain_internal_forces(int c, const double *x,
+                                                      const double *y, double *fx,
+                                                      double *fy) const
+  {
+    double energy = 0;
+    for (int e = grain_triangle_offset[c]; e < grain_triangle_offset[c + 1]; ++e)
+      energy += triangle_forces(e, x, y, fx, fy);
+    return energy;
+  }
+
   double FlexibleGrainMesh::add_internal_forces(const double *x, const double *y,
                                                 double *fx, double *fy) const
   {
-    const int ne     = n_triangles();
-    double    energy = 0;
-    for (int e = 0; e < ne; ++e)
-      {
-        double F[4], S[3];
-        deformation_gradient(e, x, y, F);
-        second_piola_kirchhoff(e, x, y, S);
-        // First Piola-Kirchhoff P = F S.
-        const double Pxx = F[0] * S[0] + F[1] * S[2], PxY = F[0] * S[2] + F[1] * S[1];
-        const double Pyx = F[2] * S[0] + F[3] * S[2], PyY = F[2] * S[2] + F[3] * S[1];
-        const double V = triangle_area0[e] * mat.thickness;
-        for (int i = 0; i < 3; ++i)
-          {
-            const int    a  = triangle_nodes[3 * e + i];
-            const double gx = dN_dX[3 * e + i], gy = dN_dY[3 * e + i];
-            fx[a] -= V * (Pxx * gx + PxY * gy);
-            fy[a] -= V * (Pyx * gx + PyY * gy);
-          }
-        // W = lambda/2 tr(E)^2 + mu E:E, with E:E from S: W = S:E / 2.
-        const double Exx = 0.5 * (F[0] * F[0] + F[2] * F[2] - 1);
-        const double Eyy = 0.5 * (F[1] * F[1] + F[3] * F[3] - 1);
-        const double Exy = 0.5 * (F[0] * F[1] + F[2] * F[3]);
-        energy += 0.5 * V * (S[0] * Exx + S[1] * Eyy + 2 * S[2] * Exy);
-      }
+    double energy = 0;
+    for (int e = 0; e < n_triangles(); ++e)
+      energy += triangle_forces(e, x, y, fx, fy);
     return energy;
   }
 
@@ -160,6 +315,16 @@ namespace demfem::dem::voronoi
           }
       }
     return best;
+  }
+
+  PointStencil FlexibleGrainMesh::stencil(int c, double X, double Y) const
+  {
+    PointStencil s;
+    const int    e = locate(c, x0.data(), y0.data(), X, Y);
+    shape_functions(e, x0.data(), y0.data(), X, Y, s.w);
+    for (int i = 0; i < 3; ++i)
+      s.node[i] = triangle_nodes[3 * e + i];
+    return s;
   }
 
   double FlexibleGrainMesh::critical_time_step() const

@@ -8,7 +8,24 @@
 // plane-strain E, nu; masses are lumped, a third of each triangle's mass to
 // each of its nodes. Grains do not share nodes: node 0 of grain c is its
 // centroid node (the node the contact circle is attached to), nodes 1..k its
-// cell vertices in counter-clockwise order.
+// boundary nodes in counter-clockwise order.
+//
+// Short cell edges (docs/voronoi.md, "Short cell edges"): the fan triangle
+// of an edge of length l has a height of about l, so the element time step
+// h / c_p collapses on the very short edges of a genesis packing. Cell
+// vertices closer than min_edge_fraction x d_mean are merged into one
+// boundary node (at the mean of the merged vertices), d_mean the mean
+// equivalent diameter 2 sqrt(A / pi) of the tessellation's cells: one
+// length for the whole tessellation, so the two cells of a shared edge see
+// the same threshold and coarsen it alike (a per-cell scale would merge an
+// edge on one side and keep it on the other). Merging is greedy, shortest
+// edge first, re-measured after each merge, and keeps at least three
+// boundary nodes and positive fan triangles. Only the FE mesh is coarsened:
+// the contact geometry (edge lengths, Lobatto points, areas) stays the
+// tessellation's, and points are carried by the triangle that holds them
+// (`locate`, `stencil`). The lumped masses of a grain are scaled so that it
+// keeps the mass rho t A of its cell (the coarse polygon cuts its corners,
+// losing a fraction of a percent of the area).
 //
 // Large displacements (seed 004 §2.1 keeps DEM's finite displacements and
 // rotations): the element is total Lagrangian with the Saint Venant-Kirchhoff
@@ -46,11 +63,35 @@ namespace demfem::dem::voronoi
     void   validate(const std::string &where) const;
   };
 
+  /// Mesh options of the flexible grains.
+  struct FlexibleMeshOptions
+  {
+    /// Cell vertices closer than this fraction of the mean equivalent cell
+    /// diameter are merged into one node (0: the full centroid fan). The
+    /// default is the measured trade of docs/voronoi.md, "Short cell edges".
+    double min_edge_fraction = 0.1;
+    void   validate(const std::string &where) const;
+  };
+
+  /// A point of a grain carried by one of its triangles with fixed weights
+  /// (the barycentric coordinates at install, possibly slightly outside
+  /// [0, 1] for a point just outside a coarsened cell): x = sum w_i x_{n_i}.
+  struct PointStencil
+  {
+    int    node[3] = {0, 0, 0};
+    double w[3]    = {0, 0, 0};
+    double x(const double *px) const
+    {
+      return w[0] * px[node[0]] + w[1] * px[node[1]] + w[2] * px[node[2]];
+    }
+  };
+
   class FlexibleGrainMesh
   {
   public:
     /// Meshes every non-empty cell of `tess`.
-    FlexibleGrainMesh(const Tessellation &tess, const GrainElasticity &material);
+    FlexibleGrainMesh(const Tessellation &tess, const GrainElasticity &material,
+                      const FlexibleMeshOptions &options = {});
 
     int n_grains() const { return static_cast<int>(grain_node_offset.size()) - 1; }
     int n_nodes() const { return static_cast<int>(x0.size()); }
@@ -61,6 +102,10 @@ namespace demfem::dem::voronoi
     /// free.
     double add_internal_forces(const double *x, const double *y, double *fx,
                                double *fy) const;
+    /// The same for the triangles of grain c only (they touch only its
+    /// nodes, so grains can run in parallel).
+    double add_grain_internal_forces(int c, const double *x, const double *y, double *fx,
+                                     double *fy) const;
 
     /// Deformation gradient of triangle e at the current positions,
     /// row-major F = {F_xX, F_xY, F_yX, F_yY}.
@@ -68,6 +113,10 @@ namespace demfem::dem::voronoi
     /// Second Piola-Kirchhoff stress {S_xx, S_yy, S_xy} of triangle e.
     void second_piola_kirchhoff(int e, const double *x, const double *y,
                                 double S[3]) const;
+    /// Cauchy stress sigma = F S F^T / det F of triangle e, {s_xx, s_yy,
+    /// s_xy, s_zz} (tension positive); s_zz is the plane-strain out-of-plane
+    /// stress lambda tr(E) / det F (F_zz = 1, E_zz = 0).
+    void cauchy_stress(int e, const double *x, const double *y, double sigma[4]) const;
 
     /// Barycentric shape functions N[3] of triangle e at (px, py) in the
     /// current configuration (sum 1; all in [0, 1] inside the triangle).
@@ -77,6 +126,10 @@ namespace demfem::dem::voronoi
     /// or, if none does (a point just outside the deformed cell), the one
     /// whose smallest shape function is largest.
     int locate(int c, const double *x, const double *y, double px, double py) const;
+    /// Stencil of the reference point (X, Y) of grain c: its triangle
+    /// (`locate` in the reference configuration) and its barycentric
+    /// coordinates there.
+    PointStencil stencil(int c, double X, double Y) const;
 
     /// Stable time step of the explicit scheme (central differences):
     /// min over triangles of h / c_p, h the smallest height, c_p the
@@ -97,10 +150,19 @@ namespace demfem::dem::voronoi
     std::vector<double> triangle_area0; ///< reference area
     std::vector<double> dN_dX, dN_dY;   ///< 3 per triangle, reference gradients
 
+    // ---- per tessellation vertex (its index e) --------------------------------
+    std::vector<int> vertex_node; ///< the boundary node it was merged into
+
+    /// Merge distance used: min_edge_fraction x mean equivalent cell diameter.
+    double merge_distance = 0;
+
     const GrainElasticity &material() const { return mat; }
 
   private:
     GrainElasticity mat;
     double          lambda = 0, mu = 0;
+    /// Adds the forces of triangle e; returns its strain energy.
+    double triangle_forces(int e, const double *x, const double *y, double *fx,
+                           double *fy) const;
   };
 } // namespace demfem::dem::voronoi

@@ -10,24 +10,39 @@
 //    centroid node + the offset at install;
 //  - the relative velocity at a local contact point is interpolated from
 //    the nodal velocities of the triangle of each grain that holds the
-//    shared edge, v = sum_m N_m v_m (seed 004 eq. for the contact velocity),
-//    and the point force goes back to the same nodes, f_m = N_m f (seed 004
+//    point, v = sum_m N_m v_m (seed 004 eq. for the contact velocity), and
+//    the point force goes back to the same nodes, f_m = N_m f (seed 004
 //    eqs. for the nodal contact forces);
 //  - per node m a = F + F_d with the local non-viscous damping
 //    F_d = -alpha |F| sign(v) per component (seed 004 eqs. for the equation
 //    of motion and damping), integrated by central differences.
-// The triangle of each point is fixed at install (the edge's fan triangle;
-// its shape functions are evaluated in the current configuration, so a
-// point that drifts off the edge is extrapolated linearly). Detection of new
-// contacts (seed 004: the nearest Voronoi edge of each grain) is not done.
+// The triangle of each point is fixed at install: the triangle of each
+// grain that holds the point's install position (FlexibleGrainMesh::locate;
+// with merged short edges a point need not lie on the fan triangle of its
+// edge). Its shape functions are evaluated in the current configuration, so
+// a point that drifts off the triangle is extrapolated linearly. Detection
+// of new contacts (seed 004: the nearest Voronoi edge of each grain) is not
+// done.
 //
-// Boundary conditions of a rectangular specimen (dem/voronoi/boundary.h;
-// docs/voronoi.md, "Boundary conditions"), as the rigid model's but on the
-// nodes: platen points at the two nodes of a side edge and its middle
-// (Lobatto; one point: the middle), the platen velocity against the nodes'
-// interpolated velocity, kn = E_c / h in the deformability mode (h from the
-// disk centre to the edge line); pressure p L t on the current edge, half
-// to each of its nodes.
+// Boundary conditions (dem/voronoi/boundary.h; docs/voronoi.md, "Boundary
+// conditions"), as the rigid model's but carried by the nodes: every
+// boundary point (the ends of a side edge of the tessellation, a platen
+// point) is a PointStencil, fixed weights of the nodes of the triangle
+// that holds it at install (the ends of an unmerged edge are its nodes).
+// Rectangle platens: points at the ends and middle of each side edge
+// (Lobatto; one point: the middle), the platen velocity against the
+// points' interpolated velocity, kn = E_c / h in the deformability mode (h
+// from the disk centre to the edge line); pressure p L t on the current
+// edge between its interpolated ends, half to each. Disk platens
+// (Brazilian test): the gap-based points of RigidVoronoiModel::
+// add_disk_platen on the outline, at their interpolated positions.
+//
+// Threads (OpenMP, from parallel_threshold grains): the contacts run in
+// parallel, each into its points' slots (force, shape functions); then each
+// grain, in parallel, sets its nodes' forces to the applied ones, adds its
+// triangles' internal forces and gathers its nodes' contact contributions
+// from a CSR list in point order; the boundary points follow serially. No
+// sum depends on the thread count, no allocation per step.
 #include "dem/voronoi/boundary.h"
 #include "dem/voronoi/flexible_grain.h"
 #include "dem/voronoi/rigid_contact.h"
@@ -45,9 +60,10 @@ namespace demfem::dem::voronoi
     /// tessellated packing, one contact per shared cell edge.
     FlexibleVoronoiModel(const Tessellation &tess, const std::vector<double> &x,
                          const std::vector<double> &y, const std::vector<double> &radius,
-                         const GrainElasticity &grain_material,
-                         const ContactMaterial &contact_material,
-                         PointScheme            scheme = PointScheme::lobatto3);
+                         const GrainElasticity     &grain_material,
+                         const ContactMaterial     &contact_material,
+                         PointScheme                scheme       = PointScheme::lobatto3,
+                         const FlexibleMeshOptions &mesh_options = {});
 
     /// One central-difference step: forces at the current positions (and
     /// the contact increments from the current velocities), damping, then
@@ -60,8 +76,9 @@ namespace demfem::dem::voronoi
     void compute_forces(double dt);
 
     /// Time step estimate: min of the elements' h / c_p and of 2 sqrt(m / k)
-    /// over the nodes touched by a contact point, k = max(kn, ks) A_i,
-    /// times `safety` (an estimate: a node shares its springs and elements).
+    /// over the nodes carrying a contact or platen point (weight > 0),
+    /// k = max(kn, ks) A_i, times `safety` (an estimate: a node shares its
+    /// springs and elements).
     double stable_time_step(double safety = 0.5) const;
 
     /// Current disk centre of grain c.
@@ -77,31 +94,43 @@ namespace demfem::dem::voronoi
     // ---- boundary ---------------------------------------------------------
     /// A platen on `side` (bottom or top), points on every cell edge of that
     /// side; inactive until activate_platen (which zeroes its points).
-    int  add_platen(Side side, PlatenLaw law, double friction = 0);
+    int add_platen(Side side, PlatenLaw law, double friction = 0);
+    /// Brazilian test: a flat frictional platen tangent to a disk specimen
+    /// at the pole of `side`, points on the outline edges within
+    /// `cone_degrees` of the pole (RigidVoronoiModel::add_disk_platen, with
+    /// the points carried by the nodes).
+    int  add_disk_platen(Side side, double friction, double cone_degrees = 30);
     void activate_platen(int platen);
+    /// Current position of a point carried by the nodes.
+    double point_x(const PointStencil &s) const { return s.x(x.data()); }
+    double point_y(const PointStencil &s) const { return s.x(y.data()); }
     /// Traction (compression positive) on the cell edges of `side`.
     void set_pressure(Side side, double p) { pressure[static_cast<int>(side)] = p; }
     /// Length-weighted mean displacement (component 0: x, 1: y) of the
-    /// nodes of the cell edges on `side` since install, and the same mean of
-    /// their install coordinate (the flexible grain carries its strain to
+    /// ends of the cell edges on `side` since install (interpolated from
+    /// the nodes), and the same mean of their install coordinate (the flexible grain carries its strain to
     /// its boundary: the gauge is the side itself).
     double side_displacement(Side side, int component) const;
     double side_position(Side side, int component) const;
 
+    /// A boundary edge of the tessellation (a side edge of a rectangle, or
+    /// any outline edge).
     struct BoundaryEdge
     {
-      int    grain = -1, node0 = -1, node1 = -1; ///< counter-clockwise ends
-      Side   side   = Side::bottom;
-      double length = 0; ///< at install
-      double h      = 0; ///< disk centre to the edge line, at install
+      int          grain = -1;
+      PointStencil end[2]; ///< counter-clockwise ends, carried by the nodes
+      Side         side   = Side::bottom;
+      double       length = 0; ///< at install
+      double       h      = 0; ///< disk centre to the edge line, at install
     };
-    std::vector<BoundaryEdge> boundary_edges;
+    std::vector<BoundaryEdge> boundary_edges; ///< rectangle sides, by side
+    std::vector<BoundaryEdge> outline_edges;  ///< all boundary edges (side unused)
     std::vector<Platen>       platens;
-    // ---- platen points: a point is w0 node0 + (1 - w0) node1 of its edge --
-    std::vector<int>        pp_node0, pp_node1;
-    std::vector<double>     pp_w0, pp_area, pp_kn, pp_ks;
-    std::vector<double>     pp_un, pp_wn, pp_fs, pp_dt, pp_ds, pp_fn;
-    std::vector<PointCrack> pp_crack;
+    // ---- platen points ------------------------------------------------------
+    std::vector<PointStencil> pp_stencil;
+    std::vector<double>       pp_area, pp_kn, pp_ks;
+    std::vector<double>       pp_un, pp_wn, pp_fs, pp_dt, pp_ds, pp_fn;
+    std::vector<PointCrack>   pp_crack;
 
     FlexibleGrainMesh    mesh;
     RigidVoronoiContacts contacts; ///< contact geometry and law state
@@ -113,19 +142,30 @@ namespace demfem::dem::voronoi
     std::vector<char>   fixed;          ///< velocity held at zero
 
     double damping = 0; ///< local non-viscous damping alpha
+    /// Contacts, grains and nodes run in parallel (OpenMP) from this many
+    /// grains; the results do not depend on the thread count.
+    int parallel_threshold = 1024;
 
     // ---- per grain ------------------------------------------------------------
     std::vector<double> disk_dx, disk_dy, disk_radius;
 
     // ---- per local contact point (same index as contacts' points) ----------
     std::vector<int> triangle_a, triangle_b;
+    /// Last step: force on B (-F_n n + F_s t) and the shape functions of
+    /// the point in A's and B's triangles, {N_a[3], N_b[3]}.
+    std::vector<double> point_fx, point_fy, point_N;
 
   private:
     PointScheme           scheme;
     std::array<double, 4> pressure{}; ///< by Side
-    void                  add_boundary_forces(double dt);
-    /// Adds the contact forces to (fx, fy); dt scales the velocities into
-    /// displacement increments.
-    void add_contact_forces(double dt);
+    /// Contact contributions of each node (CSR over nodes): 6 p + i, i < 3
+    /// for node i of A's triangle of point p, 3 + i for B's, ascending.
+    std::vector<int> node_point_offset, node_point;
+    void             add_boundary_forces(double dt);
+    /// Advances the contact points (dt scales the velocities into
+    /// displacement increments) into point_fx, point_fy, point_N.
+    void         update_contact_points(double dt);
+    BoundaryEdge boundary_edge(const Tessellation &tess, int c, int e, double pcx,
+                               double pcy) const;
   };
 } // namespace demfem::dem::voronoi

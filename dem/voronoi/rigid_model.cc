@@ -292,20 +292,10 @@ namespace demfem::dem::voronoi
             const double vry  = p.vy - (vy[g] + omega[g] * rx);
             const double d_us = (vrx * tx + vry * ty) * dt;
             double       f_n;
-            if (p.gap)
-              {
-                // Penetration of the plane; Coulomb shear while in touch.
-                const double pen = (x[g] + rx) * nx + (y[g] + ry) * ny - plane;
-                if (pen > 0)
-                  {
-                    f_n                = -pp_kn[i] * pp_area[i] * pen;
-                    const double trial = pp_fs[i] - pp_ks[i] * pp_area[i] * d_us;
-                    const double cap   = -p.friction * f_n;
-                    pp_fs[i]           = std::max(-cap, std::min(cap, trial));
-                  }
-                else
-                  f_n = pp_fs[i] = 0;
-              }
+            if (p.gap) // penetration of the plane; Coulomb shear while in touch
+              f_n = update_gap_point(p, pp_kn[i], pp_ks[i], pp_area[i],
+                                     (x[g] + rx) * nx + (y[g] + ry) * ny - plane, d_us,
+                                     pp_fs[i]);
             else
               f_n = update_platen_point(p, pp_kn[i], pp_ks[i], pp_area[i],
                                         (vrx * nx + vry * ny) * dt, d_us,

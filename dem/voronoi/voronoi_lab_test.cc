@@ -10,7 +10,6 @@
 #include <cmath>
 #include <random>
 #include <string>
-#include <type_traits>
 
 namespace demfem::dem::voronoi
 {
@@ -96,6 +95,7 @@ namespace demfem::dem::voronoi
     check_range(where, "fit_hi", fit_hi, fit_lo, 1, true, false);
     check_range(where, "ratio_limit", ratio_limit, 0, inf, true, true);
     check_range(where, "disk_platen_cone", disk_platen_cone, 0, 90, true, false);
+    flexible_mesh.validate(where);
     if (test != VoronoiTest::confined_compression && confining_pressure != 0)
       throw InputError(where + ": confining_pressure is for the confined test only");
   }
@@ -158,20 +158,17 @@ namespace demfem::dem::voronoi
       const bool      brazilian = p.test == VoronoiTest::brazilian;
       const PlatenLaw law       = tension ? PlatenLaw::glued : PlatenLaw::frictional;
       int             bottom = -1, top = -1;
-      if constexpr (std::is_same_v<Model, RigidVoronoiModel>)
-        if (brazilian)
-          {
-            bottom = model.add_disk_platen(Side::bottom, p.platen_friction,
-                                           p.disk_platen_cone);
-            top = model.add_disk_platen(Side::top, p.platen_friction, p.disk_platen_cone);
-          }
-      if (!brazilian)
+      if (brazilian)
+        {
+          bottom =
+              model.add_disk_platen(Side::bottom, p.platen_friction, p.disk_platen_cone);
+          top = model.add_disk_platen(Side::top, p.platen_friction, p.disk_platen_cone);
+        }
+      else
         {
           bottom = model.add_platen(Side::bottom, law, p.platen_friction);
           top    = model.add_platen(Side::top, law, p.platen_friction);
         }
-      if (bottom < 0)
-        throw InputError("Voronoi lab test: the Brazilian test is for rigid grains");
 
       VoronoiLabResult r;
       r.n_grains =
@@ -324,16 +321,24 @@ namespace demfem::dem::voronoi
     }
   } // namespace
 
+  namespace
+  {
+    void check_specimen_shape(const VoronoiSpecimen &spec, const VoronoiLabParams &p)
+    {
+      if ((spec.domain.shape == ClipDomain::Shape::circle) !=
+          (p.test == VoronoiTest::brazilian))
+        throw InputError("Voronoi lab test: the Brazilian test needs a disk specimen, "
+                         "the others a rectangle");
+    }
+  } // namespace
+
   VoronoiLabResult run_voronoi_lab_test(const VoronoiSpecimen &spec,
                                         const ContactMaterial &contact, double density,
                                         const VoronoiLabParams           &p,
                                         std::optional<RigidVoronoiModel> *final_model)
   {
     p.validate("Voronoi lab test");
-    if ((spec.domain.shape == ClipDomain::Shape::circle) !=
-        (p.test == VoronoiTest::brazilian))
-      throw InputError("Voronoi lab test: the Brazilian test needs a disk specimen, the "
-                       "others a rectangle");
+    check_specimen_shape(spec, p);
     RigidVoronoiModel model(spec.tessellation, spec.x, spec.y, spec.radius, density,
                             contact, p.scheme);
     VoronoiLabResult  r = run_test(model, spec, contact, p);
@@ -348,12 +353,11 @@ namespace demfem::dem::voronoi
       std::optional<FlexibleVoronoiModel> *final_model)
   {
     p.validate("Voronoi lab test");
-    if (spec.domain.shape != ClipDomain::Shape::rectangle)
-      throw InputError("Voronoi lab test: the specimen must be a rectangle");
+    check_specimen_shape(spec, p);
     if (grain.thickness != contact.thickness)
       throw InputError("Voronoi lab test: the grain and contact thicknesses differ");
     FlexibleVoronoiModel model(spec.tessellation, spec.x, spec.y, spec.radius, grain,
-                               contact, p.scheme);
+                               contact, p.scheme, p.flexible_mesh);
     VoronoiLabResult     r = run_test(model, spec, contact, p);
     if (final_model)
       final_model->emplace(std::move(model));

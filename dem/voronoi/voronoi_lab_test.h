@@ -5,8 +5,8 @@
 // vessel's inner box), loaded by rigid platens at a strain rate given in
 // physical terms (1/s): unconfined compression (frictional platens),
 // confined compression (pressure Pc on the boundary edges, then the
-// platens add the deviator), direct tension (glued platens); and, rigid
-// grains only, the Brazilian test on a disk specimen between flat platens.
+// platens add the deviator), direct tension (glued platens); and the
+// Brazilian test on a disk specimen between flat platens.
 //
 // Measures (the conventions of dem/specimen/lab_tests.h: tension positive
 // in the history, strengths reported as magnitudes):
@@ -15,8 +15,8 @@
 //    the strength F / (pi R t));
 //  - axial strain from the platens' displacement over H; lateral strain
 //    from the mean displacement of the grains (rigid: their centres;
-//    flexible: the side nodes) on the left and right sides over their
-//    distance (both since the start of the axial loading);
+//    flexible: the ends of their side edges) on the left and right sides
+//    over their distance (both since the start of the axial loading);
 //  - E and nu of the 2D specimen (sigma_xx = 0 at the sides, so plane
 //    stress of the rigid-body-spring network; for nu = 0 plane stress and
 //    plane strain coincide): least-squares slopes of the load and of minus
@@ -71,7 +71,7 @@ namespace demfem::dem::voronoi
     unconfined_compression,
     confined_compression,
     direct_tension,
-    brazilian ///< disk specimen, rigid grains only
+    brazilian ///< disk specimen (make_voronoi_disk_specimen)
   };
 
   struct VoronoiLabParams
@@ -92,6 +92,8 @@ namespace demfem::dem::voronoi
     /// of the poles [deg] (the contact arc stays far smaller).
     double      disk_platen_cone = 30;
     PointScheme scheme           = PointScheme::lobatto3;
+    /// Flexible grains: the mesh (merging of short cell edges).
+    FlexibleMeshOptions flexible_mesh;
     /// History rows every this axial-strain increment (a physical interval,
     /// so the rows do not depend on the time step).
     double history_strain = 2e-6;
@@ -157,8 +159,10 @@ namespace demfem::dem::voronoi
 
   /// The same test with flexible grains (dem/voronoi/flexible_model.h) of
   /// elasticity `grain` (its density and thickness; the thickness must be
-  /// the contact's). The lateral gauge is the side nodes (over their
-  /// distance, about W).
+  /// the contact's), meshed with params.flexible_mesh. The lateral gauge is
+  /// the ends of the side edges (over their distance, about W). The
+  /// Brazilian test as the rigid one, the disk platens' points carried by
+  /// the nodes.
   VoronoiLabResult run_flexible_voronoi_lab_test(
       const VoronoiSpecimen &specimen, const ContactMaterial &contact,
       const GrainElasticity &grain, const VoronoiLabParams &params,

@@ -1,4 +1,4 @@
-// VTK XML output of rigid Voronoi grains (dem/voronoi/voronoi_vtk.h).
+// VTK XML output of rigid and flexible Voronoi grains (dem/voronoi/voronoi_vtk.h).
 #include "dem/voronoi/voronoi_vtk.h"
 
 #include "dem/io/vtk_polydata.h"
@@ -150,104 +150,190 @@ namespace demfem::dem::voronoi
     write_polydata(path, data);
   }
 
+  namespace
+  {
+    /// The local contact points of `c` at the grains' current disks `g`
+    /// (the model's points and cracks files, rigid or flexible grains).
+    void write_contact_points(const std::string &path, const RigidVoronoiContacts &c,
+                              const GrainKinematics &g)
+    {
+      const vtkIdType   n = c.n_points();
+      vtkNew<vtkPoints> pts;
+      pts->SetDataTypeToDouble(); // micrometre displacements on metre coordinates
+      vtkNew<vtkCellArray> verts;
+      auto dt = double_array("damage_t", 1, n), ds = double_array("damage_s", 1, n);
+      auto fn    = double_array("normal_force", 1, n),
+           fs    = double_array("shear_force", 1, n);
+      auto crack = int_array("crack", n), ga = int_array("grain_a", n),
+           gb = int_array("grain_b", n);
+      for (int k = 0; k < c.n_contacts(); ++k)
+        {
+          double xr, yr, nx, ny;
+          c.reference_frame(k, g, xr, yr, nx, ny);
+          for (int p = c.point_offset[k]; p < c.point_offset[k + 1]; ++p)
+            {
+              const vtkIdType v =
+                  pts->InsertNextPoint(xr - c.s[p] * ny, yr + c.s[p] * nx, 0.0);
+              verts->InsertNextCell(1, &v);
+              dt->SetValue(p, c.damage_t[p]);
+              ds->SetValue(p, c.damage_s[p]);
+              fn->SetValue(p, c.fn[p]);
+              fs->SetValue(p, c.fs[p]);
+              crack->SetValue(p, static_cast<int>(c.crack[p]));
+              ga->SetValue(p, c.grain_a[k]);
+              gb->SetValue(p, c.grain_b[k]);
+            }
+        }
+      vtkNew<vtkPolyData> data;
+      data->SetPoints(pts);
+      data->SetVerts(verts);
+      for (vtkDataArray *a :
+           {static_cast<vtkDataArray *>(dt), static_cast<vtkDataArray *>(ds),
+            static_cast<vtkDataArray *>(fn), static_cast<vtkDataArray *>(fs),
+            static_cast<vtkDataArray *>(crack), static_cast<vtkDataArray *>(ga),
+            static_cast<vtkDataArray *>(gb)})
+        data->GetPointData()->AddArray(a);
+      write_polydata(path, data);
+    }
+
+    /// The cracked local points of `c` as pieces of their cell edges.
+    int write_contact_cracks(const std::string &path, const RigidVoronoiContacts &c,
+                             const GrainKinematics &g)
+    {
+      vtkNew<vtkPoints> pts;
+      pts->SetDataTypeToDouble(); // micrometre displacements on metre coordinates
+      vtkNew<vtkCellArray> lines;
+      std::vector<int>     mode, ga, gb;
+      for (int k = 0; k < c.n_contacts(); ++k)
+        {
+          const int p0 = c.point_offset[k], np = c.point_offset[k + 1] - p0;
+          double    xr, yr, nx, ny;
+          c.reference_frame(k, g, xr, yr, nx, ny);
+          // Edge ends along the tangent: the outer points (Lobatto) or the
+          // middle -+ L/2 (one point).
+          const double L  = c.edge_length[k];
+          const double s0 = np == 3 ? c.s[p0] : c.s[p0] - L / 2;
+          const double s1 = np == 3 ? c.s[p0 + 2] : c.s[p0] + L / 2;
+          const double d  = (s1 - s0) / 6; // a sixth of the edge (Lobatto weights)
+          for (int i = 0; i < np; ++i)
+            {
+              const int p = p0 + i;
+              if (c.crack[p] != PointCrack::tensile && c.crack[p] != PointCrack::shear)
+                continue;
+              double a = s0, b = s1;
+              if (np == 3)
+                {
+                  a = i == 0 ? s0 : i == 1 ? s0 + d : s1 - d;
+                  b = i == 0 ? s0 + d : i == 1 ? s1 - d : s1;
+                }
+              const vtkIdType ends[2] = {
+                  pts->InsertNextPoint(xr - a * ny, yr + a * nx, 0.0),
+                  pts->InsertNextPoint(xr - b * ny, yr + b * nx, 0.0)};
+              lines->InsertNextCell(2, ends);
+              mode.push_back(static_cast<int>(c.crack[p]));
+              ga.push_back(c.grain_a[k]);
+              gb.push_back(c.grain_b[k]);
+            }
+        }
+      const vtkIdType n  = static_cast<vtkIdType>(mode.size());
+      auto            md = int_array("mode", n), a = int_array("grain_a", n),
+           b = int_array("grain_b", n);
+      for (vtkIdType k = 0; k < n; ++k)
+        {
+          md->SetValue(k, mode[k]);
+          a->SetValue(k, ga[k]);
+          b->SetValue(k, gb[k]);
+        }
+      vtkNew<vtkPolyData> data;
+      data->SetPoints(pts);
+      data->SetLines(lines);
+      for (vtkDataArray *x :
+           {static_cast<vtkDataArray *>(md), static_cast<vtkDataArray *>(a),
+            static_cast<vtkDataArray *>(b)})
+        data->GetCellData()->AddArray(x);
+      write_polydata(path, data);
+      return static_cast<int>(n);
+    }
+  } // namespace
+
   void write_voronoi_points_vtk(const std::string &path, const RigidVoronoiModel &m)
   {
-    const auto       &c = m.contacts;
-    const auto        g = kinematics(m);
-    const vtkIdType   n = c.n_points();
-    vtkNew<vtkPoints> pts;
-    pts->SetDataTypeToDouble(); // micrometre displacements on metre coordinates
-    vtkNew<vtkCellArray> verts;
-    auto dt = double_array("damage_t", 1, n), ds = double_array("damage_s", 1, n);
-    auto fn = double_array("normal_force", 1, n), fs = double_array("shear_force", 1, n);
-    auto crack = int_array("crack", n), ga = int_array("grain_a", n),
-         gb = int_array("grain_b", n);
-    for (int k = 0; k < c.n_contacts(); ++k)
-      {
-        double xr, yr, nx, ny;
-        c.reference_frame(k, g, xr, yr, nx, ny);
-        for (int p = c.point_offset[k]; p < c.point_offset[k + 1]; ++p)
-          {
-            const vtkIdType v =
-                pts->InsertNextPoint(xr - c.s[p] * ny, yr + c.s[p] * nx, 0.0);
-            verts->InsertNextCell(1, &v);
-            dt->SetValue(p, c.damage_t[p]);
-            ds->SetValue(p, c.damage_s[p]);
-            fn->SetValue(p, c.fn[p]);
-            fs->SetValue(p, c.fs[p]);
-            crack->SetValue(p, static_cast<int>(c.crack[p]));
-            ga->SetValue(p, c.grain_a[k]);
-            gb->SetValue(p, c.grain_b[k]);
-          }
-      }
-    vtkNew<vtkPolyData> data;
-    data->SetPoints(pts);
-    data->SetVerts(verts);
-    for (vtkDataArray *a :
-         {static_cast<vtkDataArray *>(dt), static_cast<vtkDataArray *>(ds),
-          static_cast<vtkDataArray *>(fn), static_cast<vtkDataArray *>(fs),
-          static_cast<vtkDataArray *>(crack), static_cast<vtkDataArray *>(ga),
-          static_cast<vtkDataArray *>(gb)})
-      data->GetPointData()->AddArray(a);
-    write_polydata(path, data);
+    write_contact_points(path, m.contacts, kinematics(m));
   }
 
   int write_voronoi_cracks_vtk(const std::string &path, const RigidVoronoiModel &m)
   {
-    const auto       &c = m.contacts;
-    const auto        g = kinematics(m);
+    return write_contact_cracks(path, m.contacts, kinematics(m));
+  }
+
+  namespace
+  {
+    /// Current disks of flexible grains (centroid node + install offset).
+    struct FlexibleDisks
+    {
+      std::vector<double> x, y;
+      GrainKinematics     kinematics;
+      explicit FlexibleDisks(const FlexibleVoronoiModel &m)
+      {
+        for (int c = 0; c < m.n_grains(); ++c)
+          {
+            x.push_back(m.disk_x(c));
+            y.push_back(m.disk_y(c));
+          }
+        kinematics = GrainKinematics{x.data(), y.data(), m.disk_radius.data()};
+      }
+    };
+  } // namespace
+
+  void write_voronoi_cells_vtk(const std::string &path, const FlexibleVoronoiModel &m)
+  {
+    const auto       &mesh = m.mesh;
+    const vtkIdType   nn   = mesh.n_nodes();
     vtkNew<vtkPoints> pts;
     pts->SetDataTypeToDouble(); // micrometre displacements on metre coordinates
-    vtkNew<vtkCellArray> lines;
-    std::vector<int>     mode, ga, gb;
-    for (int k = 0; k < c.n_contacts(); ++k)
+    auto disp = double_array("displacement", 3, nn);
+    for (vtkIdType a = 0; a < nn; ++a)
       {
-        const int p0 = c.point_offset[k], np = c.point_offset[k + 1] - p0;
-        double    xr, yr, nx, ny;
-        c.reference_frame(k, g, xr, yr, nx, ny);
-        // Edge ends along the tangent: the outer points (Lobatto) or the
-        // middle -+ L/2 (one point).
-        const double L  = c.edge_length[k];
-        const double s0 = np == 3 ? c.s[p0] : c.s[p0] - L / 2;
-        const double s1 = np == 3 ? c.s[p0 + 2] : c.s[p0] + L / 2;
-        const double d  = (s1 - s0) / 6; // a sixth of the edge (Lobatto weights)
-        for (int i = 0; i < np; ++i)
-          {
-            const int p = p0 + i;
-            if (c.crack[p] != PointCrack::tensile && c.crack[p] != PointCrack::shear)
-              continue;
-            double a = s0, b = s1;
-            if (np == 3)
-              {
-                a = i == 0 ? s0 : i == 1 ? s0 + d : s1 - d;
-                b = i == 0 ? s0 + d : i == 1 ? s1 - d : s1;
-              }
-            const vtkIdType ends[2] = {
-                pts->InsertNextPoint(xr - a * ny, yr + a * nx, 0.0),
-                pts->InsertNextPoint(xr - b * ny, yr + b * nx, 0.0)};
-            lines->InsertNextCell(2, ends);
-            mode.push_back(static_cast<int>(c.crack[p]));
-            ga.push_back(c.grain_a[k]);
-            gb.push_back(c.grain_b[k]);
-          }
+        pts->InsertNextPoint(m.x[a], m.y[a], 0.0);
+        disp->SetTuple3(a, m.x[a] - mesh.x0[a], m.y[a] - mesh.y0[a], 0.0);
       }
-    const vtkIdType n  = static_cast<vtkIdType>(mode.size());
-    auto            md = int_array("mode", n), a = int_array("grain_a", n),
-         b = int_array("grain_b", n);
-    for (vtkIdType k = 0; k < n; ++k)
+    vtkNew<vtkCellArray> polys;
+    const vtkIdType      ne    = mesh.n_triangles();
+    auto                 grain = int_array("grain", ne);
+    auto sigma = double_array("stress", 3, ne); // Cauchy xx, yy, xy (tension positive)
+    auto mean  = double_array("mean_stress", 1, ne);
+    for (vtkIdType e = 0; e < ne; ++e)
       {
-        md->SetValue(k, mode[k]);
-        a->SetValue(k, ga[k]);
-        b->SetValue(k, gb[k]);
+        const vtkIdType v[3] = {mesh.triangle_nodes[3 * e],
+                                mesh.triangle_nodes[3 * e + 1],
+                                mesh.triangle_nodes[3 * e + 2]};
+        polys->InsertNextCell(3, v);
+        double s[4];
+        mesh.cauchy_stress(static_cast<int>(e), m.x.data(), m.y.data(), s);
+        grain->SetValue(e, mesh.node_grain[v[0]]);
+        sigma->SetTuple3(e, s[0], s[1], s[2]);
+        mean->SetValue(e, (s[0] + s[1] + s[3]) / 3); // with the plane-strain s_zz
       }
     vtkNew<vtkPolyData> data;
     data->SetPoints(pts);
-    data->SetLines(lines);
-    for (vtkDataArray *x :
-         {static_cast<vtkDataArray *>(md), static_cast<vtkDataArray *>(a),
-          static_cast<vtkDataArray *>(b)})
-      data->GetCellData()->AddArray(x);
+    data->SetPolys(polys);
+    data->GetPointData()->AddArray(disp);
+    for (vtkDataArray *a :
+         {static_cast<vtkDataArray *>(grain), static_cast<vtkDataArray *>(sigma),
+          static_cast<vtkDataArray *>(mean)})
+      data->GetCellData()->AddArray(a);
     write_polydata(path, data);
-    return static_cast<int>(n);
+  }
+
+  void write_voronoi_points_vtk(const std::string &path, const FlexibleVoronoiModel &m)
+  {
+    const FlexibleDisks d(m);
+    write_contact_points(path, m.contacts, d.kinematics);
+  }
+
+  int write_voronoi_cracks_vtk(const std::string &path, const FlexibleVoronoiModel &m)
+  {
+    const FlexibleDisks d(m);
+    return write_contact_cracks(path, m.contacts, d.kinematics);
   }
 } // namespace demfem::dem::voronoi

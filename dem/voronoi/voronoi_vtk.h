@@ -1,5 +1,6 @@
 #pragma once
-// VTK XML output of rigid Voronoi grains (docs/voronoi.md, "VTK output"),
+// VTK XML output of rigid and flexible Voronoi grains (docs/voronoi.md,
+// "VTK output"),
 // written with the VTK library like dem/io/vtk_output.cc, each file to
 // `path.tmp` and renamed (docs/architecture.md, "Outputs and run status"):
 //  - cells: the grain polygons in the current configuration (the install
@@ -14,6 +15,13 @@
 //    cell edge the point stands for (Lobatto: the end sixths and the middle
 //    two thirds; one point: the whole edge), cell data mode (1 tensile,
 //    2 shear) and the two grains.
+// Flexible grains: the cells are the element triangles in the current
+// configuration (points: the nodes, point data displacement), cell data
+// grain id, Cauchy stress sigma = F S F^T / det F (xx, yy, xy; tension
+// positive) and the mean stress (s_xx + s_yy + s_zz) / 3 with the
+// plane-strain s_zz = lambda tr(E) / det F; the contact points and cracks
+// as the rigid grains', at the reference points of the current disks.
+#include "dem/voronoi/flexible_model.h"
 #include "dem/voronoi/rigid_model.h"
 #include "dem/voronoi/tessellation.h"
 
@@ -29,6 +37,16 @@ namespace demfem::dem::voronoi
   void write_voronoi_points_vtk(const std::string &path, const RigidVoronoiModel &model);
   /// Cracked local points as edge pieces (.vtp, lines); returns their number.
   int write_voronoi_cracks_vtk(const std::string &path, const RigidVoronoiModel &model);
+
+  /// Element triangles of flexible grains (.vtp).
+  void write_voronoi_cells_vtk(const std::string          &path,
+                               const FlexibleVoronoiModel &model);
+  /// Local contact points of flexible grains (.vtp, vertices).
+  void write_voronoi_points_vtk(const std::string          &path,
+                                const FlexibleVoronoiModel &model);
+  /// Cracked local points of flexible grains (.vtp, lines); their number.
+  int write_voronoi_cracks_vtk(const std::string          &path,
+                               const FlexibleVoronoiModel &model);
 
   /// Love-Weber mean stress {s_xx, s_yy, s_xy} of every grain (tension
   /// positive; zero for empty cells), from the forces of the last step.

@@ -7,8 +7,10 @@
 #include "dem/voronoi/tessellation.h"
 
 #include <catch2/catch.hpp>
+#include <omp.h>
 
 #include <cmath>
+#include <iostream>
 #include <random>
 #include <vector>
 
@@ -253,4 +255,106 @@ TEST_CASE("Flexible Voronoi contact under rigid nodal motion is the rigid contac
   // crack opening 2 G_t / sigma_t = 9e-7 m), not only the elastic range.
   CHECK(damaged == rigid.n_points());
   CHECK(cracked > 0);
+}
+
+TEST_CASE("Flexible Voronoi model: 1 and 2 threads give bit-identical results",
+          "[voronoi][flexible][threads]")
+{
+  // Contacts write their points' slots, each grain gathers its nodes'
+  // contributions in point order, and grains share no nodes: no sum depends
+  // on the thread count. A jittered lattice with short edges merged, points
+  // that break, a pressure and a platen.
+  std::vector<double>                    x, y, r;
+  std::mt19937_64                        rng(21);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double                           h = 1e-3;
+  for (int j = 0; j < 14; ++j)
+    for (int i = 0; i < 12; ++i)
+      {
+        x.push_back((i + 0.5 + 0.5 * (j % 2)) * h + 0.15 * h * u(rng));
+        y.push_back((j + 0.5) * 0.866 * h + 0.15 * h * u(rng));
+        r.push_back(0.45 * h + 0.05 * h * u(rng));
+      }
+  const auto t = laguerre_tessellation(
+      x, y, r, ClipDomain::rectangle(0, 0, 12.5 * h, 14 * 0.866 * h));
+  auto run = [&](int threads) {
+    const int old = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    ContactMaterial m  = contact_material();
+    m.tensile_strength = 2e6; // some points break
+    m.cohesion         = 6e6;
+    m                  = m.brittle();
+    FlexibleVoronoiModel model(t, x, y, r, grain_material(50e9), m, PointScheme::lobatto3,
+                               FlexibleMeshOptions{0.1});
+    model.parallel_threshold = 0; // threads even on this small model
+    model.damping            = 0.3;
+    model.set_pressure(Side::left, 1e6);
+    const int top         = model.add_platen(Side::top, PlatenLaw::frictional, 0.3);
+    model.platens[top].vy = -0.5;
+    model.activate_platen(top);
+    std::mt19937_64 gen(4);
+    for (int k = 0; k < model.mesh.n_nodes(); ++k)
+      {
+        model.vx[k] = 1.0 * u(gen);
+        model.vy[k] = 1.0 * u(gen);
+      }
+    const double dt = model.stable_time_step(0.5);
+    for (int s = 0; s < 300; ++s)
+      model.step(dt);
+    omp_set_num_threads(old);
+    return model;
+  };
+  const auto one = run(1), two = run(2);
+  int        cracked = 0;
+  for (PointCrack k : one.contacts.crack)
+    cracked += k == PointCrack::tensile || k == PointCrack::shear;
+  CHECK(cracked > 0); // the law's branches were exercised
+  CHECK(one.x == two.x);
+  CHECK(one.y == two.y);
+  CHECK(one.vx == two.vx);
+  CHECK(one.fx == two.fx);
+  CHECK(one.fy == two.fy);
+  CHECK(one.contacts.fs == two.contacts.fs);
+  CHECK(one.contacts.damage_t == two.contacts.damage_t);
+  CHECK(one.pp_fn == two.pp_fn);
+}
+
+TEST_CASE("Flexible Voronoi model: measure the thread speed-up",
+          "[.measure][voronoi][flexible][threads]")
+{
+  // By hand (docs/voronoi.md, "Threads"): seconds per grain-step of a
+  // 64 x 64 jittered lattice, elastic, random velocities, 1 and 2 threads.
+  std::vector<double>                    x, y, r;
+  std::mt19937_64                        rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double                           h = 1e-3;
+  for (int j = 0; j < 64; ++j)
+    for (int i = 0; i < 64; ++i)
+      {
+        x.push_back((i + 0.5 + 0.5 * (j % 2)) * h + 0.15 * h * u(rng));
+        y.push_back((j + 0.5) * 0.866 * h + 0.15 * h * u(rng));
+        r.push_back(0.45 * h + 0.05 * h * u(rng));
+      }
+  const auto t = laguerre_tessellation(
+      x, y, r, ClipDomain::rectangle(0, 0, 64.5 * h, 64 * 0.866 * h));
+  for (int threads : {1, 2, 1, 2})
+    {
+      const int old = omp_get_max_threads();
+      omp_set_num_threads(threads);
+      FlexibleVoronoiModel model(t, x, y, r, grain_material(50e9), contact_material());
+      model.parallel_threshold = 0;
+      for (int k = 0; k < model.mesh.n_nodes(); ++k)
+        {
+          model.vx[k] = 1e-3 * u(rng);
+          model.vy[k] = 1e-3 * u(rng);
+        }
+      const double dt    = model.stable_time_step(0.5);
+      const double start = omp_get_wtime();
+      for (int s = 0; s < 200; ++s)
+        model.step(dt);
+      const double sec = omp_get_wtime() - start;
+      omp_set_num_threads(old);
+      std::cout << threads << " threads: " << sec / (200.0 * model.n_grains()) * 1e6
+                << " us per grain-step\n";
+    }
 }
