@@ -10,7 +10,6 @@
 #include "apps/calibrate_fit.h"
 #include "dem/voronoi/voronoi_lab_test.h"
 
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -89,12 +88,13 @@ namespace demfem::apps
 
   /// One test of a calibration on its specimen (the disk for the
   /// Brazilian test): the test's kind, Pc and platen friction on the
-  /// shared parameters s.lab. `final_model` (rigid grains) receives the
-  /// model at the end.
-  dem::voronoi::VoronoiLabResult run_voronoi_test(
-      const VoronoiCalibrateSettings &s, const VoronoiSpecimens &sp,
-      const VoronoiTestSpec                          &t,
-      std::optional<dem::voronoi::RigidVoronoiModel> *final_model = nullptr);
+  /// shared parameters s.lab. With a non-empty `vtk_base`, the model at the
+  /// end is written to <vtk_base>{cells,points,cracks}.vtp (rigid: the
+  /// cells; flexible: the element triangles).
+  dem::voronoi::VoronoiLabResult run_voronoi_test(const VoronoiCalibrateSettings &s,
+                                                  const VoronoiSpecimens         &sp,
+                                                  const VoronoiTestSpec          &t,
+                                                  const std::string &vtk_base = "");
 
   /// Axial stress magnitude when the crack count first reaches `fraction`
   /// of the count at the peak row (as the bonded materials,

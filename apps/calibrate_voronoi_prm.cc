@@ -95,6 +95,12 @@ namespace demfem::apps
                       "flexible-voronoi: E of the grains [Pa] (> 0, plane strain)");
     prm.declare_entry("grain poisson ratio", "0.2", Patterns::Double(),
                       "flexible-voronoi: nu of the grains, in [0, 0.5)");
+    prm.declare_entry(
+        "short edge fraction", "0.1", Patterns::Double(),
+        "flexible-voronoi: cell vertices closer than this fraction of the mean "
+        "equivalent cell diameter share one mesh node, in [0, 0.5) (0: the full "
+        "centroid fan; a short edge's sliver triangle would cut the time step, "
+        "docs/voronoi.md 'Short cell edges')");
     prm.leave_subsection();
   }
 
@@ -165,6 +171,9 @@ namespace demfem::apps
               true, true);
         check(where, v + "grain poisson ratio", s.grain.poisson_ratio, 0, 0.5, false,
               true);
+        l.flexible_mesh.min_edge_fraction = prm.get_double("short edge fraction");
+        check(where, v + "short edge fraction", l.flexible_mesh.min_edge_fraction, 0, 0.5,
+              false, true);
         s.grain.density   = s.density;
         s.grain.thickness = c.thickness;
       }
@@ -252,19 +261,12 @@ namespace demfem::apps
         else if (name == "direct tension")
           add(name, vor::VoronoiTest::direct_tension, 0);
         else if (name == "brazilian")
-          {
-            if (s.flexible)
-              refuse(where, "Tests/tests: brazilian is not available for Material/type "
-                            "= flexible-voronoi (the disk platens hold rigid grains "
-                            "only; allowed: ucs, triaxial, triaxial series, direct "
-                            "tension)");
-            add(name, vor::VoronoiTest::brazilian, 0);
-          }
+          add(name, vor::VoronoiTest::brazilian, 0);
         else
           refuse(where, "Tests/tests: '" + name +
                             "' is not available for Material/type = " + type +
-                            " (allowed: ucs, triaxial, triaxial series, direct tension" +
-                            (s.flexible ? ")" : ", brazilian)"));
+                            " (allowed: ucs, triaxial, triaxial series, direct tension, "
+                            "brazilian)");
       }
     if (s.tests.empty())
       refuse(where, "Tests/tests: no test given");

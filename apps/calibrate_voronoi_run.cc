@@ -3,8 +3,8 @@
 // model of them (dem/voronoi/voronoi_lab_test.h), and the outputs follow the
 // bonded-particle material types (docs/calibrate.md): material.json,
 // summary.json with the run status, history_<test>.csv,
-// <test>_stress_strain.svg and, rigid grains, VTK of the cells, contact
-// points and cracks at the end of each test.
+// <test>_stress_strain.svg and VTK of the cells (flexible grains: their
+// element triangles), contact points and cracks at the end of each test.
 #include "apps/calibrate_output.h"
 #include "apps/calibrate_voronoi.h"
 #include "dem/io/vtk_output.h"
@@ -164,9 +164,10 @@ namespace demfem::apps
     return {E_2d * (1 - nu * nu), nu};
   }
 
-  vor::VoronoiLabResult run_voronoi_test(
-      const VoronoiCalibrateSettings &s, const VoronoiSpecimens &sp,
-      const VoronoiTestSpec &t, std::optional<vor::RigidVoronoiModel> *final_model)
+  vor::VoronoiLabResult run_voronoi_test(const VoronoiCalibrateSettings &s,
+                                         const VoronoiSpecimens         &sp,
+                                         const VoronoiTestSpec          &t,
+                                         const std::string              &vtk_base)
   {
     vor::VoronoiLabParams lp = s.lab;
     lp.test                  = t.test;
@@ -174,10 +175,32 @@ namespace demfem::apps
     const bool brazilian     = t.test == vor::VoronoiTest::brazilian;
     lp.platen_friction       = brazilian ? s.brazilian_platen_friction : 0.0;
     const auto &specimen     = brazilian ? sp.disk : sp.rectangle;
-    return s.flexible
-               ? vor::run_flexible_voronoi_lab_test(specimen, s.contact, s.grain, lp)
-               : vor::run_voronoi_lab_test(specimen, s.contact, s.density, lp,
-                                           final_model);
+    const bool  vtk          = !vtk_base.empty();
+    // The same three files for either kind of grain (dem/voronoi/voronoi_vtk.h).
+    auto write = [&](const auto &model, auto &&write_cells) {
+      write_cells(vtk_base + "cells.vtp");
+      vor::write_voronoi_points_vtk(vtk_base + "points.vtp", model);
+      vor::write_voronoi_cracks_vtk(vtk_base + "cracks.vtp", model);
+    };
+    if (s.flexible)
+      {
+        std::optional<vor::FlexibleVoronoiModel> model;
+        const auto r = vor::run_flexible_voronoi_lab_test(specimen, s.contact, s.grain,
+                                                          lp, vtk ? &model : nullptr);
+        if (vtk && model)
+          write(*model, [&](const std::string &path) {
+            vor::write_voronoi_cells_vtk(path, *model);
+          });
+        return r;
+      }
+    std::optional<vor::RigidVoronoiModel> model;
+    const auto r = vor::run_voronoi_lab_test(specimen, s.contact, s.density, lp,
+                                             vtk ? &model : nullptr);
+    if (vtk && model)
+      write(*model, [&](const std::string &path) {
+        vor::write_voronoi_cells_vtk(path, specimen.tessellation, *model);
+      });
+    return r;
   }
 
   VoronoiSpecimens make_voronoi_specimens(const VoronoiCalibrateSettings &s)
@@ -214,8 +237,7 @@ namespace demfem::apps
     const auto t_start = Clock::now();
     fs::create_directories(s.out);
     const std::string vtk_dir = s.out + "/vtk";
-    // The VTK writers hold rigid grains (dem/voronoi/voronoi_vtk.h).
-    const bool vtk = s.vtk && !s.flexible;
+    const bool        vtk     = s.vtk;
     if (vtk)
       fs::create_directories(vtk_dir);
     const std::string kind = s.flexible ? "flexible-voronoi" : "rigid-voronoi";
@@ -229,19 +251,10 @@ namespace demfem::apps
         const auto &specimen  = brazilian ? sp.disk : sp.rectangle;
         const auto  name      = file_name(t.label);
         std::cerr << "demfem calibrate: " << t.label << " (" << kind << ")\n";
-        const auto                            t_test = Clock::now();
-        std::optional<vor::RigidVoronoiModel> final_model;
-        const vor::VoronoiLabResult           r =
-            run_voronoi_test(s, sp, t, vtk ? &final_model : nullptr);
+        const auto                  t_test = Clock::now();
+        const vor::VoronoiLabResult r =
+            run_voronoi_test(s, sp, t, vtk ? vtk_dir + "/" + name + "_end_" : "");
         const double test_s = seconds_since(t_test);
-        if (vtk && final_model)
-          {
-            const std::string base = vtk_dir + "/" + name + "_end_";
-            vor::write_voronoi_cells_vtk(base + "cells.vtp", specimen.tessellation,
-                                         *final_model);
-            vor::write_voronoi_points_vtk(base + "points.vtp", *final_model);
-            vor::write_voronoi_cracks_vtk(base + "cracks.vtp", *final_model);
-          }
         dem::vtkout::write_text_atomically(s.out + "/history_" + name + ".csv",
                                            history_csv(r.history));
         // Compression positive for compression and Brazilian, tension
@@ -396,9 +409,10 @@ namespace demfem::apps
         .num("dim", 2)
         .num("genesis_s", sp.genesis_s)
         .num("wall_time_s", seconds_since(t_start))
-        .str("vtk", vtk ? "vtk/<test>_end_{cells,points,cracks}.vtp"
-                        : (s.vtk ? "none: the Voronoi VTK writers hold rigid grains only"
-                                 : "off"));
+        .str("vtk", vtk ? (s.flexible ? "vtk/<test>_end_{cells,points,cracks}.vtp "
+                                        "(cells: the grains' element triangles)"
+                                      : "vtk/<test>_end_{cells,points,cracks}.vtp")
+                        : "off");
     sum.obj("tests", tests_json);
     dem::vtkout::write_text_atomically(s.out + "/summary.json", sum.text() + "\n");
     return calibration_outcome(s.out, seconds_since(t_start), truncated.size());
