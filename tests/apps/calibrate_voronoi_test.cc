@@ -276,7 +276,7 @@ TEST_CASE("calibrate voronoi: flexible grains are softer than rigid ones",
   for (const auto &[dir, t] : {std::pair{flex, "ucs"}, std::pair{flex_disk, "brazilian"}})
     {
       INFO(t);
-      const auto sb    = nlohmann::json::parse(read(dir / "summary.json"));
+      const auto sum   = nlohmann::json::parse(read(dir / "summary.json"));
       const auto base  = dir / "vtk" / (std::string(t) + "_end_");
       const auto cells = read_vtp(base.string() + "cells.vtp");
       const int  n     = sum["tests"][t]["n_grains"];
