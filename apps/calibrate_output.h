@@ -35,7 +35,7 @@ namespace demfem::apps
   /// strain at the peak (both magnitudes). Small: brittle (a sudden drop);
   /// NaN when the curve never falls that far.
   double post_peak_strain_ratio(const std::vector<double> &strain,
-                                const std::vector<double> &stress, double fraction = 0.8);
+                                const std::vector<double> &stress, double fraction = 0.9);
 
   /// Flat-or-nested JSON object built in order of insertion.
   class Json

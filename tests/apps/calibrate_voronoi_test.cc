@@ -97,7 +97,7 @@ TEST_CASE("calibrate voronoi: the rigid example end to end", "[calibrate][vorono
   CHECK(ucs > 3 * dt);
   CHECK(ucs > 3 * bts);
   // Post-peak brittleness, recomputed from the UCS history: the strain
-  // from the peak to the first row below 0.8 of it, over the peak strain.
+  // from the peak to the first row below 0.9 of it, over the peak strain.
   {
     std::istringstream csv(read(out / "history_ucs.csv"));
     std::string        line;
@@ -113,7 +113,7 @@ TEST_CASE("calibrate voronoi: the rigid example end to end", "[calibrate][vorono
       }
     const auto peak = std::max_element(q.begin(), q.end()) - q.begin();
     const auto drop = std::find_if(q.begin() + peak, q.end(),
-                                   [&](double x) { return x < 0.8 * q[peak]; }) -
+                                   [&](double x) { return x < 0.9 * q[peak]; }) -
                       q.begin();
     REQUIRE(drop < long(q.size()));
     const double ratio = mat["ratios"]["post_peak_strain_ratio"];
