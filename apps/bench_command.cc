@@ -14,13 +14,13 @@
 // a strain of order 1e-5 over a benchmark run). Pairs that come within the
 // skin later get a linear contact (the usual default law).
 #include "apps/commands.h"
-#include "dem/laws/flat_joint_law.h"
-#include "dem/voronoi/voronoi_lab_test.h"
-#include "dem/specimen/genesis.h"
-#include "dem/laws/linear_law.h"
-#include "dem/specimen/material_file.h"
 #include "dem/engine/model.h"
+#include "dem/laws/flat_joint_law.h"
+#include "dem/laws/linear_law.h"
+#include "dem/specimen/genesis.h"
+#include "dem/specimen/material_file.h"
 #include "dem/specimen/property_rules.h"
+#include "dem/voronoi/voronoi_lab_test.h"
 
 #include <nlohmann/json.hpp>
 #include <omp.h>
@@ -94,7 +94,8 @@ namespace
            "  --threads T    OpenMP threads, 1 <= T <= 1024 (default 1)\n"
            "  --json         print one JSON object instead of the text report\n"
            "\n"
-           "demfem bench voronoi: cost per grain-step of rigid Voronoi grains (seed\n"
+           "demfem bench voronoi: cost per grain-step of rigid and flexible Voronoi "
+           "grains (seed\n"
            "004: Laguerre cells of a jittered hexagonal packing, three contact points\n"
            "per shared edge, bilinear softening) against the 2D flat-joint scene\n"
            "above with the same N, steps and threads (docs/voronoi.md).\n";
@@ -461,35 +462,46 @@ namespace
     std::cout << buf;
   }
 
-  /// The rigid Voronoi model's cost per grain-step next to the flat-joint
-  /// scene's `fj` (same N, steps, threads).
+  /// The rigid and flexible Voronoi models' costs per grain-step next to
+  /// the flat-joint scene's `fj` (same N, steps, threads), with their time
+  /// steps (a flexible grain's elements bound its step).
   void report_voronoi(const BenchOptions &o, const BenchResult &fj)
   {
-    const double fj_cost = fj.wall_s / (double(fj.n_particles) * o.steps);
-    const double vor_cost =
-        demfem::dem::voronoi::voronoi_cost_per_grain_step(static_cast<int>(o.n),
-                                                  static_cast<int>(o.steps));
+    namespace vor         = demfem::dem::voronoi;
+    const double fj_cost  = fj.wall_s / (double(fj.n_particles) * o.steps);
+    double       dt_rigid = 0, dt_flexible = 0;
+    const double rigid = vor::voronoi_cost_per_grain_step(
+        static_cast<int>(o.n), static_cast<int>(o.steps), 1, &dt_rigid);
+    const double flexible = vor::flexible_voronoi_cost_per_grain_step(
+        static_cast<int>(o.n), static_cast<int>(o.steps), 1, &dt_flexible);
     if (o.json)
       {
         nlohmann::ordered_json j;
-        j["benchmark"]                         = "voronoi";
-        j["n"]                                 = o.n;
-        j["steps"]                             = o.steps;
-        j["threads"]                           = o.threads;
-        j["flatjoint_s_per_grain_step"]        = fj_cost;
-        j["rigid_voronoi_s_per_grain_step"]    = vor_cost;
-        j["rigid_voronoi_over_flatjoint_cost"] = vor_cost / fj_cost;
+        j["benchmark"]                            = "voronoi";
+        j["n"]                                    = o.n;
+        j["steps"]                                = o.steps;
+        j["threads"]                              = o.threads;
+        j["flatjoint_s_per_grain_step"]           = fj_cost;
+        j["rigid_voronoi_s_per_grain_step"]       = rigid;
+        j["rigid_voronoi_over_flatjoint_cost"]    = rigid / fj_cost;
+        j["flexible_voronoi_s_per_grain_step"]    = flexible;
+        j["flexible_voronoi_over_flatjoint_cost"] = flexible / fj_cost;
+        j["rigid_voronoi_time_step_s"]            = dt_rigid;
+        j["flexible_voronoi_time_step_s"]         = dt_flexible;
         std::cout << j.dump() << "\n";
         return;
       }
     char buf[1024];
     std::snprintf(buf, sizeof buf,
                   "demfem bench voronoi: %lld grains, %lld steps, %d thread(s)\n"
-                  "  flat joint (2D scene, Nr = 2)   %.3g us per grain-step\n"
-                  "  rigid Voronoi (3 points/edge)   %.3g us per grain-step\n"
-                  "  Voronoi / flat joint            %.3g\n",
+                  "  flat joint (2D scene, Nr = 2)      %.3g us per grain-step\n"
+                  "  rigid Voronoi (3 points/edge)      %.3g us per grain-step "
+                  "(%.3g x flat joint), dt %.3g s\n"
+                  "  flexible Voronoi (CST grains)      %.3g us per grain-step "
+                  "(%.3g x flat joint), dt %.3g s\n",
                   static_cast<long long>(o.n), static_cast<long long>(o.steps), o.threads,
-                  1e6 * fj_cost, 1e6 * vor_cost, vor_cost / fj_cost);
+                  1e6 * fj_cost, 1e6 * rigid, rigid / fj_cost, dt_rigid, 1e6 * flexible,
+                  flexible / fj_cost, dt_flexible);
     std::cout << buf;
   }
 } // namespace

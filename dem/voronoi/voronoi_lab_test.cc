@@ -364,50 +364,100 @@ namespace demfem::dem::voronoi
     return r;
   }
 
-  double voronoi_cost_per_grain_step(int n_grains, int steps, std::uint64_t seed)
+  namespace
   {
-    check_range("voronoi_cost_per_grain_step", "n_grains", n_grains, 4, HUGE_VAL);
-    check_range("voronoi_cost_per_grain_step", "steps", steps, 1, HUGE_VAL);
-    // Jittered hexagonal lattice, spacing 1 mm, radii 0.4-0.5 mm.
-    const double    h  = 1e-3;
-    const int       nx = std::max(2, (int)std::lround(std::sqrt(n_grains / 0.866)));
-    const int       ny = std::max(2, (int)std::lround(n_grains / (double)nx));
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(-1, 1);
-    std::vector<double>                    x, y, r;
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i)
-        {
-          x.push_back((i + 0.5 + 0.5 * (j % 2)) * h + 0.1 * h * u(rng));
-          y.push_back((j + 0.5) * 0.866 * h + 0.1 * h * u(rng));
-          r.push_back(0.45 * h + 0.05 * h * u(rng));
-        }
-    const auto tess = laguerre_tessellation(
-        x, y, r, ClipDomain::rectangle(0, 0, (nx + 0.5) * h, ny * 0.866 * h));
-    ContactMaterial cm;
-    cm.kn                      = 5e13;
-    cm.kratio                  = 1.5;
-    cm.tensile_strength        = 1e7;
-    cm.cohesion                = 3e7;
-    cm.friction                = 0.5;
-    cm.tensile_fracture_energy = 10;
-    cm.shear_fracture_energy   = 50;
-    RigidVoronoiModel model(tess, x, y, r, 2650, cm);
+    // The benchmark scene: Laguerre cells of a jittered hexagonal lattice,
+    // spacing 1 mm, radii 0.4-0.5 mm, about n_grains grains; an intact
+    // bonded contact material (every point runs the law).
+    struct CostScene
+    {
+      std::vector<double> x, y, r;
+      Tessellation        tess;
+      ContactMaterial     cm;
+      std::mt19937_64     rng;
+    };
+
+    CostScene cost_scene(int n_grains, int steps, std::uint64_t seed, const char *where)
+    {
+      check_range(where, "n_grains", n_grains, 4, HUGE_VAL);
+      check_range(where, "steps", steps, 1, HUGE_VAL);
+      CostScene    sc;
+      const double h  = 1e-3;
+      const int    nx = std::max(2, (int)std::lround(std::sqrt(n_grains / 0.866)));
+      const int    ny = std::max(2, (int)std::lround(n_grains / (double)nx));
+      sc.rng.seed(seed);
+      std::uniform_real_distribution<double> u(-1, 1);
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i)
+          {
+            sc.x.push_back((i + 0.5 + 0.5 * (j % 2)) * h + 0.1 * h * u(sc.rng));
+            sc.y.push_back((j + 0.5) * 0.866 * h + 0.1 * h * u(sc.rng));
+            sc.r.push_back(0.45 * h + 0.05 * h * u(sc.rng));
+          }
+      sc.tess = laguerre_tessellation(
+          sc.x, sc.y, sc.r, ClipDomain::rectangle(0, 0, (nx + 0.5) * h, ny * 0.866 * h));
+      sc.cm.kn                      = 5e13;
+      sc.cm.kratio                  = 1.5;
+      sc.cm.tensile_strength        = 1e7;
+      sc.cm.cohesion                = 3e7;
+      sc.cm.friction                = 0.5;
+      sc.cm.tensile_fracture_energy = 10;
+      sc.cm.shear_fracture_energy   = 50;
+      return sc;
+    }
+
+    template <class Model>
+    double seconds_per_grain_step(Model &model, int steps, double *time_step)
+    {
+      const double dt = model.stable_time_step(0.5);
+      if (time_step)
+        *time_step = dt;
+      const auto start = std::chrono::steady_clock::now();
+      for (int s = 0; s < steps; ++s)
+        model.step(dt);
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return seconds / (double(model.n_grains()) * steps);
+    }
+  } // namespace
+
+  double voronoi_cost_per_grain_step(int n_grains, int steps, std::uint64_t seed,
+                                     double *time_step)
+  {
+    CostScene sc = cost_scene(n_grains, steps, seed, "voronoi_cost_per_grain_step");
+    RigidVoronoiModel model(sc.tess, sc.x, sc.y, sc.r, 2650, sc.cm);
     // Small random velocities: the contacts stay elastic, every point runs
     // the law (the cost of an intact bonded material).
+    std::uniform_real_distribution<double> u(-1, 1);
     for (int i = 0; i < model.n_grains(); ++i)
       if (!model.held[i])
         {
-          model.vx[i]    = 1e-3 * u(rng);
-          model.vy[i]    = 1e-3 * u(rng);
-          model.omega[i] = 1.0 * u(rng);
+          model.vx[i]    = 1e-3 * u(sc.rng);
+          model.vy[i]    = 1e-3 * u(sc.rng);
+          model.omega[i] = 1.0 * u(sc.rng);
         }
-    const double dt    = model.stable_time_step(0.5);
-    const auto   start = std::chrono::steady_clock::now();
-    for (int s = 0; s < steps; ++s)
-      model.step(dt);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return seconds / (double(model.n_grains()) * steps);
+    return seconds_per_grain_step(model, steps, time_step);
+  }
+
+  double flexible_voronoi_cost_per_grain_step(int n_grains, int steps, std::uint64_t seed,
+                                              double *time_step)
+  {
+    CostScene sc =
+        cost_scene(n_grains, steps, seed, "flexible_voronoi_cost_per_grain_step");
+    GrainElasticity grain;
+    grain.youngs_modulus = 70e9; // a granite's grains
+    grain.poisson_ratio  = 0.25;
+    grain.density        = 2650;
+    grain.thickness      = sc.cm.thickness;
+    FlexibleVoronoiModel model(sc.tess, sc.x, sc.y, sc.r, grain, sc.cm);
+    // Small random nodal velocities: the elements and contacts stay
+    // elastic, every point runs the law.
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (std::size_t m = 0; m < model.vx.size(); ++m)
+      {
+        model.vx[m] = 1e-3 * u(sc.rng);
+        model.vy[m] = 1e-3 * u(sc.rng);
+      }
+    return seconds_per_grain_step(model, steps, time_step);
   }
 } // namespace demfem::dem::voronoi

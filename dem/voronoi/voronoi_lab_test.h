@@ -176,7 +176,16 @@ namespace demfem::dem::voronoi
   /// three contacts per grain, as a dense packing), `steps` steps, with the
   /// current OpenMP thread count (parallel from 4096 grains / 8192
   /// contacts). For the benchmark; no genesis (it would dominate at 1e5
-  /// grains).
+  /// grains). `time_step`, if given, receives the step used (0.5 of the
+  /// stable estimate) [s].
   double voronoi_cost_per_grain_step(int n_grains, int steps = 200,
-                                     std::uint64_t seed = 1);
+                                     std::uint64_t seed = 1, double *time_step = nullptr);
+
+  /// The same for flexible grains (grain E 70 GPa, nu 0.25, the default
+  /// short-edge merging) on the same lattice: the cost per grain-step and,
+  /// in `time_step`, the step (smaller than the rigid one: the elements and
+  /// the node masses bound it).
+  double flexible_voronoi_cost_per_grain_step(int n_grains, int steps = 200,
+                                              std::uint64_t seed      = 1,
+                                              double       *time_step = nullptr);
 } // namespace demfem::dem::voronoi

@@ -117,7 +117,7 @@ TEST_CASE("bench dem --material builds the scene of a material file", "[bench]")
   CHECK_THAT(arg.out, Catch::Contains("--material"));
 }
 
-TEST_CASE("bench voronoi compares the rigid Voronoi model with the flat joint",
+TEST_CASE("bench voronoi compares the Voronoi models with the flat joint",
           "[bench][voronoi]")
 {
   const RunResult r = run_demfem("bench voronoi --n 400 --steps 20 --threads 1 --json");
@@ -130,6 +130,14 @@ TEST_CASE("bench voronoi compares the rigid Voronoi model with the flat joint",
   // The ratio is the two costs' (no timing assertion: only consistency).
   CHECK(json_number(r.out, "rigid_voronoi_over_flatjoint_cost") ==
         Approx(vor / fj).epsilon(1e-9));
+  const double flex = json_number(r.out, "flexible_voronoi_s_per_grain_step");
+  CHECK(flex > 0);
+  CHECK(json_number(r.out, "flexible_voronoi_over_flatjoint_cost") ==
+        Approx(flex / fj).epsilon(1e-9));
+  // The flexible grains' elements bound their step below the rigid one.
+  CHECK(json_number(r.out, "flexible_voronoi_time_step_s") > 0);
+  CHECK(json_number(r.out, "flexible_voronoi_time_step_s") <
+        json_number(r.out, "rigid_voronoi_time_step_s"));
   CHECK(json_number(r.out, "n") == 400);
   // 2D only, its own scenes.
   for (const char *bad : {"bench voronoi --dim 3", "bench voronoi --material x.json"})
