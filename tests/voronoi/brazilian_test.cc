@@ -4,6 +4,8 @@
 #include "dem/engine/types.h"
 #include "dem/voronoi/voronoi_lab_test.h"
 
+#include "voronoi_test_helpers.h"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -11,6 +13,7 @@
 
 using namespace demfem::dem;
 using namespace demfem::dem::voronoi;
+using namespace demfem::dem::voronoi::testing;
 
 namespace
 {
@@ -140,13 +143,9 @@ TEST_CASE("Voronoi Brazilian test with stiff flexible grains: the rigid grains' 
   p.strain_limit                    = 5e-3;
   p.platen_friction                 = 0.5;
   p.flexible_mesh.min_edge_fraction = 0.2;
-  GrainElasticity g;
-  g.youngs_modulus = 100 * breakable().contact_modulus;
-  g.poisson_ratio  = 0.2;
-  g.density        = 2650;
-  g.thickness      = 1;
-  const auto rigid = run_voronoi_lab_test(s, breakable(), 2650, p);
-  const auto flex  = run_flexible_voronoi_lab_test(s, breakable(), g, p);
+  const GrainElasticity g           = grain_elasticity(100 * breakable().contact_modulus);
+  const auto            rigid       = run_voronoi_lab_test(s, breakable(), 2650, p);
+  const auto            flex        = run_flexible_voronoi_lab_test(s, breakable(), g, p);
   INFO("grains " << flex.n_grains << ", BTS rigid " << rigid.peak_stress << " Pa at "
                  << rigid.peak_strain << " (" << rigid.loading_steps
                  << " steps), flexible " << flex.peak_stress << " Pa at "

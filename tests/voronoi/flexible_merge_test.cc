@@ -6,6 +6,8 @@
 #include "dem/voronoi/flexible_model.h"
 #include "dem/voronoi/voronoi_lab_test.h"
 
+#include "voronoi_test_helpers.h"
+
 #include <catch2/catch.hpp>
 
 #include <chrono>
@@ -16,32 +18,10 @@
 
 using namespace demfem::dem;
 using namespace demfem::dem::voronoi;
+using namespace demfem::dem::voronoi::testing;
 
 namespace
 {
-  /// The genesis specimen of the lab tests (~200 grains, 25 x 50 mm).
-  const VoronoiSpecimen &specimen()
-  {
-    static const VoronoiSpecimen s = [] {
-      VoronoiSpecimenParams p;
-      p.width    = 0.025;
-      p.height   = 0.05;
-      p.n_grains = 200;
-      return make_voronoi_specimen(p);
-    }();
-    return s;
-  }
-
-  GrainElasticity grain(double E)
-  {
-    GrainElasticity g;
-    g.youngs_modulus = E;
-    g.poisson_ratio  = 0.2;
-    g.density        = 2650;
-    g.thickness      = 1;
-    return g;
-  }
-
   /// Elastic, elastically uniform contacts (kappa = 1, kn = E_c / d).
   ContactMaterial elastic()
   {
@@ -59,9 +39,9 @@ namespace
 TEST_CASE("Flexible grains with merged short edges: masses, vertex map, coarse edges",
           "[voronoi][flexible][merge]")
 {
-  const auto       &s = specimen();
+  const auto       &s = lab_specimen();
   const auto       &t = s.tessellation;
-  const auto        g = grain(50e9);
+  const auto        g = grain_elasticity(50e9);
   const double      f = 0.1;
   FlexibleGrainMesh merged(t, g, FlexibleMeshOptions{f}), full(t, g, {0.0});
   REQUIRE(merged.n_nodes() < full.n_nodes());
@@ -119,11 +99,12 @@ TEST_CASE("Flexible grains with merged short edges: masses, vertex map, coarse e
 TEST_CASE("Flexible grains with merged short edges: the stable time step rises",
           "[voronoi][flexible][merge]")
 {
-  const auto          &s = specimen();
-  FlexibleVoronoiModel full(s.tessellation, s.x, s.y, s.radius, grain(50e9), elastic(),
-                            PointScheme::lobatto3, FlexibleMeshOptions{0.0});
+  const auto          &s = lab_specimen();
+  FlexibleVoronoiModel full(s.tessellation, s.x, s.y, s.radius, grain_elasticity(50e9),
+                            elastic(), PointScheme::lobatto3, FlexibleMeshOptions{0.0});
   // The default merge fraction (0.1).
-  FlexibleVoronoiModel merged(s.tessellation, s.x, s.y, s.radius, grain(50e9), elastic());
+  FlexibleVoronoiModel merged(s.tessellation, s.x, s.y, s.radius, grain_elasticity(50e9),
+                              elastic());
   const double         dt0 = full.stable_time_step(), dt1 = merged.stable_time_step();
   INFO("stable time step " << dt0 << " s unmerged, " << dt1 << " s merged");
   // Measured 1.25e-9 and 3.10e-8 s: 24.8 x. Asked: 16 x.
@@ -136,7 +117,7 @@ TEST_CASE("Flexible grains: measure the merge fraction's time step and UCS modul
   // By hand (docs/voronoi.md, "Short cell edges"): elastic UCS at 1 and
   // 0.25/s to a strain of 2e-4 on the 200-grain specimen, grain E = E_c =
   // 50 GPa.
-  const auto      &s = specimen();
+  const auto      &s = lab_specimen();
   VoronoiLabParams p;
   p.test         = VoronoiTest::unconfined_compression;
   p.strain_limit = 2e-4;
@@ -145,12 +126,14 @@ TEST_CASE("Flexible grains: measure the merge fraction's time step and UCS modul
       {
         p.strain_rate                     = rate;
         p.flexible_mesh.min_edge_fraction = f;
-        const auto   start                = std::chrono::steady_clock::now();
-        const auto   r = run_flexible_voronoi_lab_test(s, elastic(), grain(50e9), p);
+        const auto start                  = std::chrono::steady_clock::now();
+        const auto r =
+            run_flexible_voronoi_lab_test(s, elastic(), grain_elasticity(50e9), p);
         const double sec =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
                 .count();
-        FlexibleGrainMesh mesh(s.tessellation, grain(50e9), FlexibleMeshOptions{f});
+        FlexibleGrainMesh mesh(s.tessellation, grain_elasticity(50e9),
+                               FlexibleMeshOptions{f});
         std::cout << "rate " << rate << ", fraction " << f << ": nodes " << mesh.n_nodes()
                   << ", dt " << r.time_step << " s, steps " << r.loading_steps << ", E "
                   << r.E << ", nu " << r.nu << ", " << sec << " s\n";
@@ -169,20 +152,12 @@ TEST_CASE("Flexible grains with merged short edges: side edges keep their geomet
   const double h = 1e-3;
   for (std::uint64_t seed = 1; seed < 40; ++seed)
     {
-      std::vector<double>                    x, y, r;
-      std::mt19937_64                        rng(seed);
-      std::uniform_real_distribution<double> u(-1, 1);
-      for (int j = 0; j < 8; ++j)
-        for (int i = 0; i < 6; ++i)
-          {
-            x.push_back((i + 0.5 + 0.5 * (j % 2)) * h + 0.2 * h * u(rng));
-            y.push_back((j + 0.5) * 0.866 * h + 0.2 * h * u(rng));
-            r.push_back(0.45 * h + 0.05 * h * u(rng));
-          }
-      const double W = 6.5 * h, H = 8 * 0.866 * h;
-      const auto   t = laguerre_tessellation(x, y, r, ClipDomain::rectangle(0, 0, W, H));
-      FlexibleVoronoiModel m(t, x, y, r, grain(50e9), elastic(), PointScheme::lobatto3,
-                             FlexibleMeshOptions{0.2});
+      const Packing p = jittered(6, 8, seed, 0.2, h);
+      const auto   &x = p.x, &y = p.y, &r = p.r;
+      const double  W = p.W, H = p.H;
+      const auto    t = laguerre_tessellation(x, y, r, ClipDomain::rectangle(0, 0, W, H));
+      FlexibleVoronoiModel m(t, x, y, r, grain_elasticity(50e9), elastic(),
+                             PointScheme::lobatto3, FlexibleMeshOptions{0.2});
       double               xmin, ymin, xmax, ymax;
       int                  collapsed = 0;
       for (const SideEdge &e : rectangle_side_edges(t, xmin, ymin, xmax, ymax))

@@ -6,6 +6,8 @@
 #include "dem/voronoi/flexible_model.h"
 #include "dem/voronoi/tessellation.h"
 
+#include "voronoi_test_helpers.h"
+
 #include <catch2/catch.hpp>
 #include <omp.h>
 
@@ -16,6 +18,7 @@
 
 using namespace demfem::dem;
 using namespace demfem::dem::voronoi;
+using namespace demfem::dem::voronoi::testing;
 
 namespace
 {
@@ -31,15 +34,6 @@ namespace
     return m.brittle();
   }
 
-  GrainElasticity grain_material(double E)
-  {
-    GrainElasticity g;
-    g.youngs_modulus = E;
-    g.poisson_ratio  = 0.2;
-    g.density        = 2650;
-    g.thickness      = 0.01;
-    return g;
-  }
 } // namespace
 
 TEST_CASE("Flexible Voronoi model: forces balance, rigid translation is force free",
@@ -55,7 +49,8 @@ TEST_CASE("Flexible Voronoi model: forces balance, rigid translation is force fr
         r.push_back(0.9e-3);
       }
   const auto t = laguerre_tessellation(x, y, r, ClipDomain::rectangle(0, 0, 6e-3, 6e-3));
-  FlexibleVoronoiModel model(t, x, y, r, grain_material(50e9), contact_material());
+  FlexibleVoronoiModel model(t, x, y, r, grain_elasticity(50e9, 0.01),
+                             contact_material());
   REQUIRE(model.contacts.n_contacts() >= 12);
   const double dt = model.stable_time_step(0.2);
 
@@ -134,7 +129,7 @@ TEST_CASE("Flexible Voronoi model tends to the rigid one as E grows",
   std::vector<double> excess;
   for (double E : {2e10, 2e11, 2e12})
     {
-      FlexibleVoronoiModel model(t, x, y, r, grain_material(E), cm);
+      FlexibleVoronoiModel model(t, x, y, r, grain_elasticity(E, 0.01), cm);
       model.damping = 0.7;
       for (int m = model.mesh.grain_node_offset[0]; m < model.mesh.grain_node_offset[1];
            ++m)
@@ -186,7 +181,7 @@ TEST_CASE("Flexible Voronoi contact under rigid nodal motion is the rigid contac
   cm.cohesion                = 6e6;
   cm.tensile_fracture_energy = 3 * cm.tensile_elastic_energy();
   cm.shear_fracture_energy   = 3 * cm.shear_elastic_energy();
-  FlexibleVoronoiModel flex(t, x, y, r, grain_material(50e9), cm);
+  FlexibleVoronoiModel flex(t, x, y, r, grain_elasticity(50e9, 0.01), cm);
   RigidVoronoiContacts rigid(cm);
   rigid.add_from_tessellation(t, x, y, r, PointScheme::lobatto3);
   REQUIRE(rigid.n_points() == flex.contacts.n_points());
@@ -264,32 +259,23 @@ TEST_CASE("Flexible Voronoi model: 1 and 2 threads give bit-identical results",
   // contributions in point order, and grains share no nodes: no sum depends
   // on the thread count. A jittered lattice with short edges merged, points
   // that break, a pressure and a platen.
-  std::vector<double>                    x, y, r;
-  std::mt19937_64                        rng(21);
+  const Packing p = jittered(12, 14, 21, 0.15);
+  const auto   &x = p.x, &y = p.y, &r = p.r;
+  const auto    t = laguerre_tessellation(x, y, r, ClipDomain::rectangle(0, 0, p.W, p.H));
   std::uniform_real_distribution<double> u(-1, 1);
-  const double                           h = 1e-3;
-  for (int j = 0; j < 14; ++j)
-    for (int i = 0; i < 12; ++i)
-      {
-        x.push_back((i + 0.5 + 0.5 * (j % 2)) * h + 0.15 * h * u(rng));
-        y.push_back((j + 0.5) * 0.866 * h + 0.15 * h * u(rng));
-        r.push_back(0.45 * h + 0.05 * h * u(rng));
-      }
-  const auto t = laguerre_tessellation(
-      x, y, r, ClipDomain::rectangle(0, 0, 12.5 * h, 14 * 0.866 * h));
-  auto run = [&](int threads) {
+  auto                                   run = [&](int threads) {
     const int old = omp_get_max_threads();
     omp_set_num_threads(threads);
     ContactMaterial m  = contact_material();
     m.tensile_strength = 2e6; // some points break
     m.cohesion         = 6e6;
     m                  = m.brittle();
-    FlexibleVoronoiModel model(t, x, y, r, grain_material(50e9), m, PointScheme::lobatto3,
-                               FlexibleMeshOptions{0.1});
+    FlexibleVoronoiModel model(t, x, y, r, grain_elasticity(50e9, 0.01), m,
+                                                                 PointScheme::lobatto3, FlexibleMeshOptions{0.1});
     model.parallel_threshold = 0; // threads even on this small model
-    model.damping            = 0.3;
+    model.damping = 0.3;
     model.set_pressure(Side::left, 1e6);
-    const int top         = model.add_platen(Side::top, PlatenLaw::frictional, 0.3);
+    const int top = model.add_platen(Side::top, PlatenLaw::frictional, 0.3);
     model.platens[top].vy = -0.5;
     model.activate_platen(top);
     std::mt19937_64 gen(4);
@@ -324,24 +310,17 @@ TEST_CASE("Flexible Voronoi model: measure the thread speed-up",
 {
   // By hand (docs/voronoi.md, "Threads"): seconds per grain-step of a
   // 64 x 64 jittered lattice, elastic, random velocities, 1 and 2 threads.
-  std::vector<double>                    x, y, r;
+  const Packing p = jittered(64, 64, 5, 0.15);
+  const auto   &x = p.x, &y = p.y, &r = p.r;
+  const auto    t = laguerre_tessellation(x, y, r, ClipDomain::rectangle(0, 0, p.W, p.H));
   std::mt19937_64                        rng(5);
   std::uniform_real_distribution<double> u(-1, 1);
-  const double                           h = 1e-3;
-  for (int j = 0; j < 64; ++j)
-    for (int i = 0; i < 64; ++i)
-      {
-        x.push_back((i + 0.5 + 0.5 * (j % 2)) * h + 0.15 * h * u(rng));
-        y.push_back((j + 0.5) * 0.866 * h + 0.15 * h * u(rng));
-        r.push_back(0.45 * h + 0.05 * h * u(rng));
-      }
-  const auto t = laguerre_tessellation(
-      x, y, r, ClipDomain::rectangle(0, 0, 64.5 * h, 64 * 0.866 * h));
   for (int threads : {1, 2, 1, 2})
     {
       const int old = omp_get_max_threads();
       omp_set_num_threads(threads);
-      FlexibleVoronoiModel model(t, x, y, r, grain_material(50e9), contact_material());
+      FlexibleVoronoiModel model(t, x, y, r, grain_elasticity(50e9, 0.01),
+                                 contact_material());
       model.parallel_threshold = 0;
       for (int k = 0; k < model.mesh.n_nodes(); ++k)
         {

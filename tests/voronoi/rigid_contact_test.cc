@@ -22,8 +22,8 @@
 //    I = 2 (A/6)(L/2)^2 = A L^2 / 12 = t L^3 / 12: the Lobatto (Simpson)
 //    weights integrate s^2 exactly, so the three-point contact has the
 //    bending stiffness of the continuous edge.
-#include "dem/laws/linear_law.h"
 #include "dem/engine/types.h"
+#include "dem/laws/linear_law.h"
 #include "dem/voronoi/rigid_contact.h"
 #include "dem/voronoi/tessellation.h"
 

@@ -7,6 +7,8 @@
 #include "dem/voronoi/rigid_model.h"
 #include "dem/voronoi/tessellation.h"
 
+#include "voronoi_test_helpers.h"
+
 #include <catch2/catch.hpp>
 #include <omp.h>
 
@@ -16,34 +18,10 @@
 
 using namespace demfem::dem;
 using namespace demfem::dem::voronoi;
+using namespace demfem::dem::voronoi::testing;
 
 namespace
 {
-  /// Jittered hexagonal lattice of polydisperse disks, spacing h, in the
-  /// rectangle [0, W] x [0, H] it returns.
-  struct Packing
-  {
-    std::vector<double> x, y, r;
-    double              W = 0, H = 0;
-  };
-  Packing jittered(int nx, int ny, std::uint64_t seed)
-  {
-    const double                           h = 1e-3;
-    std::mt19937_64                        rng(seed);
-    std::uniform_real_distribution<double> u(-1, 1);
-    Packing                                p;
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i)
-        {
-          p.x.push_back((i + 0.5 + 0.5 * (j % 2)) * h + 0.12 * h * u(rng));
-          p.y.push_back((j + 0.5) * 0.866 * h + 0.12 * h * u(rng));
-          p.r.push_back(0.45 * h + 0.05 * h * u(rng));
-        }
-    p.W = (nx + 0.5) * h;
-    p.H = ny * 0.866 * h;
-    return p;
-  }
-
   ContactMaterial elastic_material(double kratio)
   {
     ContactMaterial m;

@@ -7,6 +7,8 @@
 #include "dem/engine/types.h"
 #include "dem/voronoi/voronoi_lab_test.h"
 
+#include "voronoi_test_helpers.h"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -14,22 +16,10 @@
 
 using namespace demfem::dem;
 using namespace demfem::dem::voronoi;
+using namespace demfem::dem::voronoi::testing;
 
 namespace
 {
-  /// One packed specimen for all cases (~200 grains, 25 x 50 mm).
-  const VoronoiSpecimen &specimen()
-  {
-    static const VoronoiSpecimen s = [] {
-      VoronoiSpecimenParams p;
-      p.width    = 0.025;
-      p.height   = 0.05;
-      p.n_grains = 200;
-      return make_voronoi_specimen(p);
-    }();
-    return s;
-  }
-
   constexpr double E_c = 50e9;
 
   /// Deformability mode: kn = E_c / d, ks = kn / kappa; brittle points
@@ -62,7 +52,7 @@ namespace
 TEST_CASE("Voronoi specimen: packed by the genesis, tessellated, boundary sorted",
           "[voronoi][lab]")
 {
-  const auto &s = specimen();
+  const auto &s = lab_specimen();
   const auto &t = s.tessellation;
   double      A = 0;
   for (double a : t.area)
@@ -77,7 +67,7 @@ TEST_CASE("Voronoi UCS, elastically uniform network: E = E_c, nu = 0; kappa > 1:
 {
   // Elastic: strengths far above the stresses reached (strain 2e-4 -> 10 MPa).
   auto       p = params(VoronoiTest::unconfined_compression, 2e-4);
-  const auto r = run_voronoi_lab_test(specimen(), material(1, 1e12, 1e12), 2650, p);
+  const auto r = run_voronoi_lab_test(lab_specimen(), material(1, 1e12, 1e12), 2650, p);
   INFO("E " << r.E << " Pa, nu " << r.nu << ", rows " << r.history.size() << ", steps "
             << r.loading_steps);
   REQUIRE(r.status == VoronoiLabStatus::ok);
@@ -94,7 +84,7 @@ TEST_CASE("Voronoi UCS, elastically uniform network: E = E_c, nu = 0; kappa > 1:
 
   // kappa = 2: the shear springs are softer; the network contracts
   // laterally less than it would... i.e. it expands: nu > 0, E < E_c.
-  const auto r2 = run_voronoi_lab_test(specimen(), material(2, 1e12, 1e12), 2650, p);
+  const auto r2 = run_voronoi_lab_test(lab_specimen(), material(2, 1e12, 1e12), 2650, p);
   INFO("kappa 2: E " << r2.E << " Pa, nu " << r2.nu);
   CHECK(r2.nu > 0.05);
   CHECK(r2.E < E_c);
@@ -115,7 +105,7 @@ TEST_CASE("Voronoi direct tension, uniform strength, kappa = 1: peak = sigma_t",
   const double sigma_t = 10e6;
   auto         p       = params(VoronoiTest::direct_tension, 2e-3);
   const auto   r =
-      run_voronoi_lab_test(specimen(), material(1, sigma_t, 5 * sigma_t), 2650, p);
+      run_voronoi_lab_test(lab_specimen(), material(1, sigma_t, 5 * sigma_t), 2650, p);
   INFO("peak " << r.peak_stress << " Pa at strain " << r.peak_strain << ", ended by "
                << r.ended_by << ", cracks " << r.cracks_tensile << " + "
                << r.cracks_shear);
@@ -146,9 +136,9 @@ TEST_CASE("Voronoi UCS: the peak does not depend on the time-step safety factor"
 {
   auto p       = params(VoronoiTest::unconfined_compression, 5e-3, 1.0);
   p.safety     = 0.5;
-  const auto a = run_voronoi_lab_test(specimen(), breakable(), 2650, p);
+  const auto a = run_voronoi_lab_test(lab_specimen(), breakable(), 2650, p);
   p.safety     = 0.8;
-  const auto b = run_voronoi_lab_test(specimen(), breakable(), 2650, p);
+  const auto b = run_voronoi_lab_test(lab_specimen(), breakable(), 2650, p);
   INFO("peaks " << a.peak_stress << " and " << b.peak_stress << " Pa, strains "
                 << a.peak_strain << ", " << b.peak_strain << ", steps " << a.loading_steps
                 << ", " << b.loading_steps << ", E " << a.E << ", " << b.E
@@ -177,7 +167,7 @@ TEST_CASE("Voronoi confined compression: elastic superposition, the peak rises",
   // 1 % as the UCS case).
   auto p               = params(VoronoiTest::confined_compression, 2e-4);
   p.confining_pressure = 10e6;
-  const auto e = run_voronoi_lab_test(specimen(), material(1, 1e12, 1e12), 2650, p);
+  const auto e = run_voronoi_lab_test(lab_specimen(), material(1, 1e12, 1e12), 2650, p);
   INFO("elastic confined: E " << e.E << ", nu " << e.nu << ", confining steps "
                               << e.confining_steps);
   REQUIRE(e.status == VoronoiLabStatus::ok);
@@ -188,13 +178,13 @@ TEST_CASE("Voronoi confined compression: elastic superposition, the peak rises",
 
   // Breakable: the confinement raises the peak by more than Pc itself.
   auto       q   = params(VoronoiTest::unconfined_compression, 5e-3, 1.0);
-  const auto ucs = run_voronoi_lab_test(specimen(), breakable(), 2650, q);
+  const auto ucs = run_voronoi_lab_test(lab_specimen(), breakable(), 2650, q);
   // Confined, the response hardens past 2e-3 (measured: no peak up to
   // 5e-3); the stress reached at 2e-3 already exceeds UCS + Pc.
   q.strain_limit       = 2e-3;
   q.test               = VoronoiTest::confined_compression;
   q.confining_pressure = 2.5e6;
-  const auto c         = run_voronoi_lab_test(specimen(), breakable(), 2650, q);
+  const auto c         = run_voronoi_lab_test(lab_specimen(), breakable(), 2650, q);
   INFO("UCS " << ucs.peak_stress << " Pa at " << ucs.peak_strain << " ("
               << ucs.loading_steps << " steps, " << ucs.ended_by << "), confined peak "
               << c.peak_stress << " Pa at " << c.peak_strain << ", confining steps "
@@ -209,12 +199,12 @@ TEST_CASE("Voronoi lab test: the step limit is reported, bad parameters refused"
 {
   auto p       = params(VoronoiTest::unconfined_compression, 1e-2);
   p.step_limit = 50;
-  const auto r = run_voronoi_lab_test(specimen(), material(1, 1e12, 1e12), 2650, p);
+  const auto r = run_voronoi_lab_test(lab_specimen(), material(1, 1e12, 1e12), 2650, p);
   CHECK(r.status == VoronoiLabStatus::step_limit_reached);
   CHECK(r.ended_by == "step limit");
   CHECK(r.loading_steps == 50);
   p.strain_rate = 0;
-  CHECK_THROWS_AS(run_voronoi_lab_test(specimen(), material(1, 1e12, 1e12), 2650, p),
+  CHECK_THROWS_AS(run_voronoi_lab_test(lab_specimen(), material(1, 1e12, 1e12), 2650, p),
                   InputError);
 }
 
@@ -233,16 +223,9 @@ TEST_CASE("Voronoi UCS with flexible grains tends to the rigid grains as E grows
   // distance, 0.0998 h here, leaves this mesh unchanged).
   VoronoiSpecimen s;
   {
-    const double                           h = 2e-3;
-    std::mt19937_64                        rng(3);
-    std::uniform_real_distribution<double> u(-1, 1);
-    for (int j = 0; j < 10; ++j)
-      for (int i = 0; i < 5; ++i)
-        {
-          s.x.push_back((i + 0.5 + 0.5 * (j % 2)) * h + 0.05 * h * u(rng));
-          s.y.push_back((j + 0.5) * 0.866 * h + 0.05 * h * u(rng));
-          s.radius.push_back(0.45 * h + 0.05 * h * u(rng));
-        }
+    const double  h = 2e-3;
+    const Packing p = jittered(5, 10, 3, 0.05, h);
+    s.x = p.x, s.y = p.y, s.radius = p.r;
     // Inset by 0.3 h: the sides then cut no cell near a vertex (a side
     // through a vertex leaves an edge of 4e-4 h and a sliver).
     s.domain = ClipDomain::rectangle(0.3 * h, 0.3 * h, 5.2 * h, 10 * 0.866 * h - 0.3 * h);
@@ -256,12 +239,8 @@ TEST_CASE("Voronoi UCS with flexible grains tends to the rigid grains as E grows
   double     excess[2], nu[2];
   for (int k = 0; k < 2; ++k)
     {
-      GrainElasticity g;
-      g.youngs_modulus = 20e9 * std::pow(10.0, k);
-      g.poisson_ratio  = 0.2;
-      g.density        = 2650;
-      g.thickness      = 1;
-      const auto f     = run_flexible_voronoi_lab_test(s, m, g, p);
+      const GrainElasticity g = grain_elasticity(20e9 * std::pow(10.0, k));
+      const auto            f = run_flexible_voronoi_lab_test(s, m, g, p);
       REQUIRE(f.status == VoronoiLabStatus::ok);
       excess[k] = 1 / f.E - 1 / rigid.E;
       INFO("E_g " << g.youngs_modulus << ": E " << f.E << " (rigid " << rigid.E
