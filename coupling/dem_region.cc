@@ -25,17 +25,17 @@ namespace demfem::coupling
     dem::check_range(w, "DEM region/density", density, 0, inf, true);
     dem::check_range(w, "DEM region/porosity", porosity, 0.05, 0.5);
     dem::check_range(w, "DEM region/local damping", damping, 0, 1, false, true);
-    dem::check_range(w, "DEM region/lnm_emod", lnm_emod, 0, inf, true);
-    dem::check_range(w, "DEM region/lnm_krat", lnm_krat, 0, inf, true);
-    dem::check_range(w, "DEM region/lnm_fric", lnm_fric, 0, inf);
+    dem::check_range(w, "DEM region/lnm emod", lnm_emod, 0, inf, true);
+    dem::check_range(w, "DEM region/lnm krat", lnm_krat, 0, inf, true);
+    dem::check_range(w, "DEM region/lnm fric", lnm_fric, 0, inf);
     dem::check_range(w, "DEM region/emod", emod, 0, inf, true);
     dem::check_range(w, "DEM region/krat", krat, 0, inf, true);
     dem::check_range(w, "DEM region/fric", fric, 0, inf);
     dem::check_range(w, "DEM region/igap", igap, 0, inf);
-    dem::check_range(w, "DEM region/fj_Nr", fj_Nr, 1, 64);
-    dem::check_range(w, "DEM region/fj_ten", fj_ten, 0, inf);
-    dem::check_range(w, "DEM region/fj_coh", fj_coh, 0, inf);
-    dem::check_range(w, "DEM region/fj_fa", fj_fa, 0, 90, false, true);
+    dem::check_range(w, "DEM region/fj Nr", fj_Nr, 1, 64);
+    dem::check_range(w, "DEM region/fj ten", fj_ten, 0, inf);
+    dem::check_range(w, "DEM region/fj coh", fj_coh, 0, inf);
+    dem::check_range(w, "DEM region/fj fa", fj_fa, 0, 90, false, true);
     if (d_hi > 0.25 * radius)
       throw dem::InputError(w + ": DEM region/grain diameter " + std::to_string(d_hi) +
                             " m is too large for the region radius " +
@@ -102,8 +102,11 @@ namespace demfem::coupling
       for (std::int64_t n = 0; n < limit; n += 100)
         {
           m.cycle(100);
-          if (m.unbalanced_ratio() < ratio)
+          const double r = m.unbalanced_ratio();
+          if (r < ratio)
             return true;
+          if (!std::isfinite(r)) // diverged: more steps cannot help
+            return false;
         }
       return false;
     }
@@ -305,8 +308,19 @@ namespace demfem::coupling
         m.cycle(200);
       }
     if (!settle(m, 1e-3, 200000))
-      throw std::runtime_error("DEM region: packing did not reach equilibrium (ratio " +
-                               std::to_string(m.unbalanced_ratio()) + ")");
+      {
+        // A non-finite ratio is a packing that blew up (e.g. a modulus so
+        // large that the forces overflow), not a slow one: say so.
+        const double ratio = m.unbalanced_ratio();
+        throw std::runtime_error(
+            std::isfinite(ratio)
+                ? "DEM region: packing did not reach equilibrium (unbalanced-force "
+                  "ratio " +
+                      std::to_string(ratio) + " after 200000 steps, limit 1e-3)"
+                : std::string("DEM region: the packing diverged (non-finite forces): "
+                              "the contact moduli (DEM region/emod, lnm emod, or the "
+                              "material file's) are out of any physical range"));
+      }
     for (std::size_t i = 0; i < P.size(); ++i)
       {
         P.v[i].setZero();

@@ -139,6 +139,14 @@ check "absurd stiffness: summary and manifest name it" \
   grep -q '"status": "in_situ_not_reached"' "$work/stiff/summary.json" "$work/stiff/manifest.json"
 check "absurd stiffness: message names the tolerance key" \
   grep -q "Tunnel/in situ tolerance" "$work/stiff.log"
+# A modulus beyond any material (1e300 Pa): the packing's forces overflow;
+# an error naming the keys, not a silent run or a "ratio nan".
+"$exe" tunnel "$prm" "${small[@]}" --set "Problem/output directory=$work/overflow" \
+  --set "DEM region/emod=1e300" --set "DEM region/lnm emod=1e300" > "$work/overflow.log" 2>&1
+rc=$?
+check "overflowing modulus: error (exit $rc)" [ "$rc" -eq 1 ]
+check "overflowing modulus: message names the keys" \
+  grep -q "the packing diverged (non-finite forces).*DEM region/emod" "$work/overflow.log"
 "$exe" tunnel "$prm" "${small[@]}" --set "Problem/output directory=$work/bad_accept" \
   --accept diverged > "$work/bad_accept.log" 2>&1
 rc=$?
@@ -147,7 +155,7 @@ check "accept: diverged cannot be accepted (exit $rc)" [ "$rc" -eq 1 ]
 # 4. Disk full (a 300 KiB tmpfs; only where mounting is allowed, e.g. as
 # root): one error naming the file, exit 1, no crash, and the files written
 # before are complete (replaced atomically).
-total=25
+total=27
 tiny="$work/tiny"
 mkdir -p "$tiny"
 if mount -t tmpfs -o size=300k tmpfs "$tiny" 2>/dev/null; then
