@@ -82,6 +82,8 @@
 
 namespace demfem::coupling
 {
+  struct CouplingParams; // below: the coupling keys ContinuumParams::validate reads
+
   struct ContinuumParams
   {
     double       young_modulus = 60e9; ///< plane-strain E [Pa]
@@ -110,7 +112,7 @@ namespace demfem::coupling
     /// before) and a tunnel radius > 0. The one check of these keys, for
     /// the tunnel parameters and the coupled model alike.
     void validate(const std::string &where, int dim, double region_radius,
-                  const struct CouplingParams &coupling) const;
+                  const CouplingParams &coupling) const;
   };
 
   struct CouplingParams
