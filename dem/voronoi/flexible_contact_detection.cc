@@ -26,8 +26,8 @@ namespace demfem::dem::voronoi
                              double by)
     {
       const double dx = bx - ax, dy = by - ay, l2 = dx * dx + dy * dy;
-      double       u = l2 > 0 ? ((px - ax) * dx + (py - ay) * dy) / l2 : 0.0;
-      u              = std::clamp(u, 0.0, 1.0);
+      double       u  = l2 > 0 ? ((px - ax) * dx + (py - ay) * dy) / l2 : 0.0;
+      u               = std::clamp(u, 0.0, 1.0);
       const double ex = ax + u * dx - px, ey = ay + u * dy - py;
       return ex * ex + ey * ey;
     }
@@ -48,7 +48,9 @@ namespace demfem::dem::voronoi
     candidates.clear();
     candidate_done.clear();
     // Grains of empty cells have no nodes and no disk in the model.
-    auto   meshed = [&](int c) { return mesh.grain_triangle_offset[c + 1] > mesh.grain_triangle_offset[c]; };
+    auto meshed = [&](int c) {
+      return mesh.grain_triangle_offset[c + 1] > mesh.grain_triangle_offset[c];
+    };
     double rmax = 0, xmin = HUGE_VAL, ymin = HUGE_VAL, xmax = -HUGE_VAL, ymax = -HUGE_VAL;
     for (int c = 0; c < ng; ++c)
       if (meshed(c))
@@ -116,7 +118,8 @@ namespace demfem::dem::voronoi
                 if (b <= a)
                   continue;
                 const double reach = disk_radius[a] + disk_radius[b] + verlet_skin;
-                const double dx = verlet_x[b] - verlet_x[a], dy = verlet_y[b] - verlet_y[a];
+                const double dx    = verlet_x[b] - verlet_x[a],
+                             dy    = verlet_y[b] - verlet_y[a];
                 if (dx * dx + dy * dy < reach * reach && !in_contact(a, b))
                   candidates.emplace_back(a, b);
               }
@@ -135,7 +138,7 @@ namespace demfem::dem::voronoi
       if (mesh.grain_triangle_offset[c + 1] > mesh.grain_triangle_offset[c])
         {
           const double dx = disk_x(c) - verlet_x[c], dy = disk_y(c) - verlet_y[c];
-          stale           = dx * dx + dy * dy > limit;
+          stale = dx * dx + dy * dy > limit;
         }
     if (stale)
       rebuild_verlet_list();
@@ -183,7 +186,8 @@ namespace demfem::dem::voronoi
       for (int t = mesh.grain_triangle_offset[g]; t < mesh.grain_triangle_offset[g + 1];
            ++t)
         {
-          const int    p = mesh.triangle_nodes[3 * t + 1], q = mesh.triangle_nodes[3 * t + 2];
+          const int p     = mesh.triangle_nodes[3 * t + 1],
+                    q     = mesh.triangle_nodes[3 * t + 2];
           const double d2 = segment_distance2(xr, yr, x[p], y[p], x[q], y[q]);
           if (d2 < best)
             {
@@ -229,7 +233,8 @@ namespace demfem::dem::voronoi
         mesh.shape_functions(tb, x.data(), y.data(), X, Y, Nb);
         for (int i = 0; i < 3; ++i)
           {
-            const int ma = mesh.triangle_nodes[3 * ta + i], mb = mesh.triangle_nodes[3 * tb + i];
+            const int ma = mesh.triangle_nodes[3 * ta + i],
+                      mb = mesh.triangle_nodes[3 * tb + i];
             vrx += Nb[i] * vx[mb] - Na[i] * vx[ma];
             vry += Nb[i] * vy[mb] - Na[i] * vy[ma];
           }

@@ -143,8 +143,8 @@ namespace demfem::dem::voronoi
     void set_pressure(Side side, double p) { pressure[static_cast<int>(side)] = p; }
     /// Length-weighted mean displacement (component 0: x, 1: y) of the
     /// ends of the cell edges on `side` since install (interpolated from
-    /// the nodes), and the same mean of their install coordinate (the flexible grain carries its strain to
-    /// its boundary: the gauge is the side itself).
+    /// the nodes), and the same mean of their install coordinate (the flexible grain
+    /// carries its strain to its boundary: the gauge is the side itself).
     double side_displacement(Side side, int component) const;
     double side_position(Side side, int component) const;
 
@@ -199,9 +199,9 @@ namespace demfem::dem::voronoi
     /// (Re)builds node_point_offset, node_point from triangle_a, triangle_b.
     void build_gather_lists();
     // ---- new-contact search (flexible_contact_detection.cc) -----------------
-    std::vector<std::int64_t>        contact_keys; ///< a n + b of pairs in contact, sorted
+    std::vector<std::int64_t> contact_keys; ///< a n + b of pairs in contact, sorted
     std::vector<std::pair<int, int>> candidates;
-    std::vector<char>                candidate_done; ///< formed since the rebuild
+    std::vector<char>                candidate_done;     ///< formed since the rebuild
     std::vector<double>              verlet_x, verlet_y; ///< disk centres at the rebuild
     std::vector<int>                 grid_start, grid_item;
     double                           verlet_skin = 0;
@@ -211,7 +211,7 @@ namespace demfem::dem::voronoi
     /// later compressed by the overlap. Returns the number formed.
     int  form_new_contacts(bool at_install, double dt);
     void form_contact(int a, int b, bool at_install, double dt);
-    void             add_boundary_forces(double dt);
+    void add_boundary_forces(double dt);
     /// Advances the contact points (dt scales the velocities into
     /// displacement increments) into point_fx, point_fy, point_N.
     void         update_contact_points(double dt);
