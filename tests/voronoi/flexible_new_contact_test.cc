@@ -457,7 +457,8 @@ TEST_CASE("Flexible Voronoi new contact: a free collision conserves momentum",
   // After the collision B moves away from A (+x) with a positive share of
   // the momentum, and no energy was created: kinetic + strain energy of
   // the grains (the contact is unloaded) within the central-difference
-  // error, which is O((omega dt)^2) ~ 1 % at 0.3 of the critical step.
+  // error, O((omega dt)^2), a few 1e-3 at 0.3 of the critical step
+  // (measured 1.4e-4).
   double pb = 0;
   for (int k = model.mesh.grain_node_offset[1]; k < model.mesh.n_nodes(); ++k)
     pb += model.mesh.mass[k] * model.vx[k];
@@ -467,5 +468,5 @@ TEST_CASE("Flexible Voronoi new contact: a free collision conserves momentum",
                                                        fx.data(), fy.data());
   const double e1     = model.kinetic_energy() + strain;
   INFO("energy after / before: " << e1 / ke0);
-  CHECK(e1 == Approx(ke0).epsilon(0.02));
+  CHECK(e1 == Approx(ke0).epsilon(2e-3));
 }
