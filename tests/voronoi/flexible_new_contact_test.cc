@@ -356,8 +356,9 @@ TEST_CASE("Flexible Voronoi new contacts: 1 and 2 threads give bit-identical res
   // As the thread test of flexible_model_test.cc, on a jittered square
   // lattice (spacing h) of disks of radius 0.7 h: the diagonal pairs that
   // do not share a cell edge are 1.41 h +- the jitter apart against 1.4 h,
-  // so some overlap at install (20) and others come to overlap (7) under a
-  // converging velocity field (20 m/s at the sides) with random velocities.
+  // so some overlap at install (20) and others come to overlap (15 in 300
+  // steps) under a converging velocity field (40 m/s at the sides) with
+  // random velocities.
   const double                           h = 1e-3;
   std::vector<double>                    x, y, r;
   std::mt19937_64                        rng(8);
@@ -384,11 +385,11 @@ TEST_CASE("Flexible Voronoi new contacts: 1 and 2 threads give bit-identical res
     std::mt19937_64 gen(4);
     for (int k = 0; k < model.mesh.n_nodes(); ++k)
       {
-        model.vx[k] = -20 * (model.x[k] - 6 * h) / (6 * h) + 1.0 * u(gen);
-        model.vy[k] = -20 * (model.y[k] - 6 * h) / (6 * h) + 1.0 * u(gen);
+        model.vx[k] = -40 * (model.x[k] - 6 * h) / (6 * h) + 1.0 * u(gen);
+        model.vy[k] = -40 * (model.y[k] - 6 * h) / (6 * h) + 1.0 * u(gen);
       }
     const double dt = model.stable_time_step(0.5);
-    for (int s = 0; s < 1000; ++s)
+    for (int s = 0; s < 300; ++s)
       model.step(dt);
     omp_set_num_threads(old);
     formed_in_run = model.contacts.n_contacts() - installed;
