@@ -14,6 +14,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <iostream>
 #include <random>
 #include <set>
 #include <utility>
@@ -470,4 +471,34 @@ TEST_CASE("Flexible Voronoi new contact: a free collision conserves momentum",
   const double e1     = model.kinetic_energy() + strain;
   INFO("energy after / before: " << e1 / ke0);
   CHECK(e1 == Approx(ke0).epsilon(2e-3));
+}
+
+TEST_CASE("Flexible Voronoi new contacts: measure the search's cost",
+          "[.measure][voronoi][flexible][new_contacts]")
+{
+  // By hand (docs/voronoi.md, "New contacts"): the per-step check of the
+  // Verlet list and one rebuild, per grain, on a 64 x 64 jittered lattice.
+  const Packing p = jittered(64, 64, 5, 0.15);
+  const auto    t =
+      laguerre_tessellation(p.x, p.y, p.r, ClipDomain::rectangle(0, 0, p.W, p.H));
+  FlexibleVoronoiModel model(t, p.x, p.y, p.r, grain_elasticity(50e9, 0.01),
+                             contact_material());
+  const int            n     = 2000;
+  double               start = omp_get_wtime();
+  for (int s = 0; s < n; ++s)
+    model.detect_new_contacts(1e-9);
+  const double check     = (omp_get_wtime() - start) / (double(n) * model.n_grains());
+  const int    rebuilds0 = model.n_verlet_rebuilds;
+  start                  = omp_get_wtime();
+  for (int s = 0; s < 20; ++s)
+    {
+      // Grain 0's disk jumps by 1 mm (> skin / 2): a rebuild per call.
+      model.x[model.centroid_node(0)] += (s % 2 ? -1 : 1) * 1e-3;
+      model.detect_new_contacts(1e-9);
+    }
+  const double rebuild = (omp_get_wtime() - start) / (20.0 * model.n_grains());
+  std::cout << model.n_grains() << " grains, " << model.verlet_candidates().size()
+            << " candidates: check " << check * 1e9 << " ns per grain-step, rebuild "
+            << rebuild * 1e9 << " ns per grain (" << model.n_verlet_rebuilds - rebuilds0
+            << " rebuilds)\n";
 }
