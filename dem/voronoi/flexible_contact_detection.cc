@@ -66,6 +66,10 @@ namespace demfem::dem::voronoi
     verlet_skin = verlet_skin_fraction * rmax;
     if (!(rmax > 0))
       return; // no disk can overlap another
+    // A diverged run (non-finite positions) gets no new contacts rather than
+    // a grid it cannot size; its NaNs propagate as without the search.
+    if (!std::isfinite(xmax - xmin) || !std::isfinite(ymax - ymin))
+      return;
     // Grid cell >= the largest disk diameter plus the skin; at most ~4 grid
     // cells per grain (grains flung far apart enlarge the cells instead of
     // the grid).
