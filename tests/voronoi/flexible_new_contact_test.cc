@@ -180,6 +180,28 @@ TEST_CASE("Flexible Voronoi new contact: forms at overlap, kn A overlap, no tens
   CHECK(model.contacts.edge_length[0] == Approx(1.6 * R).epsilon(1e-12));
   CHECK(model.contacts.point_offset[1] == 3); // Lobatto points A/6, 2A/3, A/6
   CHECK(model.contacts.area[1] == Approx(2 * A / 3).epsilon(1e-12));
+  // Each point lies in (or on) its triangles, found in the current
+  // configuration: no extrapolation at formation (1e-9: roundoff of
+  // barycentric coordinates of points on an edge). The middle point is
+  // carried by the fan triangles of the facing edges, A's right edge and
+  // B's left edge (the end points sit on corners, shared with the next
+  // triangle).
+  for (int p = 0; p < model.contacts.n_points(); ++p)
+    for (int i = 0; i < 6; ++i)
+      {
+        CHECK(model.point_N[6 * p + i] >= -1e-9);
+        CHECK(model.point_N[6 * p + i] <= 1 + 1e-9);
+      }
+  double a_right = -HUGE_VAL, b_left = HUGE_VAL;
+  for (int k = 0; k < model.mesh.grain_node_offset[1]; ++k)
+    a_right = std::max(a_right, model.x[k]);
+  for (int k = model.mesh.grain_node_offset[1]; k < model.mesh.n_nodes(); ++k)
+    b_left = std::min(b_left, model.x[k]);
+  for (int i : {1, 2})
+    {
+      CHECK(model.x[model.mesh.triangle_nodes[3 * model.triangle_a[1] + i]] == a_right);
+      CHECK(model.x[model.mesh.triangle_nodes[3 * model.triangle_b[1] + i]] == b_left);
+    }
 
   // Pull apart: unloading along the same line while they overlap, then no
   // tension at all once the disks separate; the contact stays (never a
