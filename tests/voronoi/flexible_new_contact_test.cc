@@ -64,6 +64,32 @@ namespace
 
   constexpr double R = 1e-3;
 
+  /// Jittered square lattice (12 x 12, spacing h = 1 mm, jitter 0.05 h) of
+  /// disks of radius 0.7 h: the diagonal pairs that do not share a cell edge
+  /// are 1.41 h +- the jitter apart against 1.4 h.
+  struct SquareLattice
+  {
+    double              h = 1e-3;
+    std::vector<double> x, y, r;
+    Tessellation        tess;
+  };
+  SquareLattice square_lattice()
+  {
+    SquareLattice                          l;
+    std::mt19937_64                        rng(8);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int j = 0; j < 12; ++j)
+      for (int i = 0; i < 12; ++i)
+        {
+          l.x.push_back((i + 0.5) * l.h + 0.05 * l.h * u(rng));
+          l.y.push_back((j + 0.5) * l.h + 0.05 * l.h * u(rng));
+          l.r.push_back(0.7 * l.h);
+        }
+    l.tess = laguerre_tessellation(l.x, l.y, l.r,
+                                   ClipDomain::rectangle(0, 0, 12 * l.h, 12 * l.h));
+    return l;
+  }
+
   /// Grain A: disk R at (0, 0) in the square cell [-R, R]^2 (edges 2R);
   /// grain B: disk 0.8 R at (xb, 0) in the square cell of half-width 0.8 R
   /// (edges 1.6 R). The facing edges meet when the disks touch.
@@ -319,6 +345,23 @@ TEST_CASE("Flexible Voronoi new contacts: no duplicates, no pair missed",
     CHECK(model.contacts.n_contacts() == 1);
     CHECK(model.verlet_candidates().empty());
   }
+  SECTION("pairs overlapping at install get a stress-free contact there")
+  {
+    const SquareLattice  l = square_lattice();
+    FlexibleVoronoiModel model(l.tess, l.x, l.y, l.r, grain_elasticity(50e9, 0.01),
+                               contact_material());
+    int                  overlapping = 0;
+    for (int a = 0; a < model.n_grains(); ++a)
+      for (int b = a + 1; b < model.n_grains(); ++b)
+        if (std::hypot(l.x[b] - l.x[a], l.y[b] - l.y[a]) < l.r[a] + l.r[b] &&
+            l.tess.shared_edge(a, b) < 0)
+          ++overlapping;
+    CHECK(overlapping == 20);
+    CHECK(model.contacts.n_contacts() - model.n_installed_contacts == overlapping);
+    model.compute_forces(1e-8); // at rest: no contact force
+    for (int p = 0; p < model.contacts.n_points(); ++p)
+      CHECK(model.contacts.fn[p] == 0);
+  }
   SECTION("a packing compressed by 25 %: the contacts are exactly the installed "
           "pairs and the pairs that overlapped")
   {
@@ -344,7 +387,7 @@ TEST_CASE("Flexible Voronoi new contacts: no duplicates, no pair missed",
                          model.disk_y(b) - model.disk_y(a)) < p.r[a] + p.r[b])
             expected.emplace(a, b);
     };
-    overlapping(); // pairs overlapping at install without an edge
+    overlapping(); // pairs overlapping at install without an edge (none here)
     const int    rebuilds = model.n_verlet_rebuilds;
     const double xc = p.W / 2, yc = p.H / 2;
     for (int s = 1; s <= 250; ++s)
@@ -382,29 +425,21 @@ TEST_CASE("Flexible Voronoi new contacts: 1 and 2 threads give bit-identical res
   // so some overlap at install (20) and others come to overlap (15 in 300
   // steps) under a converging velocity field (40 m/s at the sides) with
   // random velocities.
-  const double                           h = 1e-3;
-  std::vector<double>                    x, y, r;
-  std::mt19937_64                        rng(8);
+  const SquareLattice                    l = square_lattice();
+  const double                           h = l.h;
+  const auto                            &x = l.x, &y = l.y, &r = l.r;
+  const auto                            &t = l.tess;
   std::uniform_real_distribution<double> u(-1, 1);
-  for (int j = 0; j < 12; ++j)
-    for (int i = 0; i < 12; ++i)
-      {
-        x.push_back((i + 0.5) * h + 0.05 * h * u(rng));
-        y.push_back((j + 0.5) * h + 0.05 * h * u(rng));
-        r.push_back(0.7 * h);
-      }
-  const auto t =
-      laguerre_tessellation(x, y, r, ClipDomain::rectangle(0, 0, 12 * h, 12 * h));
-  int  formed_in_run = 0, formed_at_install = 0;
-  auto run = [&](int threads) {
+  int                                    formed_in_run = 0, formed_at_install = 0;
+  auto                                   run = [&](int threads) {
     const int old = omp_get_max_threads();
     omp_set_num_threads(threads);
     FlexibleVoronoiModel model(t, x, y, r, grain_elasticity(50e9, 0.01),
-                               contact_material());
+                                                                 contact_material());
     model.parallel_threshold = 0; // threads even on this small model
-    model.damping            = 0.1;
-    const int installed      = model.contacts.n_contacts();
-    formed_at_install        = installed - model.n_installed_contacts;
+    model.damping       = 0.1;
+    const int installed = model.contacts.n_contacts();
+    formed_at_install = installed - model.n_installed_contacts;
     std::mt19937_64 gen(4);
     for (int k = 0; k < model.mesh.n_nodes(); ++k)
       {
