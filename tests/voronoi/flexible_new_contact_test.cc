@@ -98,17 +98,17 @@ namespace
     std::vector<double> x, y, r;
     Tessellation        tess;
   };
-  TwoGrains two_separate_grains(double xb)
+  TwoGrains two_separate_grains(double xb, double yb = 0)
   {
     TwoGrains g;
     g.x             = {0, xb};
-    g.y             = {0, 0};
+    g.y             = {0, yb};
     g.r             = {R, 0.8 * R};
     const double rb = 0.8 * R;
     const auto   ta =
         laguerre_tessellation({0.0}, {0.0}, {R}, ClipDomain::rectangle(-R, -R, R, R));
     const auto tb = laguerre_tessellation(
-        {xb}, {0.0}, {rb}, ClipDomain::rectangle(xb - rb, -rb, xb + rb, rb));
+        {xb}, {yb}, {rb}, ClipDomain::rectangle(xb - rb, yb - rb, xb + rb, yb + rb));
     g.tess = concatenate(ta, tb);
     return g;
   }
@@ -271,6 +271,66 @@ TEST_CASE("Flexible Voronoi new contact: forms at overlap, kn A overlap, no tens
     }
   CHECK(overlap() > 1e-7);
   CHECK(model.contacts.n_contacts() == 1);
+}
+
+TEST_CASE("Flexible Voronoi new contact: oblique approach, force along the centre line",
+          "[voronoi][flexible][new_contacts]")
+{
+  // B approaches A along n = (cos 30, sin 30): the PCM point lies nearest
+  // to A's right edge (0.13 R against 0.5 R to its top edge) and to B's
+  // left edge (0.11 R against 0.4 R), so again A = 1.6 R t. The point forces
+  // are along n (no shear in a rigid approach along n) with weights A/6,
+  // 2A/3, A/6 at s = -L/2, 0, L/2 around the reference point on the centre
+  // line: B's nodal forces have the resultant kn A U n and no moment about
+  // its disk centre (the shape functions keep force and moment).
+  const double         v = 0.1, dt = 1e-7, c30 = std::cos(M_PI / 6), s30 = 0.5;
+  const double         d0 = 1.8 * R + 1.0025e-6;
+  const auto           g  = two_separate_grains(d0 * c30, d0 * s30);
+  const auto           cm = contact_material();
+  FlexibleVoronoiModel model(g.tess, g.x, g.y, g.r, grain_elasticity(50e9, 0.01), cm);
+  REQUIRE(model.contacts.n_contacts() == 0);
+  set_grain_velocity(model, 0, v * c30, v * s30);
+  set_grain_velocity(model, 1, -v * c30, -v * s30);
+  const double A         = 1.6 * R * cm.thickness;
+  int          formed_at = -1;
+  for (int s = 0; s < 100; ++s)
+    {
+      driven_step(model, dt);
+      const double U = 1.8 * R - std::hypot(model.disk_x(1) - model.disk_x(0),
+                                            model.disk_y(1) - model.disk_y(0));
+      REQUIRE(model.contacts.n_contacts() == (U > 0 ? 1 : 0));
+      if (U <= 0)
+        continue;
+      if (formed_at < 0)
+        formed_at = s;
+      double fn = 0, fs = 0;
+      for (int p = 0; p < model.contacts.n_points(); ++p)
+        {
+          fn += model.contacts.fn[p];
+          fs += model.contacts.fs[p];
+        }
+      // The overlap from the positions against u_n accumulated from the
+      // velocities' projections on n: roundoff ~1e-17 m as along x, with
+      // cos 30 and the hypot; 1e-14 m as in the test above.
+      CHECK(std::abs(fn + cm.kn * A * U) <= cm.kn * A * 1e-14);
+      CHECK(std::abs(fs) <= cm.kn * A * 1e-14);
+      double Fx = 0, Fy = 0, M = 0;
+      for (int k = model.mesh.grain_node_offset[1]; k < model.mesh.n_nodes(); ++k)
+        {
+          Fx += model.fx[k];
+          Fy += model.fy[k];
+          M += (model.x[k] - model.disk_x(1)) * model.fy[k] -
+               (model.y[k] - model.disk_y(1)) * model.fx[k];
+        }
+      // 1e-6 relative + the elements' roundoff under a rigid motion
+      // (1e-6 N, flexible_model_test.cc); moments of those forces over the
+      // grain's 1e-3 m.
+      CHECK(Fx == Approx(cm.kn * A * U * c30).epsilon(1e-6).margin(1e-6));
+      CHECK(Fy == Approx(cm.kn * A * U * s30).epsilon(1e-6).margin(1e-6));
+      CHECK(std::abs(M) <= 1e-6 * cm.kn * A * U * R + 1e-9);
+    }
+  CHECK(formed_at == 50);
+  CHECK(model.contacts.edge_length[0] == Approx(1.6 * R).epsilon(1e-12));
 }
 
 TEST_CASE("Flexible Voronoi new contact: the shear force is capped by friction",
