@@ -73,7 +73,34 @@ namespace demfem::dem::voronoi
     point_fx.assign(np, 0.0);
     point_fy.assign(np, 0.0);
     point_N.assign(6 * np, 0.0);
-    // Gather lists: each node's contributions in ascending (point, slot).
+    n_installed_contacts = contacts.n_contacts();
+    for (int k = 0; k < n_installed_contacts; ++k)
+      contact_keys.push_back(std::int64_t(contacts.grain_a[k]) * n + contacts.grain_b[k]);
+    std::sort(contact_keys.begin(), contact_keys.end());
+    // Disks that overlap at install without a shared edge (docs/voronoi.md,
+    // "New contacts"): their contacts start stress free, as the installed
+    // ones do.
+    rebuild_verlet_list();
+    form_new_contacts(true, 0.0);
+    build_gather_lists();
+    for (int c = 0; c < n; ++c)
+      for (int e = tess.begin(c); e < tess.end(c); ++e)
+        if (tess.edge_neighbour[e] == Tessellation::boundary)
+          outline_edges.push_back(boundary_edge(tess, c, e, px[c], py[c]));
+    double xmin, ymin, xmax, ymax;
+    for (const SideEdge &s : rectangle_side_edges(tess, xmin, ymin, xmax, ymax))
+      {
+        BoundaryEdge b = boundary_edge(tess, s.cell, s.edge, px[s.cell], py[s.cell]);
+        b.side         = s.side;
+        boundary_edges.push_back(b);
+      }
+  }
+
+  void FlexibleVoronoiModel::build_gather_lists()
+  {
+    // Each node's contributions in ascending (point, slot): the gather
+    // order, hence the sums, do not depend on the thread count.
+    const int np = contacts.n_points();
     node_point_offset.assign(mesh.n_nodes() + 1, 0);
     for (int p = 0; p < np; ++p)
       for (int i = 0; i < 3; ++i)
@@ -93,17 +120,6 @@ namespace demfem::dem::voronoi
             node_point[fill[mesh.triangle_nodes[3 * t + i % 3]]++] = 6 * p + i;
           }
     }
-    for (int c = 0; c < n; ++c)
-      for (int e = tess.begin(c); e < tess.end(c); ++e)
-        if (tess.edge_neighbour[e] == Tessellation::boundary)
-          outline_edges.push_back(boundary_edge(tess, c, e, px[c], py[c]));
-    double xmin, ymin, xmax, ymax;
-    for (const SideEdge &s : rectangle_side_edges(tess, xmin, ymin, xmax, ymax))
-      {
-        BoundaryEdge b = boundary_edge(tess, s.cell, s.edge, px[s.cell], py[s.cell]);
-        b.side         = s.side;
-        boundary_edges.push_back(b);
-      }
   }
 
   FlexibleVoronoiModel::BoundaryEdge FlexibleVoronoiModel::boundary_edge(
@@ -349,6 +365,7 @@ namespace demfem::dem::voronoi
 
   void FlexibleVoronoiModel::compute_forces(double dt)
   {
+    detect_new_contacts(dt);
     update_contact_points(dt);
     const int     ng = n_grains();
     const double *X = x.data(), *Y = y.data();

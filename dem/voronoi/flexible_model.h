@@ -20,9 +20,20 @@
 // grain that holds the point's install position (FlexibleGrainMesh::locate;
 // with merged short edges a point need not lie on the fan triangle of its
 // edge). Its shape functions are evaluated in the current configuration, so
-// a point that drifts off the triangle is extrapolated linearly. Detection
-// of new contacts (seed 004: the nearest Voronoi edge of each grain) is not
-// done.
+// a point that drifts off the triangle is extrapolated linearly.
+//
+// New contacts (seed 004 §2: "If a new contact between two grains is found
+// to occur, the Voronoi edge closest to the contact location is selected,
+// in each grain"; docs/voronoi.md, "New contacts"): two grains not in
+// contact whose disks overlap (the DEM criterion the seed keeps) get a
+// frictional (unbonded) contact at the PCM point, its length the shorter of
+// the two grains' mesh boundary edges nearest to that point
+// (dem/voronoi/flexible_contact_detection.cc). The search is a Verlet list
+// over a uniform grid of the disk centres, rebuilt when a disk has moved
+// more than half the skin; it runs serially at the start of compute_forces,
+// in ascending pair order (thread-count independent). Pairs whose disks
+// already overlap at install without sharing an edge get their contact at
+// install, stress free like the installed contacts.
 //
 // Boundary conditions (dem/voronoi/boundary.h; docs/voronoi.md, "Boundary
 // conditions"), as the rigid model's but carried by the nodes: every
@@ -49,6 +60,8 @@
 #include "dem/voronoi/tessellation.h"
 
 #include <array>
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace demfem::dem::voronoi
@@ -89,6 +102,28 @@ namespace demfem::dem::voronoi
     /// Kinetic energy of the nodes.
     double kinetic_energy() const;
 
+    // ---- new contacts (docs/voronoi.md, "New contacts") ---------------------
+    /// Forms a contact for every pair of grains not in contact whose disks
+    /// overlap at the current positions (compute_forces(dt) calls it first,
+    /// with its dt: the new points' u_n starts at -U minus the increment of
+    /// the current velocities over dt that the same call then adds, so the
+    /// overlap is not counted twice). Returns the number of contacts formed.
+    int detect_new_contacts(double dt);
+    /// Contacts [0, n_installed_contacts) are the shared cell edges of the
+    /// tessellation; the later ones formed between overlapping disks.
+    int n_installed_contacts = 0;
+    /// Verlet skin of the search as a fraction of the largest disk radius
+    /// (read at each rebuild of the candidate list).
+    double verlet_skin_fraction = 0.2;
+    /// Rebuilds of the candidate list so far (the search's cost counter).
+    int n_verlet_rebuilds = 0;
+    /// Candidate pairs (a < b, ascending) of the last rebuild: disks within
+    /// r_a + r_b + skin, not in contact then.
+    const std::vector<std::pair<int, int>> &verlet_candidates() const
+    {
+      return candidates;
+    }
+
     int n_grains() const { return mesh.n_grains(); }
 
     // ---- boundary ---------------------------------------------------------
@@ -108,8 +143,8 @@ namespace demfem::dem::voronoi
     void set_pressure(Side side, double p) { pressure[static_cast<int>(side)] = p; }
     /// Length-weighted mean displacement (component 0: x, 1: y) of the
     /// ends of the cell edges on `side` since install (interpolated from
-    /// the nodes), and the same mean of their install coordinate (the flexible grain carries its strain to
-    /// its boundary: the gauge is the side itself).
+    /// the nodes), and the same mean of their install coordinate (the flexible grain
+    /// carries its strain to its boundary: the gauge is the side itself).
     double side_displacement(Side side, int component) const;
     double side_position(Side side, int component) const;
 
@@ -161,7 +196,22 @@ namespace demfem::dem::voronoi
     /// Contact contributions of each node (CSR over nodes): 6 p + i, i < 3
     /// for node i of A's triangle of point p, 3 + i for B's, ascending.
     std::vector<int> node_point_offset, node_point;
-    void             add_boundary_forces(double dt);
+    /// (Re)builds node_point_offset, node_point from triangle_a, triangle_b.
+    void build_gather_lists();
+    // ---- new-contact search (flexible_contact_detection.cc) -----------------
+    std::vector<std::int64_t> contact_keys; ///< a n + b of pairs in contact, sorted
+    std::vector<std::pair<int, int>> candidates;
+    std::vector<char>                candidate_done;     ///< formed since the rebuild
+    std::vector<double>              verlet_x, verlet_y; ///< disk centres at the rebuild
+    std::vector<int>                 grid_start, grid_item;
+    double                           verlet_skin = 0;
+    bool                             in_contact(int a, int b) const;
+    void                             rebuild_verlet_list();
+    /// Contacts for the overlapping candidates; at install stress free,
+    /// later compressed by the overlap. Returns the number formed.
+    int  form_new_contacts(bool at_install, double dt);
+    void form_contact(int a, int b, bool at_install, double dt);
+    void add_boundary_forces(double dt);
     /// Advances the contact points (dt scales the velocities into
     /// displacement increments) into point_fx, point_fy, point_N.
     void         update_contact_points(double dt);
