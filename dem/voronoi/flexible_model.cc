@@ -74,12 +74,13 @@ namespace demfem::dem::voronoi
     point_fy.assign(np, 0.0);
     point_N.assign(6 * np, 0.0);
     n_installed_contacts = contacts.n_contacts();
+    search.reset(n);
     for (int k = 0; k < n_installed_contacts; ++k)
-      contact_keys.push_back(std::int64_t(contacts.grain_a[k]) * n + contacts.grain_b[k]);
-    std::sort(contact_keys.begin(), contact_keys.end());
+      search.add_contact(contacts.grain_a[k], contacts.grain_b[k]);
     // Disks that overlap at install without a shared edge (docs/voronoi.md,
     // "New contacts"): their contacts start stress free, as the installed
     // ones do.
+    update_disk_centres();
     rebuild_verlet_list();
     form_new_contacts(true, 0.0);
     build_gather_lists();

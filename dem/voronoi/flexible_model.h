@@ -28,7 +28,8 @@
 // contact whose disks overlap (the DEM criterion the seed keeps) get a
 // frictional (unbonded) contact at the PCM point, its length the shorter of
 // the two grains' mesh boundary edges nearest to that point
-// (dem/voronoi/flexible_contact_detection.cc). The search is a Verlet list
+// (dem/voronoi/flexible_contact_detection.cc). The search
+// (dem/voronoi/new_contact_search.h, shared with the rigid model) is a Verlet list
 // over a uniform grid of the disk centres, rebuilt when a disk has moved
 // more than half the skin; it runs serially at the start of compute_forces,
 // in ascending pair order (thread-count independent). Pairs whose disks
@@ -56,6 +57,7 @@
 // sum depends on the thread count, no allocation per step.
 #include "dem/voronoi/boundary.h"
 #include "dem/voronoi/flexible_grain.h"
+#include "dem/voronoi/new_contact_search.h"
 #include "dem/voronoi/rigid_contact.h"
 #include "dem/voronoi/tessellation.h"
 
@@ -121,7 +123,7 @@ namespace demfem::dem::voronoi
     /// r_a + r_b + skin, not in contact then.
     const std::vector<std::pair<int, int>> &verlet_candidates() const
     {
-      return candidates;
+      return search.candidates();
     }
 
     int n_grains() const { return mesh.n_grains(); }
@@ -199,14 +201,11 @@ namespace demfem::dem::voronoi
     /// (Re)builds node_point_offset, node_point from triangle_a, triangle_b.
     void build_gather_lists();
     // ---- new-contact search (flexible_contact_detection.cc) -----------------
-    std::vector<std::int64_t> contact_keys; ///< a n + b of pairs in contact, sorted
-    std::vector<std::pair<int, int>> candidates;
-    std::vector<char>                candidate_done;     ///< formed since the rebuild
-    std::vector<double>              verlet_x, verlet_y; ///< disk centres at the rebuild
-    std::vector<int>                 grid_start, grid_item;
-    double                           verlet_skin = 0;
-    bool                             in_contact(int a, int b) const;
-    void                             rebuild_verlet_list();
+    NewContactSearch    search;           ///< shared with the rigid model
+    std::vector<double> disk_cx, disk_cy; ///< current disk centres (search input)
+    std::vector<char>   disk_active;      ///< meshed grains (empty cells have no disk)
+    void                update_disk_centres();
+    void                rebuild_verlet_list();
     /// Contacts for the overlapping candidates; at install stress free,
     /// later compressed by the overlap. Returns the number formed.
     int  form_new_contacts(bool at_install, double dt);

@@ -73,23 +73,30 @@ namespace demfem::dem::voronoi
                                           &tess.vertex_y[tess.begin(c)], k, px[c], py[c]);
       }
     contacts.add_from_tessellation(tess, px, py, r, scheme);
-    grain_contact_offset.assign(n + 1, 0);
-    for (int c = 0; c < contacts.n_contacts(); ++c)
+    n_installed_contacts = contacts.n_contacts();
+    // Cell polygons for the nearest-edge selection of new contacts.
+    has_cell.assign(n, 0);
+    cell_offset.assign(1, 0);
+    for (int c = 0; c < n; ++c)
       {
-        ++grain_contact_offset[contacts.grain_a[c] + 1];
-        ++grain_contact_offset[contacts.grain_b[c] + 1];
+        has_cell[c] = !held[c];
+        if (has_cell[c])
+          for (int e = tess.begin(c); e < tess.end(c); ++e)
+            {
+              cell_rx.push_back(tess.vertex_x[e] - px[c]);
+              cell_ry.push_back(tess.vertex_y[e] - py[c]);
+            }
+        cell_offset.push_back(static_cast<int>(cell_rx.size()));
       }
-    for (int g = 0; g < n; ++g)
-      grain_contact_offset[g + 1] += grain_contact_offset[g];
-    grain_contact.resize(grain_contact_offset[n]);
-    {
-      std::vector<int> fill(grain_contact_offset.begin(), grain_contact_offset.end() - 1);
-      for (int c = 0; c < contacts.n_contacts(); ++c) // ascending c per grain
-        {
-          grain_contact[fill[contacts.grain_a[c]]++] = 2 * c;
-          grain_contact[fill[contacts.grain_b[c]]++] = 2 * c + 1;
-        }
-    }
+    search.reset(n);
+    for (int k = 0; k < n_installed_contacts; ++k)
+      search.add_contact(contacts.grain_a[k], contacts.grain_b[k]);
+    // Disks that overlap at install without a shared edge (docs/voronoi.md,
+    // "New contacts"): their contacts start stress free, as the installed
+    // ones do.
+    rebuild_verlet_list();
+    form_new_contacts(true, 0.0);
+    build_grain_contact_lists();
 
     for (int c = 0; c < n; ++c)
       for (int e = tess.begin(c); e < tess.end(c); ++e)
@@ -119,6 +126,26 @@ namespace demfem::dem::voronoi
         edge.ry1    = tess.vertex_y[f] - py[s.cell];
         edge.length = tess.edge_length[s.edge];
         boundary_edges.push_back(edge);
+      }
+  }
+
+  void RigidVoronoiModel::build_grain_contact_lists()
+  {
+    const int n = n_grains();
+    grain_contact_offset.assign(n + 1, 0);
+    for (int c = 0; c < contacts.n_contacts(); ++c)
+      {
+        ++grain_contact_offset[contacts.grain_a[c] + 1];
+        ++grain_contact_offset[contacts.grain_b[c] + 1];
+      }
+    for (int g = 0; g < n; ++g)
+      grain_contact_offset[g + 1] += grain_contact_offset[g];
+    grain_contact.resize(grain_contact_offset[n]);
+    std::vector<int> fill(grain_contact_offset.begin(), grain_contact_offset.end() - 1);
+    for (int c = 0; c < contacts.n_contacts(); ++c) // ascending c per grain
+      {
+        grain_contact[fill[contacts.grain_a[c]]++] = 2 * c;
+        grain_contact[fill[contacts.grain_b[c]]++] = 2 * c + 1;
       }
   }
 
@@ -319,6 +346,7 @@ namespace demfem::dem::voronoi
     std::copy(fy_ext.begin(), fy_ext.end(), fy.begin());
     std::copy(mz_ext.begin(), mz_ext.end(), mz.begin());
     add_pressure_forces();
+    detect_new_contacts(dt);
     const GrainKinematics g{x.data(),  y.data(),  radius.data(),
                             vx.data(), vy.data(), omega.data()};
     contacts.update_contacts(g, dt);

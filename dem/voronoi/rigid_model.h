@@ -35,13 +35,28 @@
 //  - disk platens (Brazilian test on a circular specimen): flat platens
 //    tangent at the poles, gap-based points on the outline (add_disk_platen).
 //
+// New contacts (seed 004 §2: "If a new contact between two grains is found
+// to occur, the Voronoi edge closest to the contact location is selected,
+// in each grain"; docs/voronoi.md, "New contacts"), as in the flexible
+// model (dem/voronoi/flexible_model.h) and with the same search
+// (dem/voronoi/new_contact_search.h): two grains not in contact whose disks
+// overlap get a frictional (unbonded) contact at the PCM point, its length
+// the shorter of the two grains' cell edges (the cell polygon moved and
+// turned with its grain) nearest to that point, its normal force kn A times
+// the overlap (dem/voronoi/rigid_contact_detection.cc). The search runs
+// serially at the start of compute_forces, in ascending pair order; pairs
+// whose disks overlap at install without a shared edge get their contact at
+// install, stress free like the installed ones.
+//
 // Threads: contacts into per-contact slots, then a per-grain gather in
 // contact order, so the results do not depend on the thread count.
 #include "dem/voronoi/boundary.h"
+#include "dem/voronoi/new_contact_search.h"
 #include "dem/voronoi/rigid_contact.h"
 #include "dem/voronoi/tessellation.h"
 
 #include <array>
+#include <utility>
 #include <vector>
 
 namespace demfem::dem::voronoi
@@ -84,6 +99,27 @@ namespace demfem::dem::voronoi
     double stable_time_step(double safety = 0.5) const;
 
     double kinetic_energy() const;
+
+    // ---- new contacts (docs/voronoi.md, "New contacts") ---------------------
+    /// Forms a contact for every pair of grains not in contact whose disks
+    /// overlap at the current positions (compute_forces(dt) calls it first,
+    /// with its dt: the new points' u_n starts at -U minus the increment of
+    /// the current velocities over dt that the same call then adds, so the
+    /// overlap is not counted twice). Returns the number of contacts formed.
+    int detect_new_contacts(double dt);
+    /// Contacts [0, n_installed_contacts) are the shared cell edges of the
+    /// tessellation; the later ones formed between overlapping disks.
+    int n_installed_contacts = 0;
+    /// Verlet skin of the search as a fraction of the largest disk radius
+    /// (read at each rebuild of the candidate list).
+    double verlet_skin_fraction = 0.2;
+    /// Rebuilds of the candidate list so far (the search's cost counter).
+    int n_verlet_rebuilds = 0;
+    /// Candidate pairs (a < b, ascending) of the last rebuild.
+    const std::vector<std::pair<int, int>> &verlet_candidates() const
+    {
+      return search.candidates();
+    }
 
     // ---- boundary ---------------------------------------------------------
     /// Adds a platen on `side` (bottom or top): points on every boundary edge
@@ -135,6 +171,11 @@ namespace demfem::dem::voronoi
     std::vector<double> mz_ext;         ///< applied moments
     std::vector<double> mass, inertia;  ///< rho t A, polar moment about the disk centre
     std::vector<char>   held;           ///< velocities held at zero (empty cells)
+    /// Cell polygon of each grain (CSR over grains; none for empty cells):
+    /// counter-clockwise vertices from the disk centre at install; current
+    /// vertex = centre + R(theta) (cell_rx, cell_ry).
+    std::vector<int>    cell_offset;
+    std::vector<double> cell_rx, cell_ry;
 
     RigidVoronoiContacts contacts;
     double               damping = 0.7; ///< local non-viscous damping alpha
@@ -161,7 +202,17 @@ namespace demfem::dem::voronoi
   private:
     /// Contacts of each grain (CSR over grains): entry 2 c + 1 if the grain
     /// is the contact's B, 2 c if it is A, ascending c.
-    std::vector<int>      grain_contact_offset, grain_contact;
+    std::vector<int> grain_contact_offset, grain_contact;
+    /// (Re)builds grain_contact_offset, grain_contact from the contacts.
+    void build_grain_contact_lists();
+    // ---- new-contact search (rigid_contact_detection.cc) --------------------
+    NewContactSearch  search;   ///< shared with the flexible model
+    std::vector<char> has_cell; ///< grains with a disk in the model
+    void              rebuild_verlet_list();
+    /// Contacts for the overlapping candidates; at install stress free,
+    /// later compressed by the overlap. Returns the number formed.
+    int                   form_new_contacts(bool at_install, double dt);
+    void                  form_contact(int a, int b, bool at_install, double dt);
     PointScheme           scheme;
     std::array<double, 4> pressure{}; ///< by Side
     void                  add_pressure_forces();

@@ -1,8 +1,10 @@
 #pragma once
 // Fixtures shared by the Voronoi tests (tests/voronoi): the lab tests'
-// genesis specimen, packed once per test executable, and the grain
-// elasticity of the flexible-grain tests.
+// genesis specimen, packed once per test executable, the grain elasticity
+// of the flexible-grain tests, and the packings of the new-contact tests
+// (flexible and rigid grains).
 #include "dem/voronoi/flexible_grain.h"
+#include "dem/voronoi/tessellation.h"
 #include "dem/voronoi/voronoi_lab_test.h"
 
 #include <cstdint>
@@ -59,5 +61,79 @@ namespace demfem::dem::voronoi::testing
     p.W = (nx + 0.5) * h;
     p.H = ny * 0.866 * h;
     return p;
+  }
+
+  /// One tessellation holding the cells of two tessellations side by side
+  /// (no shared edge: the grains start without a contact).
+  inline Tessellation concatenate(const Tessellation &t1, const Tessellation &t2)
+  {
+    Tessellation t  = t1;
+    const int    n1 = t1.n_cells(), v1 = static_cast<int>(t1.vertex_x.size());
+    t.area.insert(t.area.end(), t2.area.begin(), t2.area.end());
+    t.centroid_x.insert(t.centroid_x.end(), t2.centroid_x.begin(), t2.centroid_x.end());
+    t.centroid_y.insert(t.centroid_y.end(), t2.centroid_y.begin(), t2.centroid_y.end());
+    t.empty_reason.insert(t.empty_reason.end(), t2.empty_reason.begin(),
+                          t2.empty_reason.end());
+    for (std::size_t c = 1; c < t2.offset.size(); ++c)
+      t.offset.push_back(t2.offset[c] + v1);
+    t.vertex_x.insert(t.vertex_x.end(), t2.vertex_x.begin(), t2.vertex_x.end());
+    t.vertex_y.insert(t.vertex_y.end(), t2.vertex_y.begin(), t2.vertex_y.end());
+    t.edge_length.insert(t.edge_length.end(), t2.edge_length.begin(),
+                         t2.edge_length.end());
+    for (int d : t2.edge_neighbour)
+      t.edge_neighbour.push_back(d == Tessellation::boundary ? d : d + n1);
+    for (int c : t2.empty_cells)
+      t.empty_cells.push_back(c + n1);
+    return t;
+  }
+
+  /// Jittered square lattice (12 x 12, spacing h = 1 mm, jitter 0.05 h) of
+  /// disks of radius 0.7 h: the diagonal pairs that do not share a cell edge
+  /// are 1.41 h +- the jitter apart against 1.4 h.
+  struct SquareLattice
+  {
+    double              h = 1e-3;
+    std::vector<double> x, y, r;
+    Tessellation        tess;
+  };
+  inline SquareLattice square_lattice()
+  {
+    SquareLattice                          l;
+    std::mt19937_64                        rng(8);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int j = 0; j < 12; ++j)
+      for (int i = 0; i < 12; ++i)
+        {
+          l.x.push_back((i + 0.5) * l.h + 0.05 * l.h * u(rng));
+          l.y.push_back((j + 0.5) * l.h + 0.05 * l.h * u(rng));
+          l.r.push_back(0.7 * l.h);
+        }
+    l.tess = laguerre_tessellation(l.x, l.y, l.r,
+                                   ClipDomain::rectangle(0, 0, 12 * l.h, 12 * l.h));
+    return l;
+  }
+
+  /// Grain A: disk R = 1 mm at (0, 0) in the square cell [-R, R]^2 (edges 2R);
+  /// grain B: disk 0.8 R at (xb, 0) in the square cell of half-width 0.8 R
+  /// (edges 1.6 R). The facing edges meet when the disks touch.
+  struct TwoGrains
+  {
+    std::vector<double> x, y, r;
+    Tessellation        tess;
+  };
+  inline TwoGrains two_separate_grains(double xb, double yb = 0)
+  {
+    constexpr double R = 1e-3;
+    TwoGrains        g;
+    g.x             = {0, xb};
+    g.y             = {0, yb};
+    g.r             = {R, 0.8 * R};
+    const double rb = 0.8 * R;
+    const auto   ta =
+        laguerre_tessellation({0.0}, {0.0}, {R}, ClipDomain::rectangle(-R, -R, R, R));
+    const auto tb = laguerre_tessellation(
+        {xb}, {yb}, {rb}, ClipDomain::rectangle(xb - rb, yb - rb, xb + rb, yb + rb));
+    g.tess = concatenate(ta, tb);
+    return g;
   }
 } // namespace demfem::dem::voronoi::testing
