@@ -314,6 +314,9 @@ TEST_CASE("Rigid Voronoi new contacts: no duplicates, no pair missed",
     std::set<std::pair<int, int>> actual;
     for (int k = 0; k < model.contacts.n_contacts(); ++k)
       actual.emplace(model.contacts.grain_a[k], model.contacts.grain_b[k]);
+    INFO("installed " << model.n_installed_contacts << ", formed "
+                      << model.contacts.n_contacts() - model.n_installed_contacts
+                      << ", rebuilds " << model.n_verlet_rebuilds - rebuilds);
     CHECK((int)actual.size() == model.contacts.n_contacts()); // no duplicate
     CHECK(actual == expected);                                // none missed
     CHECK(model.contacts.n_contacts() > model.n_installed_contacts + 10);
@@ -379,6 +382,8 @@ TEST_CASE("Rigid Voronoi new contacts: 1 and 2 threads give bit-identical result
   CHECK(one.mz == two.mz);
   CHECK(one.contacts.fn == two.contacts.fn);
   CHECK(one.contacts.fs == two.contacts.fs);
+  CHECK(one.contacts.un == two.contacts.un);
+  CHECK(one.contacts.edge_length == two.contacts.edge_length);
 }
 
 TEST_CASE("Rigid Voronoi new contact: a free collision conserves momentum",
@@ -420,6 +425,9 @@ TEST_CASE("Rigid Voronoi new contact: a free collision conserves momentum",
   REQUIRE(touched);
   REQUIRE(separated);
   REQUIRE(model.contacts.n_contacts() == 1);
+  INFO("B's share of the momentum " << model.mass[1] * model.vx[1] / p0.first
+                                    << ", energy after / before "
+                                    << model.kinetic_energy() / ke0);
   CHECK(model.vx[1] > 0.5); // B took a positive share of the momentum
   CHECK(model.omega[0] == 0);
   CHECK(model.omega[1] == 0);
