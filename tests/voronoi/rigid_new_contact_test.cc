@@ -435,3 +435,39 @@ TEST_CASE("Rigid Voronoi new contact: a free collision conserves momentum",
   // at 0.3 of the critical step.
   CHECK(model.kinetic_energy() == Approx(ke0).epsilon(5e-3));
 }
+
+TEST_CASE("New-contact search: overlaps once, ascending, inactive grains and pairs "
+          "in contact left out, stale after half the skin",
+          "[voronoi][new_contacts]")
+{
+  // Four unit disks on a line (skin 0.2: reach 2.2), grain 3 inactive;
+  // pair (0, 1), 2.1 apart, already in contact: no candidate.
+  std::vector<double>     x      = {0.4, 2.5, 5, 7.5}, y(4, 0.0), r(4, 1.0);
+  const std::vector<char> active = {1, 1, 1, 0};
+  NewContactSearch        search;
+  search.reset(4);
+  search.add_contact(1, 0);
+  CHECK(search.in_contact(0, 1));
+  search.rebuild(x.data(), y.data(), r.data(), active.data(), 0.2);
+  CHECK(search.skin() == 0.2);
+  CHECK(search.candidates().empty());
+  CHECK(search.new_overlaps(x.data(), y.data(), r.data()).empty());
+  // Move 2 and 3 left by 0.45 (more than skin / 2 = 0.1): stale.
+  x[2] -= 0.45;
+  x[3] -= 0.45;
+  CHECK(search.stale(x.data(), y.data(), active.data()));
+  search.rebuild(x.data(), y.data(), r.data(), active.data(), 0.2);
+  // Within 2.2: (1, 2) at 2.05 (and (0, 1), in contact; 3 is inactive).
+  REQUIRE(search.candidates().size() == 1);
+  CHECK(search.candidates()[0] == std::make_pair(1, 2));
+  CHECK(search.new_overlaps(x.data(), y.data(), r.data()).empty()); // 2.05 > 2
+  x[2] -= 0.06; // 1.99 < 2: overlap, a move below skin / 2
+  CHECK(!search.stale(x.data(), y.data(), active.data()));
+  const auto found = search.new_overlaps(x.data(), y.data(), r.data());
+  REQUIRE(found.size() == 1);
+  CHECK(found[0] == std::make_pair(1, 2));
+  CHECK(search.in_contact(2, 1));
+  CHECK(search.new_overlaps(x.data(), y.data(), r.data()).empty()); // never twice
+  search.rebuild(x.data(), y.data(), r.data(), active.data(), 0.2);
+  CHECK(search.candidates().empty()); // (1, 2) now in contact
+}
