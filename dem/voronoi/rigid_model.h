@@ -87,7 +87,9 @@ namespace demfem::dem::voronoi
     void step(double dt);
     /// Forces (fx, fy, mz) at the current positions: applied + pressure +
     /// grain contacts + platen contacts, the contact increments from the
-    /// current velocities times dt. Nothing moves. Allocation free.
+    /// current velocities times dt. Nothing moves. New contacts first
+    /// (detect_new_contacts). Allocation free except when a contact forms
+    /// or the search's candidate list is rebuilt.
     void compute_forces(double dt);
 
     /// Time step estimate: safety * 2 / sqrt(max over grains of
