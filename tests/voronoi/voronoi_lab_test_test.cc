@@ -151,7 +151,7 @@ TEST_CASE("Voronoi UCS: the peak does not depend on the time-step safety factor"
   // The loading is physical (strain rate in 1/s, damping without dt), so
   // the two runs differ by the integration error of the same path, O(dt^2)
   // between the crack events; measured 4e-5 on the peak stress and 1e-4 on
-  // the peak strain and E (safety 0.5: 9208 steps, 0.8: 5771). A crack
+  // the peak strain and E (safety 0.5: 9208 steps, 0.8: 5785). A crack
   // sequence that branches near the peak would show here. Tolerance 0.5 %.
   CHECK(b.peak_stress == Approx(a.peak_stress).epsilon(0.005));
   CHECK(b.peak_strain == Approx(a.peak_strain).epsilon(0.005));
