@@ -20,22 +20,6 @@ using namespace demfem::dem;
 using namespace demfem::dem::voronoi;
 using namespace demfem::dem::voronoi::testing;
 
-namespace
-{
-  ContactMaterial contact_material()
-  {
-    ContactMaterial m;
-    m.kn               = 1e13;
-    m.kratio           = 2;
-    m.tensile_strength = 1e12; // elastic in these tests
-    m.cohesion         = 1e12;
-    m.friction         = 0.5;
-    m.thickness        = 0.01;
-    return m.brittle();
-  }
-
-} // namespace
-
 TEST_CASE("Flexible Voronoi model: forces balance, rigid translation is force free",
           "[voronoi][flexible]")
 {
@@ -50,7 +34,7 @@ TEST_CASE("Flexible Voronoi model: forces balance, rigid translation is force fr
       }
   const auto t = laguerre_tessellation(x, y, r, ClipDomain::rectangle(0, 0, 6e-3, 6e-3));
   FlexibleVoronoiModel model(t, x, y, r, grain_elasticity(50e9, 0.01),
-                             contact_material());
+                             elastic_lattice_contacts());
   REQUIRE(model.contacts.n_contacts() >= 12);
   const double dt = model.stable_time_step(0.2);
 
@@ -123,7 +107,7 @@ TEST_CASE("Flexible Voronoi model tends to the rigid one as E grows",
   const double              R = 1e-3;
   const std::vector<double> x = {0, 2 * R}, y = {0, 0}, r = {R, R};
   const auto t  = laguerre_tessellation(x, y, r, ClipDomain::rectangle(-R, -R, 3 * R, R));
-  const auto cm = contact_material();
+  const auto cm = elastic_lattice_contacts();
   const double        F = 1e3, A = 2 * R * cm.thickness;
   const double        rigid = F / (cm.kn * A);
   std::vector<double> excess;
@@ -176,7 +160,7 @@ TEST_CASE("Flexible Voronoi contact under rigid nodal motion is the rigid contac
   const std::vector<double> x = {0, 2.6e-3}, y = {0, 0.3e-3}, r = {1e-3, 1.5e-3};
   const auto                t =
       laguerre_tessellation(x, y, r, ClipDomain::rectangle(-2e-3, -1.5e-3, 5e-3, 2e-3));
-  auto cm                    = contact_material();
+  auto cm                    = elastic_lattice_contacts();
   cm.tensile_strength        = 3e6; // strengths low enough to damage some points
   cm.cohesion                = 6e6;
   cm.tensile_fracture_energy = 3 * cm.tensile_elastic_energy();
@@ -266,7 +250,7 @@ TEST_CASE("Flexible Voronoi model: 1 and 2 threads give bit-identical results",
   auto                                   run = [&](int threads) {
     const int old = omp_get_max_threads();
     omp_set_num_threads(threads);
-    ContactMaterial m  = contact_material();
+    ContactMaterial m  = elastic_lattice_contacts();
     m.tensile_strength = 2e6; // some points break
     m.cohesion         = 6e6;
     m                  = m.brittle();
@@ -320,7 +304,7 @@ TEST_CASE("Flexible Voronoi model: measure the thread speed-up",
       const int old = omp_get_max_threads();
       omp_set_num_threads(threads);
       FlexibleVoronoiModel model(t, x, y, r, grain_elasticity(50e9, 0.01),
-                                 contact_material());
+                                 elastic_lattice_contacts());
       model.parallel_threshold = 0;
       for (int k = 0; k < model.mesh.n_nodes(); ++k)
         {

@@ -26,17 +26,6 @@ using namespace demfem::dem::voronoi::testing;
 
 namespace
 {
-  ContactMaterial contact_material()
-  {
-    ContactMaterial m;
-    m.kn               = 1e13;
-    m.kratio           = 2;
-    m.tensile_strength = 1e12; // the installed contacts stay elastic
-    m.cohesion         = 1e12;
-    m.friction         = 0.5;
-    m.thickness        = 0.01;
-    return m.brittle();
-  }
 
   constexpr double R = 1e-3; // two_separate_grains' R
 
@@ -82,7 +71,7 @@ TEST_CASE("Flexible Voronoi new contact: forms at overlap, kn A overlap, no tens
   // disks overlap first after the 51st move (not on a step boundary).
   const double         v = 0.1, dt = 1e-7;
   const auto           g  = two_separate_grains(1.8 * R + 1.0025e-6);
-  const auto           cm = contact_material();
+  const auto           cm = elastic_lattice_contacts();
   FlexibleVoronoiModel model(g.tess, g.x, g.y, g.r, grain_elasticity(50e9, 0.01), cm);
   REQUIRE(model.contacts.n_contacts() == 0);
   REQUIRE(model.n_installed_contacts == 0);
@@ -213,7 +202,7 @@ TEST_CASE("Flexible Voronoi new contact: oblique approach, force along the centr
   const double         v = 0.1, dt = 1e-7, c30 = std::cos(M_PI / 6), s30 = 0.5;
   const double         d0 = 1.8 * R + 1.0025e-6;
   const auto           g  = two_separate_grains(d0 * c30, d0 * s30);
-  const auto           cm = contact_material();
+  const auto           cm = elastic_lattice_contacts();
   FlexibleVoronoiModel model(g.tess, g.x, g.y, g.r, grain_elasticity(50e9, 0.01), cm);
   REQUIRE(model.contacts.n_contacts() == 0);
   set_grain_velocity(model, 0, v * c30, v * s30);
@@ -265,7 +254,7 @@ TEST_CASE("Flexible Voronoi new contact: the shear force is capped by friction",
 {
   const double         v = 0.1, dt = 1e-7;
   const auto           g  = two_separate_grains(1.8 * R + 1.0025e-6);
-  const auto           cm = contact_material();
+  const auto           cm = elastic_lattice_contacts();
   FlexibleVoronoiModel model(g.tess, g.x, g.y, g.r, grain_elasticity(50e9, 0.01), cm);
   set_grain_velocity(model, 0, v, 0);
   set_grain_velocity(model, 1, -v, 0);
@@ -322,7 +311,7 @@ TEST_CASE("Flexible Voronoi new contacts: no duplicates, no pair missed",
     const auto                t =
         laguerre_tessellation(x, y, r, ClipDomain::rectangle(-R, -R, 3 * R, R));
     FlexibleVoronoiModel model(t, x, y, r, grain_elasticity(50e9, 0.01),
-                               contact_material());
+                               elastic_lattice_contacts());
     REQUIRE(model.contacts.n_contacts() == 1);
     set_grain_velocity(model, 0, 0.1, 0);
     set_grain_velocity(model, 1, -0.1, 0);
@@ -336,7 +325,7 @@ TEST_CASE("Flexible Voronoi new contacts: no duplicates, no pair missed",
   {
     const SquareLattice  l = square_lattice();
     FlexibleVoronoiModel model(l.tess, l.x, l.y, l.r, grain_elasticity(50e9, 0.01),
-                               contact_material());
+                               elastic_lattice_contacts());
     int                  overlapping = 0;
     for (int a = 0; a < model.n_grains(); ++a)
       for (int b = a + 1; b < model.n_grains(); ++b)
@@ -360,7 +349,7 @@ TEST_CASE("Flexible Voronoi new contacts: no duplicates, no pair missed",
     const auto t =
         laguerre_tessellation(p.x, p.y, p.r, ClipDomain::rectangle(0, 0, p.W, p.H));
     FlexibleVoronoiModel          model(t, p.x, p.y, p.r, grain_elasticity(50e9, 0.01),
-                                        contact_material());
+                                        elastic_lattice_contacts());
     const int                     ng = model.n_grains();
     std::set<std::pair<int, int>> expected;
     for (int k = 0; k < model.n_installed_contacts; ++k)
@@ -422,7 +411,7 @@ TEST_CASE("Flexible Voronoi new contacts: 1 and 2 threads give bit-identical res
     const int old = omp_get_max_threads();
     omp_set_num_threads(threads);
     FlexibleVoronoiModel model(t, x, y, r, grain_elasticity(50e9, 0.01),
-                                                                 contact_material());
+                                                                 elastic_lattice_contacts());
     model.parallel_threshold = 0; // threads even on this small model
     model.damping       = 0.1;
     const int installed = model.contacts.n_contacts();
@@ -462,7 +451,7 @@ TEST_CASE("Flexible Voronoi new contact: a free collision conserves momentum",
   // contact and element forces sum to zero (sum N = 1 on each side), so the
   // total momentum sum m v is constant to roundoff.
   const auto           g  = two_separate_grains(1.8 * R + 1e-6);
-  const auto           cm = contact_material();
+  const auto           cm = elastic_lattice_contacts();
   FlexibleVoronoiModel model(g.tess, g.x, g.y, g.r, grain_elasticity(50e9, 0.01), cm);
   set_grain_velocity(model, 0, 1.0, 0);
   // The time step must cover the contact spring that is not there yet:
@@ -526,7 +515,7 @@ TEST_CASE("Flexible Voronoi new contacts: measure the search's cost",
   const auto    t =
       laguerre_tessellation(p.x, p.y, p.r, ClipDomain::rectangle(0, 0, p.W, p.H));
   FlexibleVoronoiModel model(t, p.x, p.y, p.r, grain_elasticity(50e9, 0.01),
-                             contact_material());
+                             elastic_lattice_contacts());
   const int            n     = 2000;
   double               start = omp_get_wtime();
   for (int s = 0; s < n; ++s)

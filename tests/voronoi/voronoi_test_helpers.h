@@ -37,6 +37,21 @@ namespace demfem::dem::voronoi::testing
     return g;
   }
 
+  /// Elastic point contacts of the small-lattice tests: kn = 1e13 N/m^3,
+  /// kappa = 2, mu = 0.5, t = 0.01 m; strengths of 1e12 Pa keep the
+  /// installed contacts elastic.
+  inline ContactMaterial elastic_lattice_contacts()
+  {
+    ContactMaterial m;
+    m.kn               = 1e13;
+    m.kratio           = 2;
+    m.tensile_strength = 1e12;
+    m.cohesion         = 1e12;
+    m.friction         = 0.5;
+    m.thickness        = 0.01;
+    return m.brittle();
+  }
+
   /// Jittered hexagonal lattice of polydisperse disks: nx x ny disks at
   /// spacing h, centres moved by up to `jitter` h in x and y, radii in
   /// [0.4, 0.5] h; [0, W] x [0, H] is the lattice's rectangle.
