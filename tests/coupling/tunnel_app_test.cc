@@ -18,10 +18,10 @@ namespace
     std::string text;
   };
 
-  Run run(const std::string &args)
+  // `log` is this test's own file: ctest runs the test cases in parallel
+  // (-j2), and a shared log would be overwritten by the other case.
+  Run run(const std::string &args, const std::string &log)
   {
-    const std::string log =
-        std::filesystem::temp_directory_path() / "demfem_tunnel_test.log";
     const std::string cmd =
         std::string(DEMFEM_EXE) + " tunnel " + std::string(DEMFEM_SOURCE_DIR) +
         "/apps/examples/tunnel_2d.prm " + args + " > " + log + " 2>&1";
@@ -66,7 +66,8 @@ TEST_CASE("tunnel: a diverging run is detected and reported", "[coupling][app]")
           "--set \"Coupling/relaxation=1.9\" --set \"DEM region/breakable=false\" "
           "--set \"Continuum/young modulus=12.7e9\" "
           "--set \"Problem/output directory=" +
-          dir + "\"");
+              dir + "\"",
+          dir + ".log");
   INFO(r.text);
   CHECK(r.code == 2);
   CHECK(r.text.find("diverged") != std::string::npos);
@@ -117,7 +118,7 @@ TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing",
   };
   for (const auto &c : cases)
     {
-      const Run r = run(out + c.args);
+      const Run r = run(out + c.args, dir + ".log");
       INFO(c.args << "\n" << r.text);
       CHECK(r.code == 1);
       CHECK(r.text.find(c.key) != std::string::npos);
