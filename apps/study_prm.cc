@@ -50,7 +50,7 @@ namespace demfem::apps::study
                       "slaved-layer). Empty: Coupling/variant");
     prm.declare_entry("schemes", "", Patterns::Anything(),
                       "Comma-separated Coupling/scheme values (explicit, "
-                      "quasi-static). Empty: Coupling/scheme");
+                      "quasi-static, condensed). Empty: Coupling/scheme");
     prm.declare_entry("relaxation factors", "", Patterns::Anything(),
                       "Comma-separated Coupling/relaxation values in (0, 2). Empty: "
                       "Coupling/relaxation");
@@ -118,9 +118,10 @@ namespace demfem::apps::study
       }
     for (const auto &t : split(prm, "schemes"))
       {
-        AssertThrow(t == "explicit" || t == "quasi-static",
+        AssertThrow(t == "explicit" || t == "quasi-static" || t == "condensed",
                     ExcMessage("Study/schemes: '" + t +
-                               "' is not a scheme (allowed: explicit, quasi-static)"));
+                               "' is not a scheme (allowed: explicit, quasi-static, "
+                               "condensed)"));
         s.schemes.push_back(t);
       }
     for (const auto &t : split(prm, "relaxation factors"))

@@ -159,10 +159,14 @@ namespace demfem::apps
     prm.declare_entry("overlap grains", "2", Patterns::Double(),
                       "slaved-layer: width of the overlap of the continuum and the DEM "
                       "region, in mean grain diameters, in [0.5, 10]");
-    prm.declare_entry("scheme", "explicit", Patterns::Selection("explicit|quasi-static"),
+    prm.declare_entry("scheme", "explicit",
+                      Patterns::Selection("explicit|quasi-static|condensed"),
                       "explicit: the continuum is stepped every `subcycles` DEM steps; "
                       "quasi-static: its static interface response (precomputed "
-                      "flexibility), relaxed every `subcycles` DEM steps (use 200)");
+                      "flexibility), relaxed every `subcycles` DEM steps (use 200); "
+                      "condensed: its static stiffness condensed onto the coupling "
+                      "nodes, which are stepped with the grains under local damping "
+                      "(no continuum dynamics; use subcycles = 1)");
     prm.declare_entry("subcycles", "1", Patterns::Integer(1, 1000),
                       "DEM steps per continuum step");
     prm.declare_entry("timestep safety", "0.8", Patterns::Double(),

@@ -26,9 +26,9 @@ namespace demfem::coupling
     if (variant != "slaved-layer" && variant != "wall-facets")
       throw dem::InputError(w + ": Coupling/variant = '" + variant +
                             "' is unknown (allowed: slaved-layer, wall-facets)");
-    if (scheme != "explicit" && scheme != "quasi-static")
+    if (scheme != "explicit" && scheme != "quasi-static" && scheme != "condensed")
       throw dem::InputError(w + ": Coupling/scheme = '" + scheme +
-                            "' is unknown (allowed: explicit, quasi-static)");
+                            "' is unknown (allowed: explicit, quasi-static, condensed)");
     dem::check_range(w, "Coupling/subcycles", subcycles, 1, 1000);
     dem::check_range(w, "Coupling/timestep safety", safety, 0, 100, true);
     dem::check_range(w, "Coupling/relaxation", relaxation, 0, 2, true, true);
@@ -245,7 +245,7 @@ namespace demfem::coupling
     // The scheme, once (coupling_scheme.h): explicit dynamics or the
     // relaxed static response.
     scheme_  = make_coupling_scheme<dim>(kp, *fem_, tria, es, points, fem_crit,
-                                        affine_installation(), progress);
+                                        affine_installation(), dem.local_damping, progress);
     dem_crit = dem.critical_timestep();
     dt_ =
         kp.safety * std::min(dem_crit, scheme_->dem_step_limit(window_limit_fraction()));

@@ -303,6 +303,232 @@ namespace demfem::coupling
       /// Divergence of the relaxation (common/growth_monitor.h).
       instability::GrowthMonitor growth{instability::interface_residual};
     };
+
+    /// Condensed scheme (coupled_model.h): the continuum without inertia,
+    /// condensed onto its coupling nodes by its static interface stiffness
+    /// K_s = F^-1 (the Schur complement of the stiffness on the coupling
+    /// dofs), the coupling nodes stepped with the DEM as PFC steps grains to
+    /// equilibrium: M a = f - K_s (u - lambda u_far) with local non-viscous
+    /// damping, central differences, M the continuum's lumped masses at the
+    /// nodes. At rest the nodes satisfy u = lambda u_far + F f, the static
+    /// continuum's answer, so the phase length is the grains' relaxation and
+    /// not the continuum's slow dynamics.
+    template <int dim>
+    class CondensedScheme : public CouplingScheme<dim>
+    {
+    public:
+      using Window = typename CouplingScheme<dim>::Window;
+
+      CondensedScheme(const CouplingParams &kp, const fem::ExplicitDynamics<dim> &fem,
+                      const dealii::parallel::distributed::Triangulation<dim> &tria,
+                      const fem::ExplicitSettings                             &es,
+                      const std::vector<dealii::Point<dim>>                   &points,
+                      double continuum_critical, double local_damping,
+                      std::ostream *progress)
+          : kp(kp)
+          , fem(fem)
+          , x(points)
+          , n(points.size())
+          , critical(continuum_critical)
+          , alpha(local_damping)
+      {
+        static_ = std::make_unique<fem::StaticInterfaceResponse<dim>>(
+            tria, fem::StaticSettings::from(es), points);
+        static_->setup();
+        const auto &flex = static_->flexibility();
+        // K_s on the free components (a constrained component has a zero
+        // row and column in F and stays at rest).
+        const auto &free = static_->free_components();
+        for (unsigned int i = 0; i < dim * n; ++i)
+          if (free[i])
+            dofs.push_back(i);
+        const auto nf = static_cast<unsigned int>(dofs.size());
+        stiffness.reinit(nf, nf);
+        for (unsigned int a = 0; a < nf; ++a)
+          for (unsigned int b = 0; b < nf; ++b)
+            stiffness(a, b) = flex(dofs[a], dofs[b]);
+        stiffness.gauss_jordan(); // F is symmetric positive definite
+        const auto masses = fem.interface_masses();
+        mass.resize(nf);
+        for (unsigned int a = 0; a < nf; ++a)
+          {
+            mass[a] = masses[dofs[a] / dim];
+            if (!(mass[a] > 0) || !std::isfinite(mass[a]))
+              throw dem::InputError("Coupling/scheme = condensed: coupling node " +
+                                    std::to_string(dofs[a] / dim) +
+                                    " has no finite continuum mass");
+          }
+        u.assign(nf, 0.0);
+        v.assign(nf, 0.0);
+        u_far.assign(nf, 0.0);
+        f.assign(nf, 0.0);
+        elastic.assign(nf, 0.0);
+        if (progress)
+          *progress << "condensed continuum: interface stiffness " << nf << " x " << nf
+                    << " in "
+                    << static_->cost().setup_seconds() +
+                           static_->cost().flexibility_seconds
+                    << " s, local damping " << alpha << "\n";
+      }
+
+      std::string name() const override { return "condensed"; }
+
+      // The nodes' own bound: the condensed stiffness is the Schur
+      // complement of the continuum's, so with the same nodal masses its
+      // largest frequency is below the coupled continuum's (interlacing),
+      // whose Gershgorin bound `critical` counts the attached grains too.
+      double dem_step_limit(double window_fraction) const override
+      {
+        return window_fraction * critical / kp.subcycles;
+      }
+
+      void set_insitu_strain(const dealii::Tensor<2, dim> &e) override
+      {
+        eps0         = e;
+        const auto r = static_->far_field_response(e);
+        for (std::size_t a = 0; a < dofs.size(); ++a)
+          u_far[a] = r[dofs[a] / dim][dofs[a] % dim];
+      }
+
+      // The nodes follow lambda eps0 x exactly while lambda rises, as the
+      // grains do: both sides are then at the homogeneous state, which the
+      // static continuum holds with the interface forces of sigma0.
+      bool follows_affine_path() const override { return true; }
+
+      void advance(const Window &w, std::vector<Vec<dim>> &u_start,
+                   std::vector<Vec<dim>> &v_window) override
+      {
+        const std::size_t nf = dofs.size();
+        for (std::size_t a = 0; a < nf; ++a)
+          f[a] = w.forces[dofs[a] / dim][dofs[a] % dim];
+        u_start.assign(n, Vec<dim>::Zero());
+        v_window.assign(n, Vec<dim>::Zero());
+        for (std::size_t a = 0; a < nf; ++a)
+          u_start[dofs[a] / dim][dofs[a] % dim] = u[a];
+        if (w.load_increment != 0)
+          {
+            // Installation: u = lambda eps0 x over the window.
+            installing = true;
+            for (std::size_t a = 0; a < nf; ++a)
+              {
+                const unsigned int k = dofs[a] / dim, c = dofs[a] % dim;
+                double             ex = 0;
+                for (int j = 0; j < dim; ++j)
+                  ex += eps0[c][j] * x[k][j];
+                v[a] = w.load_increment / w.length * ex;
+                u[a] = w.load_factor * ex;
+                v_window[k][c] = v[a];
+              }
+            update_residual(w.load_factor);
+            return;
+          }
+        if (installing) // released at rest, as the grains
+          {
+            installing = false;
+            std::fill(v.begin(), v.end(), 0.0);
+          }
+        update_residual(w.load_factor);
+        if (!std::isfinite(res))
+          throw dem::InstabilityError(
+              "the condensed coupling diverged at step " + std::to_string(w.step) +
+              ": non-finite interface force; likely cause: Coupling/timestep safety (" +
+              std::to_string(kp.safety) + ") too large");
+        // Central differences with PFC local damping (F_d = -alpha |F|
+        // sign(v), per component): the nodes' motion is an iteration to
+        // the static answer, not the continuum's dynamics.
+        for (std::size_t a = 0; a < nf; ++a)
+          {
+            const double F  = f[a] - elastic[a];
+            const double sv = v[a] > 0 ? 1.0 : (v[a] < 0 ? -1.0 : 0.0);
+            v[a] += w.length * (F - alpha * std::abs(F) * sv) / mass[a];
+            u[a] += w.length * v[a];
+            v_window[dofs[a] / dim][dofs[a] % dim] = v[a];
+          }
+      }
+
+      double kinetic_energy() const override { return 0; }
+      double unbalanced_ratio() const override { return 0; }
+      double residual() const override { return res; }
+
+      std::string instability_hint() const override
+      {
+        std::ostringstream msg;
+        msg << " With the condensed coupling (interface force residual " << res
+            << ") the likely cause is Coupling/timestep safety (" << kp.safety
+            << ") too large for the stiffness of the condensed continuum.";
+        return msg.str();
+      }
+
+      std::vector<Vec<dim>> coupling_displacements() const override
+      {
+        std::vector<Vec<dim>> r(n, Vec<dim>::Zero());
+        for (std::size_t a = 0; a < dofs.size(); ++a)
+          r[dofs[a] / dim][dofs[a] % dim] = u[a];
+        return r;
+      }
+
+      dealii::Vector<double> displacement_field(double load_factor) const override
+      {
+        // The static field whose coupling nodes are where they are: the
+        // nodal forces K_s (u - lambda u_far) reproduce u exactly.
+        std::vector<dealii::Tensor<1, dim>> held(n);
+        for (std::size_t a = 0; a < dofs.size(); ++a)
+          {
+            double t = 0;
+            for (std::size_t b = 0; b < dofs.size(); ++b)
+              t += stiffness(a, b) * (u[b] - load_factor * u_far[b]);
+            held[dofs[a] / dim][dofs[a] % dim] = t;
+          }
+        static_->solve(load_factor, eps0, held);
+        return dealii::Vector<double>(static_->displacement());
+      }
+
+      const dealii::DoFHandler<dim> &dof_handler() const override
+      {
+        return static_->get_dof_handler();
+      }
+
+      void serialize(dem::StateArchive &ar) override
+      {
+        ar.io("coupling.residual", res);
+        ar.io("coupling.installing", installing);
+        ar.io("coupling.condensed_displacement", u, u.size());
+        ar.io("coupling.condensed_velocity", v, v.size());
+      }
+
+    private:
+      /// elastic = K_s (u - lambda u_far), the force the static continuum
+      /// needs at its nodes to sit at u; res = |f - elastic| / |elastic|,
+      /// the interface's counterpart of the DEM's unbalanced-force ratio.
+      void update_residual(double load_factor)
+      {
+        const std::size_t nf = dofs.size();
+        double            rn = 0, en = 0;
+        for (std::size_t a = 0; a < nf; ++a)
+          {
+            double t = 0;
+            for (std::size_t b = 0; b < nf; ++b)
+              t += stiffness(a, b) * (u[b] - load_factor * u_far[b]);
+            elastic[a] = t;
+            rn += (f[a] - t) * (f[a] - t);
+            en += t * t;
+          }
+        res = en > 0 ? std::sqrt(rn / en) : (rn > 0 ? HUGE_VAL : 0.0);
+      }
+
+      const CouplingParams                                      &kp;
+      const fem::ExplicitDynamics<dim>                          &fem;
+      std::vector<dealii::Point<dim>>                            x;
+      std::size_t                                                n;
+      double                                                     critical, alpha;
+      mutable std::unique_ptr<fem::StaticInterfaceResponse<dim>> static_;
+      std::vector<unsigned int>                                  dofs;
+      dealii::FullMatrix<double>                                 stiffness;
+      std::vector<double> mass, u, v, u_far, f, elastic;
+      dealii::Tensor<2, dim> eps0;
+      double                 res        = 0;
+      bool                   installing = false;
+    };
   } // namespace
 
   template <int dim>
@@ -310,11 +536,16 @@ namespace demfem::coupling
       const CouplingParams &kp, fem::ExplicitDynamics<dim> &fem,
       const dealii::parallel::distributed::Triangulation<dim> &tria,
       const fem::ExplicitSettings &es, const std::vector<dealii::Point<dim>> &points,
-      double continuum_critical, bool affine_installation, std::ostream *progress)
+      double continuum_critical, bool affine_installation, double local_damping,
+      std::ostream *progress)
   {
     if (kp.scheme == "quasi-static")
       return std::make_unique<QuasiStaticScheme<dim>>(kp, fem, tria, es, points,
                                                       progress);
+    if (kp.scheme == "condensed")
+      return std::make_unique<CondensedScheme<dim>>(kp, fem, tria, es, points,
+                                                    continuum_critical, local_damping,
+                                                    progress);
     return std::make_unique<ExplicitScheme<dim>>(kp, fem, continuum_critical,
                                                  affine_installation);
   }
@@ -324,7 +555,7 @@ namespace demfem::coupling
       const CouplingParams &, fem::ExplicitDynamics<D> &,                                \
       const dealii::parallel::distributed::Triangulation<D> &,                           \
       const fem::ExplicitSettings &, const std::vector<dealii::Point<D>> &, double,      \
-      bool, std::ostream *);
+      bool, double, std::ostream *);
   DEMFEM_INSTANTIATE(2)
   DEMFEM_INSTANTIATE(3)
 #undef DEMFEM_INSTANTIATE

@@ -6,7 +6,10 @@
 //   ExplicitScheme     the continuum's central-difference dynamics, stepped
 //                      by the window k dt under the window's mean forces;
 //   QuasiStaticScheme  the continuum's static response u* = lambda u_far + F f
-//                      (flexibility F computed once), relaxed by omega.
+//                      (flexibility F computed once), relaxed by omega;
+//   CondensedScheme    the continuum's static stiffness K_s = F^-1 condensed
+//                      onto the coupling nodes, which are stepped with the
+//                      DEM under local damping to u = lambda u_far + F f.
 // A scheme advances the continuum by one window and returns the interface
 // motion (displacement at the window start, velocity over the window) the
 // DEM side follows; it owns the scheme's state and its checkpoint entries.
@@ -88,5 +91,5 @@ namespace demfem::coupling
       const dealii::parallel::distributed::Triangulation<dim> &tria,
       const fem::ExplicitSettings                             &settings,
       const std::vector<dealii::Point<dim>> &points, double continuum_critical,
-      bool affine_installation, std::ostream *progress);
+      bool affine_installation, double local_damping, std::ostream *progress);
 } // namespace demfem::coupling
