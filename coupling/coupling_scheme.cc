@@ -343,11 +343,17 @@ namespace demfem::coupling
           if (free[i])
             dofs.push_back(i);
         const auto nf = static_cast<unsigned int>(dofs.size());
-        stiffness.reinit(nf, nf);
+        dealii::FullMatrix<double> k(nf, nf);
         for (unsigned int a = 0; a < nf; ++a)
           for (unsigned int b = 0; b < nf; ++b)
-            stiffness(a, b) = flex(dofs[a], dofs[b]);
-        stiffness.gauss_jordan(); // F is symmetric positive definite
+            k(a, b) = flex(dofs[a], dofs[b]);
+        k.gauss_jordan(); // F is symmetric positive definite
+        // Row-major and contiguous: the product with it is the scheme's
+        // per-step cost.
+        stiffness.resize(std::size_t(nf) * nf);
+        for (unsigned int a = 0; a < nf; ++a)
+          for (unsigned int b = 0; b < nf; ++b)
+            stiffness[std::size_t(a) * nf + b] = k(a, b);
         const auto masses = fem.interface_masses();
         mass.resize(nf);
         for (unsigned int a = 0; a < nf; ++a)
@@ -363,6 +369,7 @@ namespace demfem::coupling
         u_far.assign(nf, 0.0);
         f.assign(nf, 0.0);
         elastic.assign(nf, 0.0);
+        relative.assign(nf, 0.0);
         if (progress)
           *progress << "condensed continuum: interface stiffness " << nf << " x " << nf
                     << " in "
@@ -471,14 +478,11 @@ namespace demfem::coupling
       {
         // The static field whose coupling nodes are where they are: the
         // nodal forces K_s (u - lambda u_far) reproduce u exactly.
+        std::vector<double> held_dofs(dofs.size());
+        elastic_force(load_factor, held_dofs);
         std::vector<dealii::Tensor<1, dim>> held(n);
         for (std::size_t a = 0; a < dofs.size(); ++a)
-          {
-            double t = 0;
-            for (std::size_t b = 0; b < dofs.size(); ++b)
-              t += stiffness(a, b) * (u[b] - load_factor * u_far[b]);
-            held[dofs[a] / dim][dofs[a] % dim] = t;
-          }
+          held[dofs[a] / dim][dofs[a] % dim] = held_dofs[a];
         static_->solve(load_factor, eps0, held);
         return dealii::Vector<double>(static_->displacement());
       }
@@ -502,18 +506,30 @@ namespace demfem::coupling
       /// the interface's counterpart of the DEM's unbalanced-force ratio.
       void update_residual(double load_factor)
       {
-        const std::size_t nf = dofs.size();
-        double            rn = 0, en = 0;
-        for (std::size_t a = 0; a < nf; ++a)
+        elastic_force(load_factor, elastic);
+        double rn = 0, en = 0;
+        for (std::size_t a = 0; a < dofs.size(); ++a)
           {
-            double t = 0;
-            for (std::size_t b = 0; b < nf; ++b)
-              t += stiffness(a, b) * (u[b] - load_factor * u_far[b]);
-            elastic[a] = t;
-            rn += (f[a] - t) * (f[a] - t);
-            en += t * t;
+            rn += (f[a] - elastic[a]) * (f[a] - elastic[a]);
+            en += elastic[a] * elastic[a];
           }
         res = en > 0 ? std::sqrt(rn / en) : (rn > 0 ? HUGE_VAL : 0.0);
+      }
+
+      /// out = K_s (u - lambda u_far).
+      void elastic_force(double load_factor, std::vector<double> &out) const
+      {
+        const std::size_t nf = dofs.size();
+        for (std::size_t b = 0; b < nf; ++b)
+          relative[b] = u[b] - load_factor * u_far[b];
+        for (std::size_t a = 0; a < nf; ++a)
+          {
+            const double *row = stiffness.data() + a * nf;
+            double        t   = 0;
+            for (std::size_t b = 0; b < nf; ++b)
+              t += row[b] * relative[b];
+            out[a] = t;
+          }
       }
 
       const CouplingParams                                      &kp;
@@ -523,8 +539,9 @@ namespace demfem::coupling
       double                                                     critical, alpha;
       mutable std::unique_ptr<fem::StaticInterfaceResponse<dim>> static_;
       std::vector<unsigned int>                                  dofs;
-      dealii::FullMatrix<double>                                 stiffness;
+      std::vector<double> stiffness; ///< K_s, row-major
       std::vector<double> mass, u, v, u_far, f, elastic;
+      mutable std::vector<double> relative; ///< u - lambda u_far
       dealii::Tensor<2, dim> eps0;
       double                 res        = 0;
       bool                   installing = false;

@@ -68,13 +68,15 @@ TEST_CASE("tunnel restart: stopped and continued run equals the uninterrupted on
           "[coupling][restart]")
 {
   test::ensure_mpi_coupling();
-  // Both coupling variants (their coupling state differs).
-  // Both coupling variants and both schemes (their coupling states differ).
-  const std::string variant = GENERATE(as<std::string>{}, "slaved-layer", "wall-facets",
-                                       "slaved-layer/quasi-static");
+  // Both coupling variants and the three schemes (their coupling states
+  // differ).
+  const std::string variant =
+      GENERATE(as<std::string>{}, "slaved-layer", "wall-facets",
+               "slaved-layer/quasi-static", "slaved-layer/condensed");
   INFO("Coupling/variant = " << variant);
-  const std::string scheme =
-      variant.find("/quasi-static") != std::string::npos ? "quasi-static" : "explicit";
+  const auto        slash  = variant.find('/');
+  const std::string scheme = slash != std::string::npos ? variant.substr(slash + 1)
+                                                        : std::string("explicit");
   const std::string name  = variant.substr(0, variant.find('/'));
   auto              small = [&](const std::string &dir) {
     auto p             = ::small(dir);
