@@ -119,11 +119,14 @@ namespace demfem::apps::study
   /// Where a smaller region starts to change the answer: the smallest region
   /// factor from which every larger swept factor agrees with the reference
   /// (-1: none), and the largest disagreeing factor (-1: none); a factor's
-  /// runs are pooled over seeds and other settings (mean depth against the
-  /// mean depth of their references).
+  /// runs are pooled over seeds and other settings (RegionAnswer::rule).
   struct RegionAnswer
   {
     double smallest_agreeing = -1, largest_disagreeing = -1;
+    /// "confidence": two seeds or more per factor, means within the
+    /// references' 95 % intervals of depth and damaged area; "tolerance":
+    /// one seed, depth within Study/agreement tolerance.
+    std::string rule = "tolerance";
   };
   RegionAnswer region_answer(const std::vector<Row>       &rows,
                              const std::vector<Reference> &refs, double tolerance);

@@ -1,6 +1,7 @@
 // Closed forms, Pareto front, CSV and SVG chart of `demfem study`.
 #include "apps/study.h"
 #include "common/atomic_file.h"
+#include "common/statistics.h"
 #include "dem/engine/types.h"
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <functional>
 #include <iomanip>
 #include <map>
+#include <set>
 #include <sstream>
 #include <tuple>
 
@@ -297,34 +299,55 @@ namespace demfem::apps::study
   RegionAnswer region_answer(const std::vector<Row>       &rows,
                              const std::vector<Reference> &refs, double tolerance)
   {
-    // Per region factor (other settings and seeds pooled): the mean
-    // damage-zone depth of its compared runs against the mean depth of their
-    // references; it agrees when within the tolerance and fewer than half of
-    // its runs are region_too_small (one run: the run's own agreement). Then
-    // walk down from the largest factor: the answer changes below the
-    // smallest factor reached before the first disagreement.
-    struct Sum
+    // Per region factor (other settings and seeds pooled): its compared runs
+    // and their references. With two seeds or more everywhere, a factor
+    // agrees when its mean damage-zone depth and mean damaged area lie in the
+    // 95 % confidence intervals of its references' (common/statistics.h);
+    // with one seed, when the depth is within the tolerance of the
+    // reference's. Either way fewer than half of its runs may be
+    // region_too_small. Then walk down from the largest factor: the answer
+    // changes below the smallest factor reached before the first
+    // disagreement.
+    struct Factor
     {
-      double      depth = 0, ref = 0;
-      std::size_t n = 0, small = 0;
+      std::vector<double> depth, area, ref_depth, ref_area;
+      std::set<int>       seen; // references counted once
+      std::size_t         small = 0;
     };
-    std::map<double, Sum, std::greater<double>> by_factor;
+    std::map<double, Factor, std::greater<double>> by_factor;
     for (const auto &r : rows)
       if (r.breakable && r.status == "stable" && r.equilibrated &&
           std::isfinite(r.error) && r.reference >= 0)
         {
           auto &s = by_factor[r.region_factor];
-          s.depth += r.result.damage_zone_depth;
-          s.ref += refs[r.reference].result.damage_zone_depth;
+          s.depth.push_back(r.result.damage_zone_depth);
+          s.area.push_back(r.result.damage.damaged_area);
+          if (s.seen.insert(r.reference).second)
+            {
+              s.ref_depth.push_back(refs[r.reference].result.damage_zone_depth);
+              s.ref_area.push_back(refs[r.reference].result.damage.damaged_area);
+            }
           s.small += r.region_too_small;
-          ++s.n;
         }
     RegionAnswer a;
-    bool         broken = false;
+    a.rule = "confidence";
+    for (const auto &[f, s] : by_factor)
+      if (s.ref_depth.size() < 2)
+        a.rule = "tolerance";
+    bool broken = false;
     for (const auto &[f, s] : by_factor)
       {
-        const bool ok =
-            std::abs(s.depth - s.ref) <= tolerance * s.ref && 2 * s.small < s.n;
+        const auto depth = statistics::mean_interval(s.depth);
+        bool       ok    = 2 * s.small < s.depth.size();
+        if (a.rule == "confidence")
+          ok = ok && statistics::mean_interval(s.ref_depth).contains(depth.mean) &&
+               statistics::mean_interval(s.ref_area)
+                   .contains(statistics::mean_interval(s.area).mean);
+        else
+          {
+            const double ref = statistics::mean_interval(s.ref_depth).mean;
+            ok               = ok && std::abs(depth.mean - ref) <= tolerance * ref;
+          }
         if (!ok && a.largest_disagreeing < 0)
           a.largest_disagreeing = f;
         broken = broken || !ok;
@@ -418,52 +441,59 @@ namespace demfem::apps::study
         if (g.runs.size() < 2)
           continue;
         if (!header)
-          m << "\nMean over packing seeds (the embedded runs of each setting and the "
-               "references of the same seeds; +- one standard deviation):\n\n"
+          m << "\nMean over packing seeds with 95 % confidence intervals (Student's t; "
+               "the embedded runs of each setting and the references of the same "
+               "seeds). Depth: 90th-percentile crack distance from the wall; area: "
+               "damaged area per unit length; notch: the deepest sector's angle:\n\n"
                "| b/a | a/d | variant, scheme, k, safety | seeds | depth [m] | reference "
-               "depth [m] | difference | excavation cracks (reference) | wall time [s] "
-               "(reference) | speed-up | region_too_small |\n"
-               "|---|---|---|---|---|---|---|---|---|---|---|\n";
-        header     = true;
-        auto stats = [](const std::vector<double> &v, double &mean, double &sd) {
-          mean = 0, sd = 0;
-          for (double x : v)
-            mean += x / v.size();
-          for (double x : v)
-            sd += (x - mean) * (x - mean) / std::max<std::size_t>(1, v.size() - 1);
-          sd = std::sqrt(sd);
-        };
-        std::vector<double> dep, rdep, t, rt, cr, rcr;
+               "depth [m] | damaged area [m2] | reference area [m2] | notch angle [deg] "
+               "| reference notch [deg] | within the reference's interval (depth, area) "
+               "| wall time [s] (reference) | speed-up | region_too_small |\n"
+               "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        header = true;
+        std::vector<double> dep, rdep, area, rarea, notch, rnotch, t, rt;
         std::size_t         small = 0;
         for (const auto *r : g.runs)
           {
             const auto &f = refs[r->reference];
             dep.push_back(r->result.damage_zone_depth);
             rdep.push_back(f.result.damage_zone_depth);
+            area.push_back(r->result.damage.damaged_area);
+            rarea.push_back(f.result.damage.damaged_area);
+            notch.push_back(r->result.damage.notch_angle);
+            rnotch.push_back(f.result.damage.notch_angle);
             t.push_back(r->result.wall_time_s);
             rt.push_back(f.result.wall_time_s);
-            cr.push_back(double(r->cracks_excavation));
-            rcr.push_back(double(f.cracks_excavation()));
             small += r->region_too_small;
           }
-        double md, sd, mrd, srd, mt, st, mrt, srt, mc, sc, mrc, src;
-        stats(dep, md, sd), stats(rdep, mrd, srd), stats(t, mt, st), stats(rt, mrt, srt),
-            stats(cr, mc, sc), stats(rcr, mrc, src);
-        const auto *r0 = g.runs.front();
+        const auto ci = [](const std::vector<double> &v) {
+          const auto i = statistics::mean_interval(v);
+          return num(i.mean) + " +- " + num(i.half_width);
+        };
+        const auto depth = statistics::mean_interval(dep), rdepth = statistics::mean_interval(rdep);
+        const auto ar = statistics::mean_interval(area), rar = statistics::mean_interval(rarea);
+        const double mt = statistics::mean_interval(t).mean;
+        const double mrt = statistics::mean_interval(rt).mean;
+        const auto *r0  = g.runs.front();
         m << "| " << num(r0->region_factor) << (r0->region_auto ? " (auto)" : "") << " | "
           << num(r0->resolution) << " | " << r0->variant << ", " << r0->scheme << ", "
           << r0->subcycles << ", " << num(r0->safety) << " | " << g.runs.size() << " | "
-          << num(md) << " +- " << num(sd) << " | " << num(mrd) << " +- " << num(srd)
-          << " | " << num(100 * (md - mrd) / mrd) << " % | " << num(mc) << " ("
-          << num(mrc) << ") | " << num(mt) << " (" << num(mrt) << ") | " << num(mrt / mt)
-          << " | " << small << " of " << g.runs.size() << " |\n";
+          << ci(dep) << " | " << ci(rdep) << " | " << ci(area) << " | " << ci(rarea)
+          << " | " << ci(notch) << " | " << ci(rnotch) << " | "
+          << (rdepth.contains(depth.mean) ? "yes" : "no") << ", "
+          << (rar.contains(ar.mean) ? "yes" : "no") << " | " << num(mt) << " ("
+          << num(mrt) << ") | " << num(mrt / mt) << " | " << small << " of "
+          << g.runs.size() << " |\n";
       }
     m << "\nWhere a smaller region changes the answer: ";
     if (answer.largest_disagreeing < 0)
       m << "no swept region factor disagreed with the reference";
     else
       m << "region factor b/a = " << num(answer.largest_disagreeing)
-        << " disagrees with the reference on the damage-zone depth";
+        << " disagrees with the reference"
+        << (answer.rule == "confidence"
+                ? " (mean depth or damaged area outside the references' 95 % interval)"
+                : " on the damage-zone depth");
     m << "; every swept factor >= "
       << (answer.smallest_agreeing < 0 ? std::string("(none)")
                                        : num(answer.smallest_agreeing))

@@ -540,6 +540,7 @@ namespace demfem::apps
             j["region_factor_largest_disagreeing"] =
                 answer.largest_disagreeing < 0 ? nullptr
                                                : json_number(answer.largest_disagreeing);
+            j["region_factor_rule"] = answer.rule;
           }
         auto pareto = nlohmann::ordered_json::array();
         for (const auto &r : rows)

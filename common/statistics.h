@@ -1,0 +1,48 @@
+#pragma once
+// Seed statistics (docs/study.md, "Breakable mode"): the mean of n
+// independent packings and its two-sided confidence interval from Student's
+// t distribution with n - 1 degrees of freedom (Boost.Math, header-only):
+//   mean +- t_{(1 + level)/2, n-1} s / sqrt(n),  s the sample deviation.
+// With fewer than two values the interval is unknown (NaN half-width) and
+// contains nothing.
+#include <boost/math/distributions/students_t.hpp>
+
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <vector>
+
+namespace demfem::statistics
+{
+  struct Interval
+  {
+    double      mean       = std::numeric_limits<double>::quiet_NaN();
+    double      half_width = std::numeric_limits<double>::quiet_NaN();
+    double      sd         = std::numeric_limits<double>::quiet_NaN();
+    std::size_t n          = 0;
+    /// Whether x lies in [mean - half_width, mean + half_width].
+    bool contains(double x) const { return std::abs(x - mean) <= half_width; }
+  };
+
+  /// Mean and `level` confidence interval (0 < level < 1) of `values`.
+  inline Interval mean_interval(const std::vector<double> &values, double level = 0.95)
+  {
+    Interval r;
+    r.n = values.size();
+    if (r.n == 0)
+      return r;
+    double sum = 0;
+    for (double x : values)
+      sum += x;
+    r.mean = sum / r.n;
+    if (r.n < 2)
+      return r;
+    double ss = 0;
+    for (double x : values)
+      ss += (x - r.mean) * (x - r.mean);
+    r.sd = std::sqrt(ss / (r.n - 1));
+    const boost::math::students_t t(static_cast<double>(r.n - 1));
+    r.half_width = boost::math::quantile(t, 0.5 * (1 + level)) * r.sd / std::sqrt(double(r.n));
+    return r;
+  }
+} // namespace demfem::statistics
