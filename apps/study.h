@@ -6,6 +6,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include "apps/tunnel_prm.h"
+#include "common/statistics.h"
 #include "coupling/full_dem_reference.h"
 #include "coupling/tunnel_run.h"
 
@@ -130,6 +131,25 @@ namespace demfem::apps::study
   };
   RegionAnswer region_answer(const std::vector<Row>       &rows,
                              const std::vector<Reference> &refs, double tolerance);
+  /// The embedded runs of one setting over packing seeds (breakable mode),
+  /// with the seed statistics (mean, 95 % interval; common/statistics.h) of
+  /// their measures and of the references of the same seeds.
+  struct SeedGroup
+  {
+    std::vector<const Row *> runs;
+    statistics::Interval     depth, ref_depth, area, ref_area, notch, ref_notch, time,
+        ref_time;
+    std::size_t too_small = 0; ///< runs that are region_too_small
+  };
+  /// The settings with two seeds or more (stable, equilibrated runs with a
+  /// usable reference).
+  std::vector<SeedGroup> seed_groups(const std::vector<Row>       &rows,
+                                     const std::vector<Reference> &refs);
+  /// study_seeds.svg: per setting, mean wall time against the signed
+  /// difference of the mean damage-zone depth from the references' mean,
+  /// with the 95 % interval of the embedded mean as a bar and the
+  /// references' interval as a band around zero.
+  void write_seed_chart(const std::string &file, const std::vector<SeedGroup> &groups);
   /// study_speedup.csv and study.md: embedded wall time over the reference
   /// wall time for the runs that agree on the damage-zone depth; returns the
   /// number of table rows.

@@ -296,6 +296,152 @@ namespace demfem::apps::study
     write_file_atomically(file, o.str());
   }
 
+  std::vector<SeedGroup> seed_groups(const std::vector<Row>       &rows,
+                                     const std::vector<Reference> &refs)
+  {
+    std::map<std::tuple<double, double, std::string, std::string, unsigned int, double,
+                        double, double>,
+             std::vector<const Row *>>
+        by_setting;
+    for (const auto &r : rows)
+      if (r.breakable && r.status == "stable" && r.equilibrated && r.reference >= 0 &&
+          refs[r.reference].usable())
+        by_setting[{r.region_factor, r.resolution, r.variant, r.scheme, r.subcycles,
+                    r.safety, r.relaxation, r.contrast}]
+            .push_back(&r);
+    std::vector<SeedGroup> groups;
+    for (const auto &[key, runs] : by_setting)
+      {
+        if (runs.size() < 2)
+          continue;
+        std::vector<double> dep, rdep, area, rarea, notch, rnotch, t, rt;
+        SeedGroup           g;
+        g.runs = runs;
+        for (const auto *r : runs)
+          {
+            const auto &f = refs[r->reference].result;
+            dep.push_back(r->result.damage_zone_depth);
+            rdep.push_back(f.damage_zone_depth);
+            area.push_back(r->result.damage.damaged_area);
+            rarea.push_back(f.damage.damaged_area);
+            notch.push_back(r->result.damage.notch_angle);
+            rnotch.push_back(f.damage.notch_angle);
+            t.push_back(r->result.wall_time_s);
+            rt.push_back(f.wall_time_s);
+            g.too_small += r->region_too_small;
+          }
+        g.depth     = statistics::mean_interval(dep);
+        g.ref_depth = statistics::mean_interval(rdep);
+        g.area      = statistics::mean_interval(area);
+        g.ref_area  = statistics::mean_interval(rarea);
+        g.notch     = statistics::mean_interval(notch);
+        g.ref_notch = statistics::mean_interval(rnotch);
+        g.time      = statistics::mean_interval(t);
+        g.ref_time  = statistics::mean_interval(rt);
+        groups.push_back(g);
+      }
+    return groups;
+  }
+
+  void write_seed_chart(const std::string &file, const std::vector<SeedGroup> &groups)
+  {
+    // x: mean wall time (log, whole decades, the references' mean time
+    // included); y: (mean depth - reference mean) / reference mean [%],
+    // linear, symmetric about zero.
+    const double W = 720, H = 480, L = 80, R = 200, T = 40, B = 60;
+    double       x0 = 1e300, x1 = -1e300, ymax = 10, ref_time = 0;
+    const auto   rel = [](const SeedGroup &g, double v) { return 100 * v / g.ref_depth.mean; };
+    for (const auto &g : groups)
+      {
+        x0       = std::min({x0, std::log10(g.time.mean), std::log10(g.ref_time.mean)});
+        x1       = std::max({x1, std::log10(g.time.mean), std::log10(g.ref_time.mean)});
+        ref_time = std::max(ref_time, g.ref_time.mean);
+        for (double v : {g.depth.mean - g.ref_depth.mean + g.depth.half_width,
+                         g.depth.mean - g.ref_depth.mean - g.depth.half_width,
+                         g.ref_depth.half_width})
+          if (std::isfinite(v))
+            ymax = std::max(ymax, std::abs(rel(g, v)));
+      }
+    if (groups.empty())
+      x0 = x1 = 0;
+    x0         = std::floor(x0), x1 = std::max(std::ceil(x1), x0 + 1);
+    ymax       = 10 * std::ceil(ymax / 10);
+    const auto X = [&](double t) {
+      return L + (W - L - R) * (std::log10(t) - x0) / (x1 - x0);
+    };
+    const auto Y = [&](double p) { return T + (H - T - B) * (ymax - p) / (2 * ymax); };
+    std::ostringstream o; // replaced atomically below
+    o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+      << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+      << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+      << "<text x=\"" << L << "\" y=\"24\" font-size=\"15\">mean over seeds: wall time "
+         "versus damage-zone depth difference (95 % intervals)</text>\n";
+    for (int k = int(x0); k <= int(x1); ++k)
+      o << "<line x1=\"" << X(std::pow(10, k)) << "\" y1=\"" << T << "\" x2=\""
+        << X(std::pow(10, k)) << "\" y2=\"" << H - B << "\" stroke=\"#ddd\"/>\n"
+        << "<text x=\"" << X(std::pow(10, k)) << "\" y=\"" << H - B + 16
+        << "\" text-anchor=\"middle\">1e" << k << "</text>\n";
+    for (double p = -ymax; p <= ymax + 1e-9; p += ymax / 4)
+      o << "<line x1=\"" << L << "\" y1=\"" << Y(p) << "\" x2=\"" << W - R << "\" y2=\""
+        << Y(p) << "\" stroke=\"" << (p == 0 ? "#888" : "#ddd") << "\"/>\n"
+        << "<text x=\"" << L - 6 << "\" y=\"" << Y(p) + 4 << "\" text-anchor=\"end\">"
+        << p << " %</text>\n";
+    // The references' interval, relative to their mean (per a/d: the widest).
+    double band = 0;
+    for (const auto &g : groups)
+      if (std::isfinite(g.ref_depth.half_width))
+        band = std::max(band, rel(g, g.ref_depth.half_width));
+    o << "<rect x=\"" << L << "\" y=\"" << Y(band) << "\" width=\"" << W - L - R
+      << "\" height=\"" << Y(-band) - Y(band)
+      << "\" fill=\"#090\" fill-opacity=\"0.12\"/>\n";
+    if (ref_time > 0)
+      o << "<line x1=\"" << X(ref_time) << "\" y1=\"" << T << "\" x2=\"" << X(ref_time)
+        << "\" y2=\"" << H - B << "\" stroke=\"#090\" stroke-dasharray=\"6,4\"/>\n";
+    o << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << W - L - R
+      << "\" height=\"" << H - T - B << "\" fill=\"none\" stroke=\"black\"/>\n"
+      << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 20
+      << "\" text-anchor=\"middle\">mean wall-clock time [s]</text>\n"
+      << "<text transform=\"translate(20," << (T + H - B) / 2
+      << ") rotate(-90)\" text-anchor=\"middle\">(mean depth - reference mean) / "
+         "reference mean</text>\n";
+    for (const auto &g : groups)
+      {
+        const double x = X(g.time.mean), y = rel(g, g.depth.mean - g.ref_depth.mean);
+        const bool   in = g.ref_depth.contains(g.depth.mean);
+        if (std::isfinite(g.depth.half_width))
+          o << "<line x1=\"" << x << "\" y1=\"" << Y(y + rel(g, g.depth.half_width))
+            << "\" x2=\"" << x << "\" y2=\"" << Y(y - rel(g, g.depth.half_width))
+            << "\" stroke=\"#36c\" stroke-width=\"1.5\"/>\n";
+        const auto *r0 = g.runs.front();
+        o << "<circle cx=\"" << x << "\" cy=\"" << Y(y) << "\" r=\"5\" fill=\""
+          << (in ? "#090" : "#c00") << "\"><title>b/a=" << r0->region_factor
+          << " a/d=" << r0->resolution << " " << r0->variant << " " << r0->scheme << ", "
+          << g.runs.size() << " seeds</title></circle>\n"
+          << "<text x=\"" << x + 7 << "\" y=\"" << Y(y) - 5
+          << "\" font-size=\"10\">b/a " << std::setprecision(3) << r0->region_factor
+          << ", a/d " << r0->resolution << "</text>\n";
+      }
+    o << "<rect x=\"" << W - R + 14 << "\" y=\"" << T + 4
+      << "\" width=\"12\" height=\"12\" fill=\"#090\" fill-opacity=\"0.12\"/>"
+      << "<text x=\"" << W - R + 30 << "\" y=\"" << T + 14
+      << "\">references' 95 % interval</text>\n"
+      << "<line x1=\"" << W - R + 14 << "\" y1=\"" << T + 30 << "\" x2=\"" << W - R + 26
+      << "\" y2=\"" << T + 30
+      << "\" stroke=\"#090\" stroke-dasharray=\"6,4\"/><text x=\"" << W - R + 30
+      << "\" y=\"" << T + 34 << "\">references' mean time</text>\n"
+      << "<circle cx=\"" << W - R + 20 << "\" cy=\"" << T + 50
+      << "\" r=\"5\" fill=\"#090\"/><text x=\"" << W - R + 30 << "\" y=\"" << T + 54
+      << "\">mean within it</text>\n"
+      << "<circle cx=\"" << W - R + 20 << "\" cy=\"" << T + 70
+      << "\" r=\"5\" fill=\"#c00\"/><text x=\"" << W - R + 30 << "\" y=\"" << T + 74
+      << "\">mean outside it</text>\n"
+      << "<line x1=\"" << W - R + 20 << "\" y1=\"" << T + 84 << "\" x2=\"" << W - R + 20
+      << "\" y2=\"" << T + 98 << "\" stroke=\"#36c\" stroke-width=\"1.5\"/><text x=\""
+      << W - R + 30 << "\" y=\"" << T + 94 << "\">95 % interval of the mean</text>\n"
+      << "</svg>\n";
+    write_file_atomically(file, o.str());
+  }
+
   RegionAnswer region_answer(const std::vector<Row>       &rows,
                              const std::vector<Reference> &refs, double tolerance)
   {
@@ -419,70 +565,35 @@ namespace demfem::apps::study
       m << "| none | | | | | | | | |\n";
     // The damage-zone depth of one packing is noisy (the references of
     // three seeds: 0.42, 0.61, 0.53 m at a/d = 4): with several seeds, the
-    // means over the seeds are compared as well, which is what "equal
-    // damage-zone depth" can mean at this resolution.
-    struct Group
-    {
-      std::vector<const Row *> runs;
+    // means over the seeds are compared with their confidence intervals,
+    // which is what "equal damage" can mean at this resolution.
+    const auto groups = seed_groups(rows, refs);
+    if (!groups.empty())
+      m << "\nMean over packing seeds with 95 % confidence intervals (Student's t; "
+           "the embedded runs of each setting and the references of the same "
+           "seeds; chart study_seeds.svg). Depth: 90th-percentile crack distance "
+           "from the wall; area: damaged area per unit length; notch: the deepest "
+           "sector's angle:\n\n"
+           "| b/a | a/d | variant, scheme, k, safety | seeds | depth [m] | reference "
+           "depth [m] | damaged area [m2] | reference area [m2] | notch angle [deg] "
+           "| reference notch [deg] | within the reference's interval (depth, area) "
+           "| wall time [s] (reference) | speed-up | region_too_small |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    const auto ci = [](const statistics::Interval &i) {
+      return num(i.mean) + " +- " + num(i.half_width);
     };
-    std::map<std::tuple<double, double, std::string, std::string, unsigned int, double,
-                        double, double>,
-             Group>
-        groups;
-    for (const auto &r : rows)
-      if (r.breakable && r.status == "stable" && r.equilibrated && r.reference >= 0 &&
-          refs[r.reference].usable())
-        groups[{r.region_factor, r.resolution, r.variant, r.scheme, r.subcycles, r.safety,
-                r.relaxation, r.contrast}]
-            .runs.push_back(&r);
-    bool header = false;
-    for (const auto &[key, g] : groups)
+    for (const auto &g : groups)
       {
-        if (g.runs.size() < 2)
-          continue;
-        if (!header)
-          m << "\nMean over packing seeds with 95 % confidence intervals (Student's t; "
-               "the embedded runs of each setting and the references of the same "
-               "seeds). Depth: 90th-percentile crack distance from the wall; area: "
-               "damaged area per unit length; notch: the deepest sector's angle:\n\n"
-               "| b/a | a/d | variant, scheme, k, safety | seeds | depth [m] | reference "
-               "depth [m] | damaged area [m2] | reference area [m2] | notch angle [deg] "
-               "| reference notch [deg] | within the reference's interval (depth, area) "
-               "| wall time [s] (reference) | speed-up | region_too_small |\n"
-               "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-        header = true;
-        std::vector<double> dep, rdep, area, rarea, notch, rnotch, t, rt;
-        std::size_t         small = 0;
-        for (const auto *r : g.runs)
-          {
-            const auto &f = refs[r->reference];
-            dep.push_back(r->result.damage_zone_depth);
-            rdep.push_back(f.result.damage_zone_depth);
-            area.push_back(r->result.damage.damaged_area);
-            rarea.push_back(f.result.damage.damaged_area);
-            notch.push_back(r->result.damage.notch_angle);
-            rnotch.push_back(f.result.damage.notch_angle);
-            t.push_back(r->result.wall_time_s);
-            rt.push_back(f.result.wall_time_s);
-            small += r->region_too_small;
-          }
-        const auto ci = [](const std::vector<double> &v) {
-          const auto i = statistics::mean_interval(v);
-          return num(i.mean) + " +- " + num(i.half_width);
-        };
-        const auto depth = statistics::mean_interval(dep), rdepth = statistics::mean_interval(rdep);
-        const auto ar = statistics::mean_interval(area), rar = statistics::mean_interval(rarea);
-        const double mt = statistics::mean_interval(t).mean;
-        const double mrt = statistics::mean_interval(rt).mean;
-        const auto *r0  = g.runs.front();
+        const auto *r0 = g.runs.front();
         m << "| " << num(r0->region_factor) << (r0->region_auto ? " (auto)" : "") << " | "
           << num(r0->resolution) << " | " << r0->variant << ", " << r0->scheme << ", "
           << r0->subcycles << ", " << num(r0->safety) << " | " << g.runs.size() << " | "
-          << ci(dep) << " | " << ci(rdep) << " | " << ci(area) << " | " << ci(rarea)
-          << " | " << ci(notch) << " | " << ci(rnotch) << " | "
-          << (rdepth.contains(depth.mean) ? "yes" : "no") << ", "
-          << (rar.contains(ar.mean) ? "yes" : "no") << " | " << num(mt) << " ("
-          << num(mrt) << ") | " << num(mrt / mt) << " | " << small << " of "
+          << ci(g.depth) << " | " << ci(g.ref_depth) << " | " << ci(g.area) << " | "
+          << ci(g.ref_area) << " | " << ci(g.notch) << " | " << ci(g.ref_notch) << " | "
+          << (g.ref_depth.contains(g.depth.mean) ? "yes" : "no") << ", "
+          << (g.ref_area.contains(g.area.mean) ? "yes" : "no") << " | "
+          << num(g.time.mean) << " (" << num(g.ref_time.mean) << ") | "
+          << num(g.ref_time.mean / g.time.mean) << " | " << g.too_small << " of "
           << g.runs.size() << " |\n";
       }
     m << "\nWhere a smaller region changes the answer: ";

@@ -57,7 +57,8 @@ namespace demfem::apps
         "'DEM region/radius = auto' sizes the region from a Kirsch pre-analysis\n"
         "(sigma1 - sigma3 >= Study/damage threshold x UCS, plus Study/margin grains).\n"
         "Writes study.csv, study_pareto.svg, summary.json (stability map per scheme),\n"
-        "in breakable mode study_speedup.csv and study.md, and one directory per run\n"
+        "in breakable mode study_speedup.csv, study.md and (two seeds or more)\n"
+        "study_seeds.svg, and one directory per run\n"
         "into Problem/output directory.\n";
 
     std::string num(double v)
@@ -464,6 +465,9 @@ namespace demfem::apps
             n_speedup =
                 study::write_speedup(out + "/study_speedup.csv", out + "/study.md", rows,
                                      refs, st.agreement_tolerance, answer);
+            const auto groups = study::seed_groups(rows, refs);
+            if (!groups.empty())
+              study::write_seed_chart(out + "/study_seeds.svg", groups);
           }
 
         nlohmann::ordered_json j; // summary.json

@@ -137,6 +137,52 @@ TEST_CASE("study: breakable mode, embedded runs against the full-DEM reference",
     CHECK(read(d + "/study.csv").find(bad) == std::string::npos);
 }
 
+TEST_CASE("study: several seeds give means with 95 % intervals, the region answer "
+          "uses them, and the seed chart",
+          "[study][breakable]")
+{
+  // Two packings of the breakable example at b/a = 4, condensed continuum.
+  const std::string d = dir("breakable_seeds");
+  const auto        r = run_demfem(
+             "study " + std::string(DEMFEM_SOURCE_DIR) +
+             "/apps/examples/study_breakable_2d.prm --set \"Problem/output directory=" + d +
+             "\" --set \"Study/region radius factors=4\" --set \"Study/schemes=condensed\" "
+                    "--set \"Study/seeds=10000,10001\"");
+  INFO(r.out);
+  REQUIRE(r.exit_code == 0);
+  const auto rows = table(d + "/study.csv");
+  REQUIRE(rows.size() == 2);
+  // The interval of the two embedded depths, as the table must print it:
+  // mean +- t_{0.975,1} s / sqrt(2), t = 12.7062 (two values: s / sqrt(2) is
+  // half their difference).
+  const double a = std::stod(rows[0].at("damage_zone_depth_m"));
+  const double b = std::stod(rows[1].at("damage_zone_depth_m"));
+  const double mean = 0.5 * (a + b), half = 12.7062 * 0.5 * std::abs(a - b);
+  const std::string md = read(d + "/study.md");
+  INFO(md);
+  const std::string prefix = "| 4 | 4 | wall-facets, condensed, 1, 0.8 | 2 | ";
+  const auto        row    = md.find(prefix);
+  REQUIRE(row != std::string::npos);
+  std::stringstream cells(md.substr(row + prefix.size()));
+  std::string       cell;
+  std::getline(cells, cell, '|'); // "mean +- half"
+  double m = 0, h = 0;
+  std::string pm;
+  std::stringstream(cell) >> m >> pm >> h;
+  CHECK(pm == "+-");
+  CHECK(m == Approx(mean).epsilon(1e-5));
+  // study.csv prints 6 significant digits: the depths (~0.19 m) to 5e-7 m,
+  // so their difference (~2e-3 m) to about 5e-4 relative.
+  CHECK(h == Approx(half).epsilon(1e-3));
+  // The region answer is the interval rule, and the seed chart is written.
+  CHECK(read(d + "/summary.json").find("\"region_factor_rule\": \"confidence\"") !=
+        std::string::npos);
+  const std::string svg = read(d + "/study_seeds.svg");
+  CHECK(svg.find("95 % interval of the mean") != std::string::npos);
+  CHECK(svg.find("b/a=4 a/d=4 wall-facets condensed, 2 seeds") != std::string::npos);
+  CHECK(svg.find("nan") == std::string::npos);
+}
+
 TEST_CASE("study: variant, scheme, relaxation and stiffness-contrast axes, invalid and "
           "unstable rows, no NaN",
           "[study]")
