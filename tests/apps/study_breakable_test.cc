@@ -58,6 +58,15 @@ namespace
     return rows;
   }
 
+  // `demfem study apps/examples/EXAMPLE` into directory d with more --set
+  // options.
+  demfem::testing::CommandResult run_study(const std::string &example, const std::string &d,
+                                           const std::string &sets)
+  {
+    return run_demfem("study " + std::string(DEMFEM_SOURCE_DIR) + "/apps/examples/" +
+                      example + " --set \"Problem/output directory=" + d + "\" " + sets);
+  }
+
   std::string dir(const std::string &name)
   {
     const auto d = std::filesystem::temp_directory_path() / ("demfem_study_" + name);
@@ -74,11 +83,9 @@ TEST_CASE("study: breakable mode, embedded runs against the full-DEM reference",
   // (encloses the damage zone, about 0.4 m deep) and b = 2 a (its coupling
   // boundary lies inside the damage zone).
   const std::string d = dir("breakable");
-  const auto        r = run_demfem(
-             "study " + std::string(DEMFEM_SOURCE_DIR) +
-             "/apps/examples/study_breakable_2d.prm --set \"Problem/output directory=" + d +
-             "\" --set \"Study/region radius factors=4, 2\" --set \"Study/agreement "
-                    "tolerance=0.4\"");
+  const auto        r = run_study("study_breakable_2d.prm", d,
+                                      "--set \"Study/region radius factors=4, 2\" --set "
+                                      "\"Study/agreement tolerance=0.4\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
 
@@ -143,11 +150,10 @@ TEST_CASE("study: several seeds give means with 95 % intervals, the region answe
 {
   // Two packings of the breakable example at b/a = 4, condensed continuum.
   const std::string d = dir("breakable_seeds");
-  const auto        r = run_demfem(
-             "study " + std::string(DEMFEM_SOURCE_DIR) +
-             "/apps/examples/study_breakable_2d.prm --set \"Problem/output directory=" + d +
-             "\" --set \"Study/region radius factors=4\" --set \"Study/schemes=condensed\" "
-                    "--set \"Study/seeds=10000,10001\"");
+  const auto        r = run_study("study_breakable_2d.prm", d,
+                                      "--set \"Study/region radius factors=4\" --set "
+                                      "\"Study/schemes=condensed\" --set "
+                                      "\"Study/seeds=10000,10001\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   const auto rows = table(d + "/study.csv");
@@ -192,14 +198,13 @@ TEST_CASE("study: variant, scheme, relaxation and stiffness-contrast axes, inval
   // are 'invalid' rows (with the reason) today and run once they are; a
   // safety of 1.5 diverges for the explicit wall-facet scheme (docs/study.md).
   const std::string d = dir("axes");
-  const auto        r = run_demfem(
-             "study " + std::string(DEMFEM_SOURCE_DIR) +
-             "/apps/examples/study_2d.prm --set \"Problem/output directory=" + d +
-             "\" --set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
-                    "--set \"Study/subcycles=1\" --set \"Study/timestep safety factors=0.8,1.5\" "
-                    "--set \"Study/coupling variants=wall-facets,slaved-layer\" --set "
-                    "\"Study/schemes=explicit,quasi-static\" --set \"Study/relaxation factors=1\" "
-                    "--set \"Study/stiffness contrasts=1,3\"");
+  const auto        r = run_study(
+      "study_2d.prm", d,
+      "--set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
+      "--set \"Study/subcycles=1\" --set \"Study/timestep safety factors=0.8,1.5\" "
+      "--set \"Study/coupling variants=wall-facets,slaved-layer\" --set "
+      "\"Study/schemes=explicit,quasi-static\" --set \"Study/relaxation factors=1\" "
+      "--set \"Study/stiffness contrasts=1,3\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   const std::string text = read(d + "/study.csv");
