@@ -65,6 +65,16 @@
 // more than 20 % per window for 15 windows (or a non-finite value) stops the
 // run with a diagnosis naming relaxation, subcycles and stiffness contrast.
 // dt = safety x DEM critical step (no continuum limit).
+//
+// Condensed scheme (Coupling/scheme = condensed; coupling_scheme.h). The
+// continuum has no inertia and is condensed onto the coupling nodes by its
+// static interface stiffness K_s = F^-1; the nodes are stepped with the DEM,
+//   M a = f - K_s (u - lambda u_far)  with local non-viscous damping,
+// M the continuum's lumped nodal masses. At rest u = lambda u_far + F f. The
+// nodes follow lambda eps0 x while lambda rises (as the grains) and are
+// released at rest. dt as the explicit scheme's (K_s is a Schur complement
+// of the continuum's stiffness: its frequencies are bounded by the coupled
+// continuum's).
 #include <deal.II/distributed/tria.h>
 
 #include "common/growth_monitor.h"
@@ -219,7 +229,8 @@ namespace demfem::coupling
     /// unbalanced_force_ratio; 0 for the quasi-static scheme).
     double continuum_unbalanced_ratio() const;
     /// Quasi-static scheme: relative interface residual |u* - u| / |u*| of
-    /// the latest window (0 for the explicit scheme).
+    /// the latest window; condensed: |f - K_s (u - lambda u_far)| /
+    /// |K_s (u - lambda u_far)| (0 for the explicit scheme).
     double interface_residual() const;
     /// Force the grains exert on the continuum at the latest DEM step (sum
     /// over the interface) [N].

@@ -7,7 +7,8 @@
 //   - the DEM's unbalanced-force ratio is below the ratio tolerance,
 //   - the continuum's kinetic energy is down to kinetic_energy_target of its
 //     peak in the phase (tunnel_result.h),
-//   - the interface residual (quasi-static scheme) is below the tolerance,
+//   - the interface residual (quasi-static: |u* - u| / |u*|; condensed: the
+//     interface force residual, coupling_scheme.h) is below the tolerance,
 //     measured over at least two windows of `subcycles` steps of this phase,
 //   - and no grain is held on the in-situ installation's path;
 // checked every 100 steps. It ends unequilibrated at its step limit (the
