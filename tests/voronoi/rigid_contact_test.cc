@@ -26,6 +26,7 @@
 #include "dem/laws/linear_law.h"
 #include "dem/voronoi/rigid_contact.h"
 #include "dem/voronoi/tessellation.h"
+#include "voronoi_test_helpers.h"
 
 #include <catch2/catch.hpp>
 
@@ -68,17 +69,7 @@ namespace
   };
 
   /// Strong elastic contact (strengths far above the loads of the tests).
-  ContactMaterial elastic()
-  {
-    ContactMaterial m;
-    m.kn               = 1e13;
-    m.kratio           = 2;
-    m.tensile_strength = 1e12;
-    m.cohesion         = 1e12;
-    m.friction         = 0.5;
-    m.thickness        = 0.01;
-    return m.brittle();
-  }
+  ContactMaterial elastic() { return testing::elastic_lattice_contacts(); }
 
   // Two disks, R_A = 1 mm at the origin, R_B = 1.5 mm at (d, 0) with a gap.
   constexpr double RA = 1e-3, RB = 1.5e-3, d = 2.6e-3;
