@@ -302,9 +302,10 @@ namespace demfem::coupling
   template <int dim>
   void CoupledModel<dim>::continuum_step()
   {
-    const std::size_t                   n = points.size();
-    std::vector<dealii::Tensor<1, dim>> f(n);
-    const double                        inv = n_accum > 0 ? 1.0 / n_accum : 0.0;
+    const std::size_t n = points.size();
+    auto             &f = window_forces;
+    f.resize(n);
+    const double inv = n_accum > 0 ? 1.0 / n_accum : 0.0;
     for (std::size_t k = 0; k < n; ++k)
       {
         for (int c = 0; c < dim; ++c)
@@ -329,10 +330,10 @@ namespace demfem::coupling
     const double dl = load_factor - applied_factor;
     if (scheme_->follows_affine_path())
       hold_grains_on_affine_path(dl);
-    std::vector<Vec<dim>> u, v;
-    scheme_->advance({f, load_factor, dl, release, kp.subcycles * dt_, n_steps}, u, v);
+    scheme_->advance({f, load_factor, dl, release, kp.subcycles * dt_, n_steps}, window_u,
+                     window_v);
     applied_factor = load_factor;
-    move_interface(u, v);
+    move_interface(window_u, window_v);
     for (auto &a : accum)
       a.setZero();
     accum_contacts.setZero();

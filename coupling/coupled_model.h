@@ -320,6 +320,11 @@ namespace demfem::coupling
     std::vector<dealii::Point<dim>>                   points;
     std::vector<dem::Vec<dim>> accum; // summed nodal forces over the window
     std::vector<dem::Vec<dim>> nodal; // nodal forces of one DEM step
+    // One window's mean nodal forces and the interface motion the scheme
+    // returns, kept so that a window (every step with subcycles = 1)
+    // allocates nothing.
+    std::vector<dealii::Tensor<1, dim>> window_forces;
+    std::vector<dem::Vec<dim>>          window_u, window_v;
     dem::Vec<dim>              accum_contacts = dem::Vec<dim>::Zero();
     dem::Vec<dim>              last_force     = dem::Vec<dim>::Zero();
     double                     accum_abs      = 0;
