@@ -74,6 +74,15 @@ namespace demfem::apps::study
 
   // --- results
 
+  /// Only the quasi-static scheme relaxes its interface displacement; the
+  /// explicit and condensed schemes never read Coupling/relaxation, so the
+  /// sweep runs them once and their rows are not part of the relaxation
+  /// axis (of the stability map or of study.csv).
+  inline bool uses_relaxation(const std::string &scheme)
+  {
+    return scheme == "quasi-static";
+  }
+
   struct Row
   {
     int           index         = 0;

@@ -143,6 +143,32 @@ namespace demfem::apps::study
         q += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
       return q + "\"";
     }
+
+    // A chart marker whose shape names the scheme (circle explicit, square
+    // quasi-static, triangle condensed): the colour already tells the Pareto
+    // front from the other runs, and a sweep over schemes puts runs of the
+    // same settings side by side.
+    std::string marker(const std::string &scheme, double x, double y, double r,
+                       const std::string &fill, const std::string &title)
+    {
+      std::ostringstream o;
+      std::string        tag = "circle";
+      if (scheme == "condensed")
+        tag = "polygon", o << "<polygon points=\"" << x << "," << y - 1.2 * r << " "
+                           << x - 1.1 * r << "," << y + 0.8 * r << " " << x + 1.1 * r
+                           << "," << y + 0.8 * r << "\"";
+      else if (scheme == "quasi-static")
+        tag = "rect", o << "<rect x=\"" << x - 0.9 * r << "\" y=\"" << y - 0.9 * r
+                        << "\" width=\"" << 1.8 * r << "\" height=\"" << 1.8 * r << "\"";
+      else
+        o << "<circle cx=\"" << x << "\" cy=\"" << y << "\" r=\"" << r << "\"";
+      o << " fill=\"" << fill << "\"";
+      if (title.empty())
+        o << "/>";
+      else
+        o << "><title>" << title << "</title></" << tag << ">";
+      return o.str() + "\n";
+    }
   } // namespace
 
   void write_csv(const std::string &file, const std::vector<Row> &rows)
@@ -169,8 +195,8 @@ namespace demfem::apps::study
           << "," << num(r.error, ok) << "," << (r.pareto ? "yes" : "no") << "," << r.seed
           << "," << (ok ? (r.equilibrated ? "yes" : "no") : "") << ","
           << num(r.final_ratio, ok && r.final_ratio >= 0) << "," << r.variant << ","
-          << r.scheme << "," << num(r.relaxation) << "," << num(r.contrast) << ","
-          << (r.breakable ? "yes" : "no") << ",";
+          << r.scheme << "," << num(r.relaxation, uses_relaxation(r.scheme)) << ","
+          << num(r.contrast) << "," << (r.breakable ? "yes" : "no") << ",";
         // damage columns: breakable runs that finished (the counts of a
         // diverged run are not results)
         const bool dmg   = r.breakable && ok;
@@ -270,29 +296,51 @@ namespace demfem::apps::study
         o << "\"/>\n";
       }
     for (const auto *p : pts)
-      o << "<circle cx=\"" << X(p->result.wall_time_s) << "\" cy=\"" << Y(ey(p))
-        << "\" r=\"" << (p->pareto ? 5 : 3.5) << "\" fill=\""
-        << (p->pareto ? "#c00" : "#36c") << "\"><title>run " << p->index
-        << ": b/a=" << p->region_factor << " a/d=" << p->resolution
-        << " k=" << p->subcycles << " safety=" << p->safety << " " << p->variant << " "
-        << p->scheme << " relaxation=" << p->relaxation << " contrast=" << p->contrast
-        << "</title></circle>\n";
+      {
+        std::ostringstream title;
+        title << "run " << p->index << ": b/a=" << p->region_factor
+              << " a/d=" << p->resolution << " k=" << p->subcycles
+              << " safety=" << p->safety << " " << p->variant << " " << p->scheme;
+        if (uses_relaxation(p->scheme))
+          title << " relaxation=" << p->relaxation;
+        title << " contrast=" << p->contrast;
+        o << marker(p->scheme, X(p->result.wall_time_s), Y(ey(p)), p->pareto ? 5 : 3.5,
+                    p->pareto ? "#c00" : "#36c", title.str());
+      }
     for (const auto *p : front) // label the front
       o << "<text x=\"" << X(p->result.wall_time_s) + 7 << "\" y=\"" << Y(ey(p)) - 5
         << "\" font-size=\"10\" fill=\"#c00\">b/a " << std::setprecision(3)
         << p->region_factor << ", a/d " << p->resolution << ", k " << p->subcycles
-        << ", s " << p->safety << "</text>\n";
-    const auto n_bad = rows.size() - pts.size();
-    o << "<circle cx=\"" << W - R + 20 << "\" cy=\"" << T + 10
-      << "\" r=\"5\" fill=\"#c00\"/><text x=\"" << W - R + 30 << "\" y=\"" << T + 14
+        << ", s " << p->safety << ", " << p->scheme << "</text>\n";
+    // Legend: colour marks the front, the shape the scheme (one entry per
+    // swept scheme, with how many of its runs are plotted).
+    const double lx = W - R + 20;
+    o << "<circle cx=\"" << lx << "\" cy=\"" << T + 10
+      << "\" r=\"5\" fill=\"#c00\"/><text x=\"" << lx + 10 << "\" y=\"" << T + 14
       << "\">Pareto front</text>\n"
-      << "<circle cx=\"" << W - R + 20 << "\" cy=\"" << T + 30
-      << "\" r=\"3.5\" fill=\"#36c\"/><text x=\"" << W - R + 30 << "\" y=\"" << T + 34
-      << "\">stable run</text>\n"
-      << "<text x=\"" << W - R + 12 << "\" y=\"" << T + 56 << "\">" << n_bad
-      << " unstable, invalid or</text>\n<text x=\"" << W - R + 12 << "\" y=\"" << T + 70
+      << "<circle cx=\"" << lx << "\" cy=\"" << T + 30
+      << "\" r=\"3.5\" fill=\"#36c\"/><text x=\"" << lx + 10 << "\" y=\"" << T + 34
+      << "\">stable run</text>\n";
+    std::vector<std::string> schemes;
+    for (const auto &r : rows)
+      if (std::find(schemes.begin(), schemes.end(), r.scheme) == schemes.end())
+        schemes.push_back(r.scheme);
+    double y = T + 54;
+    for (const auto &s : schemes)
+      {
+        const auto all   = std::count_if(rows.begin(), rows.end(),
+                                         [&](const Row &r) { return r.scheme == s; });
+        const auto shown = std::count_if(pts.begin(), pts.end(),
+                                         [&](const Row *r) { return r->scheme == s; });
+        o << marker(s, lx, y - 4, 4.5, "#555", "") << "<text x=\"" << lx + 10 << "\" y=\""
+          << y << "\">" << s << ": " << shown << " of " << all << " runs</text>\n";
+        y += 20;
+      }
+    const auto n_bad = rows.size() - pts.size();
+    o << "<text x=\"" << W - R + 12 << "\" y=\"" << y + 6 << "\">" << n_bad
+      << " unstable, invalid or</text>\n<text x=\"" << W - R + 12 << "\" y=\"" << y + 20
       << "\">unequilibrated run(s)</text>\n<text x=\"" << W - R + 12 << "\" y=\""
-      << T + 84 << "\">not plotted (study.csv)</text>\n</svg>\n";
+      << y + 34 << "\">not plotted (study.csv)</text>\n</svg>\n";
     write_file_atomically(file, o.str());
   }
 
@@ -350,7 +398,9 @@ namespace demfem::apps::study
     // linear, symmetric about zero.
     const double W = 720, H = 480, L = 80, R = 200, T = 40, B = 60;
     double       x0 = 1e300, x1 = -1e300, ymax = 10, ref_time = 0;
-    const auto   rel = [](const SeedGroup &g, double v) { return 100 * v / g.ref_depth.mean; };
+    const auto   rel = [](const SeedGroup &g, double v) {
+      return 100 * v / g.ref_depth.mean;
+    };
     for (const auto &g : groups)
       {
         x0       = std::min({x0, std::log10(g.time.mean), std::log10(g.ref_time.mean)});
@@ -364,8 +414,8 @@ namespace demfem::apps::study
       }
     if (groups.empty())
       x0 = x1 = 0;
-    x0         = std::floor(x0), x1 = std::max(std::ceil(x1), x0 + 1);
-    ymax       = 10 * std::ceil(ymax / 10);
+    x0 = std::floor(x0), x1 = std::max(std::ceil(x1), x0 + 1);
+    ymax         = 10 * std::ceil(ymax / 10);
     const auto X = [&](double t) {
       return L + (W - L - R) * (std::log10(t) - x0) / (x1 - x0);
     };
@@ -374,7 +424,8 @@ namespace demfem::apps::study
     o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
       << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
       << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-      << "<text x=\"" << L << "\" y=\"24\" font-size=\"15\">mean over seeds: wall time "
+      << "<text x=\"" << L
+      << "\" y=\"24\" font-size=\"15\">mean over seeds: wall time "
          "versus damage-zone depth difference (95 % intervals)</text>\n";
     for (int k = int(x0); k <= int(x1); ++k)
       o << "<line x1=\"" << X(std::pow(10, k)) << "\" y1=\"" << T << "\" x2=\""
@@ -417,18 +468,17 @@ namespace demfem::apps::study
           << (in ? "#090" : "#c00") << "\"><title>b/a=" << r0->region_factor
           << " a/d=" << r0->resolution << " " << r0->variant << " " << r0->scheme << ", "
           << g.runs.size() << " seeds</title></circle>\n"
-          << "<text x=\"" << x + 7 << "\" y=\"" << Y(y) - 5
-          << "\" font-size=\"10\">b/a " << std::setprecision(3) << r0->region_factor
-          << ", a/d " << r0->resolution << "</text>\n";
+          << "<text x=\"" << x + 7 << "\" y=\"" << Y(y) - 5 << "\" font-size=\"10\">b/a "
+          << std::setprecision(3) << r0->region_factor << ", a/d " << r0->resolution
+          << "</text>\n";
       }
     o << "<rect x=\"" << W - R + 14 << "\" y=\"" << T + 4
       << "\" width=\"12\" height=\"12\" fill=\"#090\" fill-opacity=\"0.12\"/>"
       << "<text x=\"" << W - R + 30 << "\" y=\"" << T + 14
       << "\">references' 95 % interval</text>\n"
       << "<line x1=\"" << W - R + 14 << "\" y1=\"" << T + 30 << "\" x2=\"" << W - R + 26
-      << "\" y2=\"" << T + 30
-      << "\" stroke=\"#090\" stroke-dasharray=\"6,4\"/><text x=\"" << W - R + 30
-      << "\" y=\"" << T + 34 << "\">references' mean time</text>\n"
+      << "\" y2=\"" << T + 30 << "\" stroke=\"#090\" stroke-dasharray=\"6,4\"/><text x=\""
+      << W - R + 30 << "\" y=\"" << T + 34 << "\">references' mean time</text>\n"
       << "<circle cx=\"" << W - R + 20 << "\" cy=\"" << T + 50
       << "\" r=\"5\" fill=\"#090\"/><text x=\"" << W - R + 30 << "\" y=\"" << T + 54
       << "\">mean within it</text>\n"
@@ -544,9 +594,9 @@ namespace demfem::apps::study
         c << r.index << "," << num(r.region_factor) << ","
           << (r.region_auto ? "yes" : "no") << "," << num(r.resolution) << "," << r.seed
           << "," << r.variant << "," << r.scheme << "," << r.subcycles << ","
-          << num(r.safety) << "," << num(r.relaxation) << "," << num(r.contrast) << ","
-          << r.result.n_particles << "," << f.result.n_particles << ","
-          << num(r.result.wall_time_s) << "," << num(f.result.wall_time_s) << ","
+          << num(r.safety) << "," << num(r.relaxation, uses_relaxation(r.scheme)) << ","
+          << num(r.contrast) << "," << r.result.n_particles << "," << f.result.n_particles
+          << "," << num(r.result.wall_time_s) << "," << num(f.result.wall_time_s) << ","
           << num(sp) << "," << num(r.result.damage_zone_depth) << ","
           << num(f.result.damage_zone_depth) << "," << num(r.error) << ","
           << r.cracks_excavation << "," << f.cracks_excavation() << ","

@@ -86,63 +86,109 @@ namespace demfem::apps
       return a;
     }
 
-    // The most conservative swept value of an axis among `rows`.
-    double conservative(const std::vector<const study::Row *> &rows, std::size_t axis)
+    // Whether an axis is a setting of the row's scheme: the relaxation is
+    // read by the quasi-static scheme only (study::uses_relaxation), so the
+    // other schemes' rows neither map it nor are filtered by it.
+    bool applies(const study::Row &r, std::size_t axis)
+    {
+      return axis != 2 || study::uses_relaxation(r.scheme);
+    }
+
+    // Sub-cycling lengthens the explicit and condensed schemes' windows, but
+    // it is what gives the quasi-static iteration's DEM time to respond
+    // within a window (k <= 50 diverged, docs/tunnel.md): for that scheme a
+    // larger k is the conservative side.
+    bool larger_is_safer(const study::Row &r, std::size_t axis)
+    {
+      return axis == 1 && r.scheme == "quasi-static";
+    }
+
+    // The most conservative swept value of an axis among the rows of one
+    // scheme.
+    double conservative(const std::vector<const study::Row *> &rows, std::size_t axis,
+                        const std::string &scheme)
     {
       double best = 0;
       bool   set  = false;
       for (const auto *r : rows)
         {
-          const double v = axes()[axis].second(*r);
-          const bool   better =
-              axis == 3 ? std::abs(std::log(v)) < std::abs(std::log(best)) : v < best;
+          if (r->scheme != scheme || !applies(*r, axis))
+            continue;
+          const double v      = axes()[axis].second(*r);
+          const bool   better = axis == 3
+                                    ? std::abs(std::log(v)) < std::abs(std::log(best))
+                                    : (larger_is_safer(*r, axis) ? v > best : v < best);
           if (!set || better)
             best = v, set = true;
         }
       return best;
     }
 
+    // Writes the map of `rows`. An axis that none of their schemes has (the
+    // relaxation of explicit or condensed runs) gets no key rather than a
+    // limit it never tested; the quasi-static subcycles, stable from some k
+    // upwards, get `_smallest_stable` / `_largest_unstable` keys instead.
     void limits(nlohmann::ordered_json &o, const std::string &prefix,
                 const std::vector<const study::Row *> &rows, const std::string &label)
     {
       for (std::size_t ax = 0; ax < axes().size(); ++ax)
-        {
-          std::map<double, bool> all_stable;
-          for (const auto *r : rows)
-            {
-              if (r->status == "invalid")
-                continue;
-              bool others = true;
-              for (std::size_t b = 0; b < axes().size(); ++b)
-                others =
-                    others && (b == ax || axes()[b].second(*r) == conservative(rows, b));
-              if (!others)
-                continue;
-              const double v  = axes()[ax].second(*r);
-              const auto   it = all_stable.find(v);
-              const bool   ok = r->status == "stable";
-              all_stable[v]   = it == all_stable.end() ? ok : it->second && ok;
-            }
-          double best = -1, first_bad = -1;
-          for (const auto &[v, ok] : all_stable)
-            if (!ok && first_bad < 0)
-              first_bad = v;
-          for (const auto &[v, ok] : all_stable)
-            if (ok && (first_bad < 0 || v < first_bad))
-              best = v;
-          const std::string name      = prefix + axes()[ax].first;
-          o[name + "_largest_stable"] = best < 0 ? nullptr : json_number(best);
-          o[name + "_smallest_unstable"] =
-              first_bad < 0 ? nullptr : json_number(first_bad);
-          if (all_stable.size() > 1 || first_bad >= 0)
-            std::cout << "demfem study: " << label << axes()[ax].first
-                      << ": largest stable "
-                      << (best < 0 ? std::string("none") : num(best))
-                      << ", smallest unstable "
-                      << (first_bad < 0 ? std::string("none (not reached)")
-                                        : num(first_bad))
-                      << "\n";
-        }
+        for (const bool up : {false, true})
+          {
+            std::map<double, bool> all_stable;
+            bool                   any = false;
+            for (const auto *r : rows)
+              {
+                if (!applies(*r, ax) || larger_is_safer(*r, ax) != up)
+                  continue;
+                any = true;
+                if (r->status == "invalid")
+                  continue;
+                bool others = true;
+                for (std::size_t b = 0; b < axes().size(); ++b)
+                  others = others &&
+                           (b == ax || !applies(*r, b) ||
+                            axes()[b].second(*r) == conservative(rows, b, r->scheme));
+                if (!others)
+                  continue;
+                const double v  = axes()[ax].second(*r);
+                const auto   it = all_stable.find(v);
+                const bool   ok = r->status == "stable";
+                all_stable[v]   = it == all_stable.end() ? ok : it->second && ok;
+              }
+            if (!any)
+              continue;
+            // Walk from the conservative end to the first unstable value.
+            std::vector<std::pair<double, bool>> walk(all_stable.begin(),
+                                                      all_stable.end());
+            if (up)
+              std::reverse(walk.begin(), walk.end());
+            std::optional<double> best, first_bad;
+            for (const auto &[v, ok] : walk)
+              {
+                if (!ok)
+                  {
+                    first_bad = v;
+                    break;
+                  }
+                best = v;
+              }
+            const std::string name   = prefix + axes()[ax].first;
+            const std::string stable = up ? "smallest stable" : "largest stable";
+            const std::string bad    = up ? "largest unstable" : "smallest unstable";
+            auto              key    = [](std::string t) {
+              std::replace(t.begin(), t.end(), ' ', '_');
+              return "_" + t;
+            };
+            o[name + key(stable)] = best ? json_number(*best) : nullptr;
+            o[name + key(bad)]    = first_bad ? json_number(*first_bad) : nullptr;
+            if (all_stable.size() > 1 || first_bad)
+              std::cout << "demfem study: " << label << axes()[ax].first << ": " << stable
+                        << " " << (best ? num(*best) : std::string("none")) << ", " << bad
+                        << " "
+                        << (first_bad ? num(*first_bad)
+                                      : std::string("none (not reached)"))
+                        << "\n";
+          }
     }
 
     // One run of the sweep: the tunnel with the swept settings applied. A
@@ -446,10 +492,13 @@ namespace demfem::apps
                     for (const double rx : relax)
                       for (const double c : contrast)
                         for (const std::uint64_t seed : seeds)
-                          rows.push_back(run_one(base, a, f, r, variant, scheme, k, s, rx,
-                                                 c, seed, autos, region_at(r, seed),
-                                                 kirsch, st, refs, reference_of(r, seed),
-                                                 out, int(rows.size())));
+                          // a scheme without relaxation would repeat the same
+                          // run for every relaxation value
+                          if (study::uses_relaxation(scheme) || rx == relax.front())
+                            rows.push_back(
+                                run_one(base, a, f, r, variant, scheme, k, s, rx, c, seed,
+                                        autos, region_at(r, seed), kirsch, st, refs,
+                                        reference_of(r, seed), out, int(rows.size())));
 
         study::mark_pareto(rows);
         study::write_csv(out + "/study.csv", rows);

@@ -243,7 +243,7 @@ TEST_CASE("study: variant, scheme, relaxation and stiffness-contrast axes, inval
   CHECK(s.at("stability_explicit_timestep_safety_smallest_unstable") == Approx(1.5));
   CHECK(s.at("stability_explicit_stiffness_contrast_largest_stable") == Approx(3));
   CHECK(
-      read(d + "/summary.json").find("stability_quasi_static_subcycles_largest_stable") !=
+      read(d + "/summary.json").find("stability_quasi_static_subcycles_smallest_stable") !=
       std::string::npos);
 }
 

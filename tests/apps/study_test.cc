@@ -70,7 +70,8 @@ TEST_CASE("study: time-step safety beyond the limit is detected as unstable, no 
   const auto        r = run_demfem(
              example + " --set \"Problem/output directory=" + d +
              "\" --set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
-                    "--set \"Study/subcycles=1,20\" --set \"Study/timestep safety factors=0.8,1.5\"");
+                    "--set \"Study/subcycles=1,20\" --set \"Study/timestep safety factors=0.8,1.5\" "
+                    "--set \"Study/schemes=explicit\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   const auto rows = csv(d + "/study.csv");
@@ -108,7 +109,7 @@ TEST_CASE("study: a sub-cycled slaved layer stays accurate (coupled window limit
              example + " --set \"Problem/output directory=" + d +
              "\" --set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=4\" "
                     "--set \"Study/coupling variants=slaved-layer\" --set \"Study/subcycles=4\" "
-                    "--set \"Study/timestep safety factors=0.8\"");
+                    "--set \"Study/timestep safety factors=0.8\" --set \"Study/schemes=explicit\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   const auto rows = csv(d + "/study.csv");
@@ -128,7 +129,7 @@ TEST_CASE("study: DEM region/radius = auto encloses the Kirsch damage zone", "[s
              example + " --set \"Problem/output directory=" + d +
              "\" --set \"Study/region radius factors=auto\" --set \"Study/grain resolutions=4\" "
                     "--set \"Study/subcycles=1\" --set \"Study/timestep safety factors=0.8\" "
-                    "--set \"Study/ucs=25e6\"");
+                    "--set \"Study/ucs=25e6\" --set \"Study/schemes=explicit\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   const auto   s      = json_numbers(read(d + "/summary.json"));
@@ -171,7 +172,7 @@ TEST_CASE("study: the error against Kirsch falls as the grain resolution rises",
              example + " --set \"Problem/output directory=" + d +
              "\" --set \"Study/region radius factors=4\" --set \"Study/grain resolutions=3,5\" "
                     "--set \"Study/subcycles=1\" --set \"Study/timestep safety factors=0.8\" "
-                    "--set \"Study/seeds=10000,777\"");
+                    "--set \"Study/seeds=10000,777\" --set \"Study/schemes=explicit\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   const auto rows = csv(d + "/study.csv");
@@ -189,4 +190,72 @@ TEST_CASE("study: the error against Kirsch falls as the grain resolution rises",
   INFO("mean |error| a/d=3: " << err[0] << ", a/d=5: " << err[1]);
   CHECK(err[1] < 0.5 * err[0]);
   CHECK(err[1] < 0.05);
+}
+
+TEST_CASE("study: the explicit and condensed schemes side by side: stability map per "
+          "scheme, chart legend, no relaxation axis",
+          "[study][schemes]")
+{
+  // Two schemes, two safeties and two relaxations: the relaxation is a
+  // setting of the quasi-static scheme only, so each of these schemes runs
+  // once per safety (4 runs, not 8), its study.csv relaxation is empty and
+  // the map has no relaxation key; the condensed scheme gets its own map.
+  setenv("OMP_NUM_THREADS", "1", 1);
+  const std::string d = dir("schemes");
+  const auto        r = run_demfem(
+             example + " --set \"Problem/output directory=" + d +
+             "\" --set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
+                    "--set \"Study/subcycles=1\" --set \"Study/timestep safety factors=0.8,1.5\" "
+                    "--set \"Study/schemes=explicit,condensed\" "
+                    "--set \"Study/relaxation factors=0.3,1\"");
+  INFO(r.out);
+  REQUIRE(r.exit_code == 0);
+  const auto rows = csv(d + "/study.csv");
+  REQUIRE(rows.size() == 5); // header + 2 schemes x 2 safeties
+  for (std::size_t i = 1; i < rows.size(); ++i)
+    {
+      CHECK(rows[i][21].empty()); // relaxation: not a setting of these schemes
+      if (std::stod(rows[i][7]) < 1)
+        {
+          CHECK(rows[i][8] == "stable");
+          CHECK(rows[i][17] == "yes");
+          CHECK(std::abs(std::stod(rows[i][14])) < 0.05);
+        }
+    }
+  const std::string json = read(d + "/summary.json");
+  const auto        s    = json_numbers(json);
+  CHECK(s.at("stability_condensed_timestep_safety_largest_stable") == Approx(0.8));
+  CHECK(s.at("stability_explicit_timestep_safety_largest_stable") == Approx(0.8));
+  CHECK(json.find("relaxation") == std::string::npos);
+  // The chart tells the schemes apart: a legend entry per scheme and the
+  // condensed runs drawn as triangles.
+  const std::string svg = read(d + "/study_pareto.svg");
+  CHECK(svg.find(">explicit: ") != std::string::npos);
+  CHECK(svg.find(">condensed: ") != std::string::npos);
+  CHECK(svg.find("<polygon") != std::string::npos);
+  CHECK(svg.find("nan") == std::string::npos);
+}
+
+TEST_CASE("study: the quasi-static map counts larger subcycles as the safe side",
+          "[study][schemes]")
+{
+  // The quasi-static iteration diverges at k = 1 (the DEM cannot respond
+  // within one step) and converges at k = 200 (docs/tunnel.md). Its
+  // subcycles limits read from the large side, and the relaxation is mapped
+  // at k = 200, not at the diverging k = 1.
+  setenv("OMP_NUM_THREADS", "1", 1);
+  const std::string d = dir("quasi_static_map");
+  const auto        r = run_demfem(
+             example + " --set \"Problem/output directory=" + d +
+             "\" --set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
+                    "--set \"Study/subcycles=1,200\" --set \"Study/timestep safety factors=0.8\" "
+                    "--set \"Study/schemes=quasi-static\" --set \"Study/relaxation factors=0.3\"");
+  INFO(r.out);
+  REQUIRE(r.exit_code == 0);
+  const auto rows = csv(d + "/study.csv");
+  REQUIRE(rows.size() == 3);
+  const auto s = json_numbers(read(d + "/summary.json"));
+  CHECK(s.at("stability_quasi_static_subcycles_smallest_stable") == Approx(200));
+  CHECK(s.at("stability_quasi_static_subcycles_largest_unstable") == Approx(1));
+  CHECK(s.at("stability_quasi_static_relaxation_largest_stable") == Approx(0.3));
 }
