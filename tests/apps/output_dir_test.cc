@@ -148,7 +148,7 @@ TEST_CASE("output directory: the study owns its directory too", "[apps][output][
       "/apps/examples/study_2d.prm --set \"Problem/output directory=" + out.string() +
       "\" --set \"Study/region radius factors=2.5\" --set "
       "\"Study/grain resolutions=3\" --set \"Study/subcycles=1\" "
-      "--set \"Study/timestep safety factors=0.8\"";
+      "--set \"Study/timestep safety factors=0.8\" --set \"Study/schemes=explicit\"";
   const auto r = run_demfem(args);
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
