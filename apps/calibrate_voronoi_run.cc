@@ -123,6 +123,8 @@ namespace demfem::apps
           .num("confining_steps", double(r.confining_steps))
           .num("loading_steps", double(r.loading_steps))
           .num("time_step_s", r.time_step)
+          .num("final_time_step_s", r.final_time_step)
+          .num("contacts_formed", r.new_contacts)
           .num("peak_Pa", r.peak_stress)
           .num("peak_load_Pa", r.peak_load)
           .num("peak_strain", r.peak_strain)

@@ -411,6 +411,18 @@ namespace demfem::dem::voronoi
   {
     const int           n = n_grains();
     std::vector<double> Kt(n, 0.0), Kr(n, 0.0);
+    // A point bears on a grain only on its cell outline, so its arm is at
+    // most the cell's reach (farthest vertex from the disk centre). The
+    // points of a contact whose grains have separated sit about the
+    // midpoint of the two centres, far outside both cells; they carry no
+    // force until the faces meet again, and then within the reach. Capping
+    // the arm keeps such a contact from lowering the estimate with the
+    // distance the grains have moved apart.
+    std::vector<double> reach2(n, 0.0);
+    for (int g = 0; g < n; ++g)
+      for (int v = cell_offset[g]; v < cell_offset[g + 1]; ++v)
+        reach2[g] =
+            std::max(reach2[g], cell_rx[v] * cell_rx[v] + cell_ry[v] * cell_ry[v]);
     for (int c = 0; c < contacts.n_contacts(); ++c)
       {
         const auto  &k    = contacts.coefficients(c);
@@ -428,7 +440,8 @@ namespace demfem::dem::voronoi
             for (int g : {a, b})
               {
                 Kt[g] += kp;
-                Kr[g] += kp * ((px - x[g]) * (px - x[g]) + (py - y[g]) * (py - y[g]));
+                const double arm2 = (px - x[g]) * (px - x[g]) + (py - y[g]) * (py - y[g]);
+                Kr[g] += kp * std::min(arm2, reach2[g]);
               }
           }
       }

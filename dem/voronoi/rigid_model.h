@@ -95,9 +95,10 @@ namespace demfem::dem::voronoi
     /// Time step estimate: safety * 2 / sqrt(max over grains of
     /// 2 (K_t / m + K_r / I)), K_t = sum of max(kn, ks) A_i over the grain's
     /// points (grain and platen contacts), K_r = sum of max(kn, ks) A_i r_i^2
-    /// with r_i the arm from the disk centre (a Gershgorin-type bound of the
-    /// largest eigenfrequency: a grain vibrating against neighbours that
-    /// move the opposite way).
+    /// with r_i the arm from the disk centre, at most the cell's reach (the
+    /// farthest cell vertex: a separated contact's points lie far outside
+    /// the cells) (a Gershgorin-type bound of the largest eigenfrequency: a
+    /// grain vibrating against neighbours that move the opposite way).
     double stable_time_step(double safety = 0.5) const;
 
     double kinetic_energy() const;

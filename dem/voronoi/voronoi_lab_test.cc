@@ -2,6 +2,8 @@
 // (dem/voronoi/voronoi_lab_test.h).
 #include "dem/voronoi/voronoi_lab_test.h"
 
+#include "dem/voronoi/stable_time_step.h"
+
 #include "dem/specimen/genesis.h"
 #include "dem/specimen/lab_tests.h"
 
@@ -173,10 +175,18 @@ namespace demfem::dem::voronoi
       VoronoiLabResult r;
       r.n_grains =
           model.n_grains() - static_cast<int>(spec.tessellation.empty_cells.size());
-      r.n_contacts    = model.contacts.n_contacts();
-      r.n_points      = model.contacts.n_points();
-      const double dt = model.stable_time_step(p.safety);
-      r.time_step     = dt;
+      r.n_contacts = model.contacts.n_contacts();
+      r.n_points   = model.contacts.n_points();
+      // Contacts that form during the test lower the step (stable_time_step.h);
+      // loading is by platen velocity, so the physical time carries on.
+      StableTimeStep<Model> dt(model, p.safety);
+      r.time_step    = dt.value();
+      double time    = 0;
+      auto   advance = [&]() {
+        model.step(dt.value());
+        time += dt.value();
+        dt.update(model);
+      };
 
       // ---- confinement: Pc on all four sides, to equilibrium ------------------
       if (Pc > 0)
@@ -185,7 +195,7 @@ namespace demfem::dem::voronoi
             model.set_pressure(s, Pc);
           for (; r.confining_steps < p.confining_step_limit; ++r.confining_steps)
             {
-              model.step(dt);
+              advance();
               if (r.confining_steps % 10 == 9 && unbalanced_ratio(model) < p.ratio_limit)
                 break;
             }
@@ -243,10 +253,10 @@ namespace demfem::dem::voronoi
       r.status               = VoronoiLabStatus::step_limit_reached;
       for (; k < p.step_limit; ++k)
         {
-          model.step(dt);
+          advance();
           VoronoiLabRow row;
           row.step = k + 1;
-          row.time = (k + 1) * dt;
+          row.time = time;
           measure(row);
           if (row.load > r.peak_load)
             {
@@ -298,6 +308,8 @@ namespace demfem::dem::voronoi
             }
         }
       count_cracks(model.contacts, r.cracks_tensile, r.cracks_shear);
+      r.final_time_step = dt.value();
+      r.new_contacts    = model.contacts.n_contacts() - r.n_contacts;
 
       // ---- E and nu: rows of the loading branch within the fit window --------
       std::vector<double> ea, load, el;

@@ -145,8 +145,11 @@ namespace demfem::dem::voronoi
     int          cracks_tensile_peak = 0, cracks_shear_peak = 0; ///< at the peak row
     int          cracks_tensile = 0, cracks_shear = 0;           ///< at the end
     std::int64_t confining_steps = 0, loading_steps = 0;
-    double       time_step = 0; ///< [s]
-    int          n_grains = 0, n_contacts = 0, n_points = 0;
+    double       time_step = 0; ///< at the start of the test [s]
+    /// At the end: lowered when contacts formed during the test [s].
+    double final_time_step = 0;
+    int    new_contacts    = 0; ///< contacts formed during the test
+    int    n_grains = 0, n_contacts = 0, n_points = 0;
   };
 
   /// Runs one test on a fresh rigid model of `specimen` (contact material

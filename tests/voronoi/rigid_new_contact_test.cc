@@ -7,6 +7,7 @@
 // pairs are never duplicated, the search misses no pair, the result does
 // not depend on the thread count, and a free collision conserves momentum.
 #include "dem/voronoi/rigid_model.h"
+#include "dem/voronoi/stable_time_step.h"
 #include "dem/voronoi/tessellation.h"
 
 #include "voronoi_test_helpers.h"
@@ -470,4 +471,93 @@ TEST_CASE("New-contact search: overlaps once, ascending, inactive grains and pai
   CHECK(search.new_overlaps(x.data(), y.data(), r.data()).empty()); // never twice
   search.rebuild(x.data(), y.data(), r.data(), active.data(), 0.2);
   CHECK(search.candidates().empty()); // (1, 2) now in contact
+}
+
+namespace
+{
+  /// Grains A (0, 0) and B (2R, 0) share the edge x = R of one tessellation
+  /// (both cells 2R x 2R, disks of radius R); grain C (disk 0.8 R, cell 1.6 R
+  /// square) lies on the right at xc, with no contact.
+  RigidVoronoiModel pair_and_third(double xc)
+  {
+    const auto ab = laguerre_tessellation({0.0, 2 * R}, {0.0, 0.0}, {R, R},
+                                          ClipDomain::rectangle(-R, -R, 3 * R, R));
+    const auto c  = laguerre_tessellation(
+         {xc}, {0.0}, {0.8 * R},
+         ClipDomain::rectangle(xc - 0.8 * R, -0.8 * R, xc + 0.8 * R, 0.8 * R));
+    return RigidVoronoiModel(concatenate(ab, c), {0.0, 2 * R, xc}, {0.0, 0.0, 0.0},
+                             {R, R, 0.8 * R}, 2650, contact_material());
+  }
+} // namespace
+
+TEST_CASE("Rigid Voronoi new contact: the time step is derived again and lowered",
+          "[voronoi][rigid_model][new_contacts]")
+{
+  // C approaches B (1e-8 m per step: the disks overlap after the 101st
+  // move); when their disks overlap a contact forms and B carries
+  // two contacts' springs instead of one, so the estimate over all contacts
+  // (RigidVoronoiModel::stable_time_step, per-grain sums) falls below the
+  // step derived at the start. StableTimeStep must follow it down at the
+  // first update after the formation, and not move before.
+  auto model = pair_and_third(3.8 * R + 1.0025e-6);
+  REQUIRE(model.contacts.n_contacts() == 1);
+  model.vx                                 = {0, 0, -0.1};
+  const double                      safety = 0.5;
+  StableTimeStep<RigidVoronoiModel> dt(model, safety);
+  const double                      start = dt.value();
+  REQUIRE(start == model.stable_time_step(safety));
+  int formed_at = -1;
+  for (int s = 0; s < 200 && formed_at < 0; ++s)
+    {
+      driven_step(model, 1e-7);
+      const bool lowered = dt.update(model);
+      if (model.contacts.n_contacts() == 1)
+        {
+          CHECK_FALSE(lowered);
+          CHECK(dt.value() == start);
+          continue;
+        }
+      formed_at = s;
+      CHECK(lowered);
+    }
+  REQUIRE(formed_at > 0);
+  REQUIRE(model.contacts.n_contacts() == 2);
+  const double all_contacts = model.stable_time_step(safety);
+  INFO("time step " << start << " -> " << dt.value() << " (estimate over both contacts "
+                    << all_contacts << ")");
+  // B's translational sum doubles (equal areas and stiffness on both
+  // sides): the estimate drops by a factor of order 1/sqrt(2), far beyond
+  // round-off.
+  CHECK(all_contacts < 0.95 * start);
+  CHECK(dt.value() == all_contacts);
+  // Nothing new forms afterwards: the step stays.
+  driven_step(model, 1e-7);
+  CHECK_FALSE(dt.update(model));
+  CHECK(dt.value() == all_contacts);
+}
+
+TEST_CASE("Rigid Voronoi time step: a separated contact counts within the cell's reach",
+          "[voronoi][rigid_model]")
+{
+  // When B moves away from A their contact's points sit about the
+  // midpoint of the centres, outside both cells. The estimate caps each
+  // point's arm at the cell's reach (farthest vertex: sqrt(2) R here), so
+  // it no longer depends on how far B has gone; uncapped, the rotational
+  // sums grow with the square of the separation and the step falls
+  // without bound.
+  auto         model    = pair_and_third(10 * R);
+  const double touching = model.stable_time_step(0.5);
+  model.x[1] += 5 * R;
+  const double apart = model.stable_time_step(0.5);
+  model.x[1] += 50 * R;
+  const double far_apart = model.stable_time_step(0.5);
+  INFO("estimate touching " << touching << ", 5 R apart " << apart << ", 55 R apart "
+                            << far_apart);
+  CHECK(far_apart == Approx(apart).epsilon(1e-12));
+  // Touching, A's points sit at arms sqrt(2) R, R, sqrt(2) R with the
+  // Lobatto weights 1/6, 2/3, 1/6: K_r = k A (4/3) R^2. Capped, all three
+  // arms are sqrt(2) R: K_r = 2 k A R^2, at most 1.5 times as much, so the
+  // step is at least 1/sqrt(1.5) = 0.816 of the touching one.
+  CHECK(apart <= touching * (1 + 1e-12));
+  CHECK(apart >= 0.8 * touching);
 }

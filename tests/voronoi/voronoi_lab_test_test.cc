@@ -12,6 +12,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <optional>
 #include <random>
 
 using namespace demfem::dem;
@@ -157,6 +158,37 @@ TEST_CASE("Voronoi UCS: the peak does not depend on the time-step safety factor"
   CHECK(b.peak_strain == Approx(a.peak_strain).epsilon(0.005));
   CHECK(b.E == Approx(a.E).epsilon(0.005));
   CHECK(a.cracks_tensile_peak + a.cracks_shear_peak > 0);
+}
+
+TEST_CASE(
+    "Voronoi UCS past the peak: the step still bounds every contact, time is physical",
+    "[voronoi][lab]")
+{
+  // Crushed to a strain of 1.5 % without the post-peak end, many contacts
+  // break and their grains move apart. The step in use must still be within
+  // the estimate over all contacts at the end (contacts that formed lower
+  // it: StableTimeStep, tested in rigid_new_contact_test.cc); separated
+  // contacts must not lower that estimate (their arms are capped at the
+  // cell's reach: uncapped, it fell to 0.29 of the start's here). The rate
+  // (5 /s) only keeps the run short.
+  auto p          = params(VoronoiTest::unconfined_compression, 1.5e-2, 5.0);
+  p.load_fraction = 0; // never "post-peak": run to the strain limit
+  std::optional<RigidVoronoiModel> final_model;
+  const auto r = run_voronoi_lab_test(lab_specimen(), breakable(), 2650, p, &final_model);
+  REQUIRE(final_model);
+  const double stable_end = final_model->stable_time_step(p.safety);
+  INFO("contacts formed " << r.new_contacts << ", time step " << r.time_step << " -> "
+                          << r.final_time_step << ", estimate at the end " << stable_end
+                          << ", steps " << r.loading_steps << ", cracks "
+                          << r.cracks_tensile << " + " << r.cracks_shear);
+  REQUIRE(r.status == VoronoiLabStatus::ok);
+  CHECK(r.ended_by == "strain limit");
+  CHECK(r.cracks_tensile + r.cracks_shear > 100);
+  CHECK(r.final_time_step <= stable_end * (1 + 1e-9));
+  // The strain of the last row is the platens' velocity times the elapsed
+  // time (1e-9 relative: sums of dt).
+  const auto &last = r.history.back();
+  CHECK(std::abs(last.axial_strain) == Approx(p.strain_rate * last.time).epsilon(1e-9));
 }
 
 TEST_CASE("Voronoi confined compression: elastic superposition, the peak rises",
