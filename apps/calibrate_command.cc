@@ -248,8 +248,19 @@ namespace demfem::apps
       prm.declare_entry("fit window high", "0.5", Patterns::Double(),
                         "... to this fraction of peak");
       prm.declare_entry(
+          "crack initiation method", "volumetric strain",
+          Patterns::Selection("volumetric strain|crack count"),
+          "What material.json's crack_initiation is (both are reported): the onset "
+          "of dilatancy in the crack volumetric strain (Martin & Chandler 1994), or "
+          "the onset of steady cracking in the crack count");
+      prm.declare_entry(
           "crack initiation fraction", "0.01", Patterns::Double(),
-          "Crack initiation when cracks reach this fraction of those at peak");
+          "Crack count method: crack initiation when cracks reach this fraction of "
+          "those at peak (0, 1)");
+      prm.declare_entry(
+          "crack volumetric strain fraction", "0.02", Patterns::Double(),
+          "Volumetric method: the crack volumetric strain has left zero "
+          "when it stays above this fraction of its rise at the peak (0, 1)");
       prm.declare_entry("seating ratio limit", "1e-4", Patterns::Double(),
                         "ft_eq ratio of seating");
       prm.declare_entry("seating step limit", "20000", Patterns::Integer(0), "");
@@ -525,6 +536,10 @@ namespace demfem::apps
       l.fit_lo                    = prm.get_double("fit window low");
       l.fit_hi                    = prm.get_double("fit window high");
       l.crack_initiation_fraction = prm.get_double("crack initiation fraction");
+      l.crack_initiation_method   = prm.get("crack initiation method") == "crack count"
+                                        ? dem::CrackInitiationMethod::crack_count
+                                        : dem::CrackInitiationMethod::volumetric_strain;
+      l.crack_volumetric_fraction = prm.get_double("crack volumetric strain fraction");
       l.ratio_limit               = prm.get_double("seating ratio limit");
       l.seat_step_limit           = prm.get_integer("seating step limit");
       const std::string rate      = prm.get("loading rate check");
@@ -549,6 +564,8 @@ namespace demfem::apps
       check(where, t + "fit window high", l.fit_hi, l.fit_lo, 1, true);
       check(where, t + "crack initiation fraction", l.crack_initiation_fraction, 0, 1,
             true);
+      check(where, t + "crack volumetric strain fraction", l.crack_volumetric_fraction, 0,
+            1, true, true);
       check(where, t + "seating ratio limit", l.ratio_limit, 0, 1, true);
       prm.leave_subsection();
 

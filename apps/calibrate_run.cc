@@ -176,6 +176,8 @@ namespace demfem::apps
           .num("peak_Pa", r.peak)
           .num("peak_strain", r.peak_strain)
           .num("crack_initiation_Pa", r.crack_initiation)
+          .num("crack_initiation_crack_count_Pa", r.crack_initiation_count)
+          .num("crack_initiation_volumetric_Pa", r.crack_initiation_volumetric)
           .num("cracks_tension_at_peak", double(r.cracks_tension_peak))
           .num("cracks_shear_at_peak", double(r.cracks_shear_peak))
           .num("cracks_tension_at_end", double(r.cracks_tension))
@@ -573,6 +575,12 @@ namespace demfem::apps
         .num("direct_tension", dt ? dt->peak : nan)
         .num("direct_tension_regions", dt ? dt->peak_region : nan)
         .num("crack_initiation", el ? el->crack_initiation : nan)
+        .str("crack_initiation_method",
+             s.lab.crack_initiation_method == dem::CrackInitiationMethod::crack_count
+                 ? "crack count"
+                 : "volumetric strain")
+        .num("crack_initiation_crack_count", el ? el->crack_initiation_count : nan)
+        .num("crack_initiation_volumetric", el ? el->crack_initiation_volumetric : nan)
         .num("crack_damage", el ? el->crack_damage : nan);
     Json ratios;
     ratios
@@ -597,6 +605,8 @@ namespace demfem::apps
         .str("direct_tension", "Pa")
         .str("direct_tension_regions", "Pa")
         .str("crack_initiation", "Pa")
+        .str("crack_initiation_crack_count", "Pa")
+        .str("crack_initiation_volumetric", "Pa")
         .str("crack_damage", "Pa")
         .str("porosity", "1")
         .str("measurement_porosity", "1")

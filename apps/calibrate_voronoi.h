@@ -40,9 +40,13 @@ namespace demfem::apps
     dem::voronoi::VoronoiLabParams lab;
     /// Brazilian platen friction (the compression platens are frictionless).
     double brazilian_platen_friction = 0.5;
-    /// Crack initiation: the first history row whose crack count reaches
-    /// this fraction of the count at the peak (docs/calibrate.md).
+    /// Crack initiation (docs/calibrate.md, as the bonded materials): the
+    /// method material.json reports, the crack count's fraction of the
+    /// count at the peak, the crack volumetric strain's fraction of its rise.
+    dem::CrackInitiationMethod crack_initiation_method =
+        dem::CrackInitiationMethod::volumetric_strain;
     double                       crack_initiation_fraction = 0.01;
+    double                       crack_volumetric_fraction = 0.02;
     std::vector<VoronoiTestSpec> tests;
     FitSettings                  fit; ///< --fit (subsection Fit)
   };
@@ -96,11 +100,15 @@ namespace demfem::apps
                                                   const VoronoiTestSpec          &t,
                                                   const std::string &vtk_base = "");
 
-  /// Axial stress magnitude when the crack count first reaches `fraction`
-  /// of the count at the peak row (as the bonded materials,
-  /// docs/calibrate.md); NaN without cracks at the peak.
+  /// Crack-initiation stress (axial stress magnitude) of test `r` by
+  /// method: crack count, when the count first reaches
+  /// s.crack_initiation_fraction of the count at the peak row; crack
+  /// volumetric strain (compression tests only, dem/specimen/crack_initiation.h;
+  /// the other tests report the crack count). As the bonded materials
+  /// (docs/calibrate.md). NaN where the method finds none.
   double voronoi_crack_initiation(const dem::voronoi::VoronoiLabResult &r,
-                                  double                                fraction);
+                                  const VoronoiCalibrateSettings       &s,
+                                  dem::CrackInitiationMethod method, bool compression);
 
   /// The plane-strain pair for the continuum from the 2D constants E', nu'
   /// of the free-sided specimen (docs/architecture.md).

@@ -75,7 +75,8 @@ namespace demfem::apps
                         {
                           values["ucs"].push_back(r.peak_stress);
                           values["crack initiation ratio"].push_back(
-                              voronoi_crack_initiation(r, s.crack_initiation_fraction) /
+                              voronoi_crack_initiation(r, s, s.crack_initiation_method,
+                                                       true) /
                               r.peak_stress);
                         }
                     }

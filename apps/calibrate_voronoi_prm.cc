@@ -227,6 +227,12 @@ namespace demfem::apps
     s.crack_initiation_fraction = prm.get_double("crack initiation fraction");
     check(where, t + "crack initiation fraction", s.crack_initiation_fraction, 0, 1,
           true);
+    s.crack_initiation_method   = prm.get("crack initiation method") == "crack count"
+                                      ? dem::CrackInitiationMethod::crack_count
+                                      : dem::CrackInitiationMethod::volumetric_strain;
+    s.crack_volumetric_fraction = prm.get_double("crack volumetric strain fraction");
+    check(where, t + "crack volumetric strain fraction", s.crack_volumetric_fraction, 0,
+          1, true, true);
     l.ratio_limit = prm.get_double("seating ratio limit");
     check(where, t + "seating ratio limit", l.ratio_limit, 0, 1, true);
     if (prm.get("loading rate check") != "false")

@@ -8,6 +8,7 @@
 #include "apps/calibrate_output.h"
 #include "apps/calibrate_voronoi.h"
 #include "dem/io/vtk_output.h"
+#include "dem/specimen/crack_initiation.h"
 #include "dem/specimen/envelope.h"
 #include "dem/voronoi/voronoi_vtk.h"
 
@@ -143,15 +144,38 @@ namespace demfem::apps
     }
   } // namespace
 
-  double voronoi_crack_initiation(const vor::VoronoiLabResult &r, double fraction)
+  double voronoi_crack_initiation(const vor::VoronoiLabResult    &r,
+                                  const VoronoiCalibrateSettings &s,
+                                  dem::CrackInitiationMethod method, bool compression)
   {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    if (method == dem::CrackInitiationMethod::volumetric_strain && compression)
+      {
+        // Tension positive; the 2D slopes E = d sigma_a / d eps_a and
+        // nu = -d eps_l / d eps_a of the loading branch (one lateral
+        // direction).
+        dem::CompressionBranch b;
+        double                 largest = -1;
+        for (std::size_t i = 0; i < r.history.size(); ++i)
+          {
+            const auto &h = r.history[i];
+            b.volumetric_strain.push_back(h.axial_strain + h.lateral_strain);
+            b.axial_stress.push_back(h.axial_stress);
+            b.load.push_back(h.load);
+            if (h.load > largest)
+              largest = h.load, b.peak_row = i;
+          }
+        const std::size_t row = dem::crack_volumetric_initiation_row(
+            b, r.E, r.nu, 1, s.lab.fit_lo, s.lab.fit_hi, s.crack_volumetric_fraction);
+        return row < r.history.size() ? std::abs(r.history[row].axial_stress) : nan;
+      }
     const double at_peak = r.cracks_tensile_peak + r.cracks_shear_peak;
     if (!(at_peak > 0))
-      return std::numeric_limits<double>::quiet_NaN();
+      return nan;
     for (const auto &h : r.history)
-      if (h.cracks_tensile + h.cracks_shear >= fraction * at_peak)
+      if (h.cracks_tensile + h.cracks_shear >= s.crack_initiation_fraction * at_peak)
         return std::abs(h.axial_stress);
-    return std::numeric_limits<double>::quiet_NaN();
+    return nan;
   }
 
   PlaneStrainConstants plane_strain_constants(double E_2d, double nu_2d)
@@ -259,6 +283,8 @@ namespace demfem::apps
         const double test_s = seconds_since(t_test);
         dem::vtkout::write_text_atomically(s.out + "/history_" + name + ".csv",
                                            history_csv(r.history));
+        const bool compression = t.test != vor::VoronoiTest::direct_tension &&
+                                 t.test != vor::VoronoiTest::brazilian;
         // Compression positive for compression and Brazilian, tension
         // positive for direct tension (as the bonded materials' plots).
         const double        sign = t.test == vor::VoronoiTest::direct_tension ? 1 : -1;
@@ -278,7 +304,15 @@ namespace demfem::apps
             .num("Pc_Pa", t.confining_pressure)
             .num("platen_friction", brazilian ? s.brazilian_platen_friction : 0.0)
             .num("crack_initiation_Pa",
-                 voronoi_crack_initiation(r, s.crack_initiation_fraction));
+                 voronoi_crack_initiation(r, s, s.crack_initiation_method, compression))
+            .num("crack_initiation_crack_count_Pa",
+                 voronoi_crack_initiation(r, s, dem::CrackInitiationMethod::crack_count,
+                                          compression))
+            .num("crack_initiation_volumetric_Pa",
+                 compression
+                     ? voronoi_crack_initiation(
+                           r, s, dem::CrackInitiationMethod::volumetric_strain, true)
+                     : std::numeric_limits<double>::quiet_NaN());
         tests_json.obj(name, j);
         std::cerr << "demfem calibrate: " << t.label << ": peak " << r.peak_stress / 1e6
                   << " MPa (" << r.ended_by << ", " << r.loading_steps << " steps, "
@@ -311,9 +345,11 @@ namespace demfem::apps
     const auto [E, nu]                = plane_strain_constants(Eps, nups);
     auto peak  = [&](const vor::VoronoiLabResult *r) { return r ? r->peak_stress : nan; };
     auto ratio = [&](double a, double b) { return b > 0 ? a / b : nan; };
-    const double ci =
-        el ? voronoi_crack_initiation(*el, s.crack_initiation_fraction) : nan;
-    double triaxial_pc = nan;
+    auto ci_by = [&](dem::CrackInitiationMethod m) {
+      return el ? voronoi_crack_initiation(*el, s, m, true) : nan;
+    };
+    const double ci          = ci_by(s.crack_initiation_method);
+    double       triaxial_pc = nan;
     for (const auto &t : s.tests)
       if (t.label == "triaxial")
         triaxial_pc = t.confining_pressure;
@@ -340,7 +376,15 @@ namespace demfem::apps
         .num("confining_pressure", triaxial_pc)
         .num("bts", peak(bts))
         .num("direct_tension", peak(dt))
-        .num("crack_initiation", ci);
+        .num("crack_initiation", ci)
+        .str("crack_initiation_method",
+             s.crack_initiation_method == dem::CrackInitiationMethod::crack_count
+                 ? "crack count"
+                 : "volumetric strain")
+        .num("crack_initiation_crack_count",
+             ci_by(dem::CrackInitiationMethod::crack_count))
+        .num("crack_initiation_volumetric",
+             ci_by(dem::CrackInitiationMethod::volumetric_strain));
     Json ratios;
     ratios.num("crack_initiation_to_ucs", ratio(ci, peak(ucs)))
         .num("direct_tension_to_bts", ratio(peak(dt), peak(bts)))

@@ -2,6 +2,8 @@
 // §5.2, §5.4-5.7).
 #include "dem/specimen/lab_tests.h"
 
+#include "dem/specimen/crack_initiation.h"
+
 #include <array>
 
 #include "dem/laws/linear_law.h"
@@ -31,6 +33,8 @@ namespace demfem::dem
     check_range(where, "fit window high", fit_hi, fit_lo, 1, true, false);
     check_range(where, "crack initiation fraction", crack_initiation_fraction, 0, 1, true,
                 false);
+    check_range(where, "crack volumetric strain fraction", crack_volumetric_fraction, 0,
+                1, true, false);
   }
 
   const char *test_kind_name(TestKind k)
@@ -586,6 +590,22 @@ namespace demfem::dem
                                  : std::numeric_limits<double>::quiet_NaN();
       }
 
+      /// Crack initiation by the crack volumetric strain
+      /// (dem/specimen/crack_initiation.h); H.size() if it does not apply.
+      std::size_t volumetric_crack_initiation_row(double E, double nu) const
+      {
+        CompressionBranch b;
+        for (const auto &h : r_.history)
+          {
+            b.volumetric_strain.push_back(h.volumetric_strain);
+            b.axial_stress.push_back(h.axial_stress);
+            b.load.push_back(h.load);
+          }
+        b.peak_row = r_.peak_row;
+        return crack_volumetric_initiation_row(b, E, nu, dim - 1, p_.fit_lo, p_.fit_hi,
+                                               p_.crack_volumetric_fraction);
+      }
+
       void extract()
       {
         const auto &H = r_.history;
@@ -616,8 +636,9 @@ namespace demfem::dem
         for (std::size_t i = 0; i <= r_.peak_row; ++i)
           if (H[i].cracks_tension + H[i].cracks_shear >= threshold)
             {
-              r_.crack_initiation      = std::abs(H[i].axial_stress);
-              r_.crack_initiation_load = H[i].load;
+              r_.crack_initiation       = std::abs(H[i].axial_stress);
+              r_.crack_initiation_count = r_.crack_initiation;
+              r_.crack_initiation_load  = H[i].load;
               break;
             }
         if (p_.kind == TestKind::direct_tension)
@@ -652,6 +673,19 @@ namespace demfem::dem
             r_.E = E; // constrained modulus
             return;
           }
+        const std::size_t ci = volumetric_crack_initiation_row(E, nu);
+        if (ci < H.size())
+          {
+            r_.crack_initiation_volumetric = std::abs(H[ci].axial_stress);
+            if (p_.crack_initiation_method == CrackInitiationMethod::volumetric_strain)
+              {
+                r_.crack_initiation      = r_.crack_initiation_volumetric;
+                r_.crack_initiation_load = H[ci].load;
+              }
+          }
+        else if (p_.crack_initiation_method == CrackInitiationMethod::volumetric_strain)
+          r_.crack_initiation = r_.crack_initiation_load =
+              std::numeric_limits<double>::quiet_NaN();
         if (dim == 3)
           r_.E = E, r_.nu = nu;
         else

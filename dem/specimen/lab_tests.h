@@ -27,6 +27,19 @@ namespace demfem::dem
   /// Lateral boundary of a compression test (fistPkg §5.5, Table 10). All
   /// are seated by the servo at Pc (unconfined: axially only, the lateral
   /// walls removed); during loading the lateral walls are
+  /// How the crack-initiation stress is picked (docs/calibrate.md, "Crack
+  /// initiation and crack damage").
+  enum class CrackInitiationMethod
+  {
+    /// Onset of dilatancy: the crack volumetric strain (measured volumetric
+    /// strain minus the elastic one of the loading branch's E, nu) leaves
+    /// zero for good (Martin & Chandler 1994). Compression tests only.
+    volumetric_strain,
+    /// Onset of steady cracking: the crack count reaches a fraction of its
+    /// value at the peak (the acoustic-emission reading).
+    crack_count
+  };
+
   enum class CompressionType
   {
     confined,       ///< servo-controlled at Pc (triaxial: sigma_3 = Pc held)
@@ -89,9 +102,16 @@ namespace demfem::dem
     /// Window of the modulus fit, as fractions of the peak load (loading
     /// branch before the peak): E and nu are least-squares slopes in it.
     double fit_lo = 0.1, fit_hi = 0.5;
-    /// Crack-initiation stress: load when the crack count first reaches this
+    /// Crack-initiation stress reported as `crack_initiation` (both are
+    /// always measured).
+    CrackInitiationMethod crack_initiation_method =
+        CrackInitiationMethod::volumetric_strain;
+    /// Crack count method: load when the crack count first reaches this
     /// fraction of the count at peak.
     double crack_initiation_fraction = 0.01;
+    /// Volumetric method: the crack volumetric strain has left zero when it
+    /// stays above this fraction of its value at the peak.
+    double crack_volumetric_fraction = 0.02;
 
     void validate(const std::string &where, int dim) const;
   };
@@ -105,11 +125,19 @@ namespace demfem::dem
     std::size_t             peak_row = 0; ///< history index of the peak
     double                  peak = 0; ///< compression: peak axial stress magnitude [Pa];
                                       ///< Brazilian: BTS (Eq. 24); tension: peak stress
-    double peak_load             = 0; ///< peak of HistoryRow::load
-    double peak_force            = 0; ///< Brazilian: F_max [N]
-    double peak_strain           = 0; ///< |axial strain| at the peak
-    double crack_initiation      = 0; ///< axial-stress magnitude at crack initiation [Pa]
-    double crack_initiation_load = 0; ///< load measure at crack initiation
+    double peak_load   = 0;           ///< peak of HistoryRow::load
+    double peak_force  = 0;           ///< Brazilian: F_max [N]
+    double peak_strain = 0;           ///< |axial strain| at the peak
+    /// Axial-stress magnitude at crack initiation by the chosen method
+    /// (LabTestParams::crack_initiation_method) [Pa]; the volumetric method
+    /// applies to compression (not uniaxial strain): the other tests report
+    /// the crack count one.
+    double crack_initiation       = 0;
+    double crack_initiation_load  = 0; ///< load measure at that crack initiation
+    double crack_initiation_count = 0; ///< by the crack count [Pa]
+    /// By the crack volumetric strain [Pa]; NaN where it does not apply or
+    /// the specimen does not dilate before the peak.
+    double crack_initiation_volumetric = std::numeric_limits<double>::quiet_NaN();
     /// Elastic constants of the loading branch (compression only):
     /// 3D: Eq. 18 (E, nu); 2D: Eq. 19 plane stress (E_ps, nu_ps) and the
     /// plane-strain pair (docs/architecture.md) in (E, nu). Uniaxial strain: E holds the

@@ -1,0 +1,41 @@
+// Crack initiation from the crack volumetric strain
+// (dem/specimen/crack_initiation.h).
+#include "dem/specimen/crack_initiation.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace demfem::dem
+{
+  std::size_t crack_volumetric_initiation_row(const CompressionBranch &b, double E,
+                                              double nu, int lateral_directions,
+                                              double fit_lo, double fit_hi,
+                                              double fraction)
+  {
+    const std::size_t n = b.volumetric_strain.size();
+    if (n == 0 || b.axial_stress.size() != n || b.load.size() != n || b.peak_row >= n ||
+        !(E > 0) || !std::isfinite(nu))
+      return n;
+    auto cv = [&](std::size_t i) {
+      return (b.volumetric_strain[i] - b.volumetric_strain[0]) -
+             (1 - lateral_directions * nu) * (b.axial_stress[i] - b.axial_stress[0]) / E;
+    };
+    const double peak_load = b.load[b.peak_row];
+    double       zero      = 0;
+    int          in_window = 0;
+    for (std::size_t i = 0; i <= b.peak_row; ++i)
+      if (b.load[i] >= fit_lo * peak_load && b.load[i] <= fit_hi * peak_load)
+        zero += cv(i), ++in_window;
+    if (in_window == 0)
+      return n;
+    zero /= in_window;
+    const double rise = cv(b.peak_row) - zero;
+    if (!(rise > 0)) // the volume never grew beyond the elastic part
+      return n;
+    std::size_t last_flat = 0;
+    for (std::size_t i = 0; i <= b.peak_row; ++i)
+      if (cv(i) - zero <= fraction * rise)
+        last_flat = i;
+    return std::min(last_flat + 1, b.peak_row);
+  }
+} // namespace demfem::dem
