@@ -258,9 +258,10 @@ namespace demfem::apps
           "Crack count method: crack initiation when cracks reach this fraction of "
           "those at peak (0, 1)");
       prm.declare_entry(
-          "crack volumetric strain fraction", "0.02", Patterns::Double(),
+          "crack volumetric strain fraction", "0.05", Patterns::Double(),
           "Volumetric method: the crack volumetric strain has left zero "
-          "when it stays above this fraction of its rise at the peak (0, 1)");
+          "when it stays above this fraction of the elastic volumetric strain at the "
+          "peak (0, 1)");
       prm.declare_entry("seating ratio limit", "1e-4", Patterns::Double(),
                         "ft_eq ratio of seating");
       prm.declare_entry("seating step limit", "20000", Patterns::Integer(0), "");

@@ -42,11 +42,12 @@ namespace demfem::apps
     double brazilian_platen_friction = 0.5;
     /// Crack initiation (docs/calibrate.md, as the bonded materials): the
     /// method material.json reports, the crack count's fraction of the
-    /// count at the peak, the crack volumetric strain's fraction of its rise.
+    /// count at the peak, the crack volumetric strain's threshold as a
+    /// fraction of the elastic volumetric strain at the peak.
     dem::CrackInitiationMethod crack_initiation_method =
         dem::CrackInitiationMethod::volumetric_strain;
     double                       crack_initiation_fraction = 0.01;
-    double                       crack_volumetric_fraction = 0.02;
+    double                       crack_volumetric_fraction = 0.05;
     std::vector<VoronoiTestSpec> tests;
     FitSettings                  fit; ///< --fit (subsection Fit)
   };

@@ -29,12 +29,18 @@ namespace demfem::dem
     if (in_window == 0)
       return n;
     zero /= in_window;
-    const double rise = cv(b.peak_row) - zero;
-    if (!(rise > 0)) // the volume never grew beyond the elastic part
+    // The scale of "zero": the elastic volumetric strain at the peak (the
+    // rise of the crack volumetric strain itself can be tens of times
+    // larger, so a fraction of it would read a late onset).
+    const double elastic_at_peak =
+        std::abs((1 - lateral_directions * nu) *
+                 (b.axial_stress[b.peak_row] - b.axial_stress[0]) / E);
+    const double threshold = fraction * elastic_at_peak;
+    if (!(cv(b.peak_row) - zero > threshold)) // never left zero before the peak
       return n;
     std::size_t last_flat = 0;
     for (std::size_t i = 0; i <= b.peak_row; ++i)
-      if (cv(i) - zero <= fraction * rise)
+      if (cv(i) - zero <= threshold)
         last_flat = i;
     return std::min(last_flat + 1, b.peak_row);
   }

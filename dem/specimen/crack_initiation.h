@@ -26,8 +26,9 @@ namespace demfem::dem
   /// lateral directions (2D: 1, 3D: 2); strains from the first row. Its mean
   /// over the fit window [fit_lo, fit_hi] x peak load is its zero (the
   /// elastic part was fitted there). Crack initiation is the row after the
-  /// last row up to the peak at which it is still within `fraction` of its
-  /// rise at the peak: from there on the specimen dilates for good, while a
+  /// last row up to the peak at which it is still within `fraction` of the
+  /// elastic volumetric strain at the peak, |(1 - k nu) (sigma_a,peak -
+  /// sigma_a0) / E|: from there on the specimen dilates for good, while a
   /// lone early crack that opens no volume does not count.
   /// Returns the row, or the number of rows if the method does not apply
   /// (E not positive, no row in the window, no dilatancy before the peak).

@@ -110,8 +110,10 @@ namespace demfem::dem
     /// fraction of the count at peak.
     double crack_initiation_fraction = 0.01;
     /// Volumetric method: the crack volumetric strain has left zero when it
-    /// stays above this fraction of its value at the peak.
-    double crack_volumetric_fraction = 0.02;
+    /// stays above this fraction of the elastic volumetric strain at the
+    /// peak (docs/calibrate.md: 5 % is about 5 x the gauge noise of the
+    /// 1000-grain Lac du Bonnet specimen).
+    double crack_volumetric_fraction = 0.05;
 
     void validate(const std::string &where, int dim) const;
   };
