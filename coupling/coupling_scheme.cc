@@ -11,6 +11,19 @@ namespace demfem::coupling
 
   namespace
   {
+    /// What a diverged quasi-static coupling should try next: 0.3 (the
+    /// default) from above it, else half the relaxation it had.
+    double smaller_relaxation(double relaxation)
+    {
+      return relaxation > 0.3 ? 0.3 : 0.5 * relaxation;
+    }
+    /// 200 subcycles (converged where 1 diverged, docs/study.md) from
+    /// below, else twice as many.
+    unsigned int more_subcycles(unsigned int subcycles)
+    {
+      return subcycles < 200 ? 200 : 2 * subcycles;
+    }
+
     /// Explicit-explicit staggering (coupled_model.h): the continuum steps
     /// by the window k dt under the window's mean coupling forces; the
     /// interface then moves with the new nodal velocities over the next
@@ -95,9 +108,9 @@ namespace demfem::coupling
             v[k][c] = vel[k][c];
       }
 
-      double      kinetic_energy() const override { return fem.kinetic_energy(); }
-      double      unbalanced_ratio() const override { return fem.unbalanced_force_ratio(); }
-      double      residual() const override { return 0; }
+      double kinetic_energy() const override { return fem.kinetic_energy(); }
+      double unbalanced_ratio() const override { return fem.unbalanced_force_ratio(); }
+      double residual() const override { return 0; }
       std::string instability_hint() const override { return ""; }
 
       std::vector<Vec<dim>> coupling_displacements() const override
@@ -221,8 +234,11 @@ namespace demfem::coupling
                 << " % per window for " << growth.streak
                 << " windows; likely cause: Coupling/relaxation (" << kp.relaxation
                 << ") too large for the stiffness contrast between the grains and the "
-                   "continuum (try 0.3), or Coupling/subcycles ("
-                << kp.subcycles << ") too small for the DEM to respond within a window";
+                   "continuum (try "
+                << smaller_relaxation(kp.relaxation) << "), or Coupling/subcycles ("
+                << kp.subcycles
+                << ") too small for the DEM to respond within a window (try "
+                << more_subcycles(kp.subcycles) << ")";
             throw dem::InstabilityError(msg.str());
           }
         u.resize(n);
@@ -254,9 +270,10 @@ namespace demfem::coupling
         msg << " With the quasi-static coupling (interface residual " << res
             << ") the likely cause is Coupling/relaxation (" << kp.relaxation
             << ") too large for the stiffness contrast between the grains and the "
-               "continuum (try 0.3) or Coupling/subcycles ("
-            << kp.subcycles
-            << ") too small for the DEM to respond within a window (try 200).";
+               "continuum (try "
+            << smaller_relaxation(kp.relaxation) << ") or Coupling/subcycles ("
+            << kp.subcycles << ") too small for the DEM to respond within a window (try "
+            << more_subcycles(kp.subcycles) << ").";
         return msg.str();
       }
 
@@ -342,7 +359,7 @@ namespace demfem::coupling
         for (unsigned int i = 0; i < dim * n; ++i)
           if (free[i])
             dofs.push_back(i);
-        const auto nf = static_cast<unsigned int>(dofs.size());
+        const auto                 nf = static_cast<unsigned int>(dofs.size());
         dealii::FullMatrix<double> k(nf, nf);
         for (unsigned int a = 0; a < nf; ++a)
           for (unsigned int b = 0; b < nf; ++b)
@@ -422,8 +439,8 @@ namespace demfem::coupling
                 double             ex = 0;
                 for (int j = 0; j < dim; ++j)
                   ex += eps0[c][j] * x[k][j];
-                v[a] = w.load_increment / w.length * ex;
-                u[a] = w.load_factor * ex;
+                v[a]           = w.load_increment / w.length * ex;
+                u[a]           = w.load_factor * ex;
                 v_window[k][c] = v[a];
               }
             update_residual(w.load_factor);
@@ -539,12 +556,12 @@ namespace demfem::coupling
       double                                                     critical, alpha;
       mutable std::unique_ptr<fem::StaticInterfaceResponse<dim>> static_;
       std::vector<unsigned int>                                  dofs;
-      std::vector<double> stiffness; ///< K_s, row-major
-      std::vector<double> mass, u, v, u_far, f, elastic;
+      std::vector<double>         stiffness; ///< K_s, row-major
+      std::vector<double>         mass, u, v, u_far, f, elastic;
       mutable std::vector<double> relative; ///< u - lambda u_far
-      dealii::Tensor<2, dim> eps0;
-      double                 res        = 0;
-      bool                   installing = false;
+      dealii::Tensor<2, dim>      eps0;
+      double                      res        = 0;
+      bool                        installing = false;
     };
   } // namespace
 
@@ -560,9 +577,8 @@ namespace demfem::coupling
       return std::make_unique<QuasiStaticScheme<dim>>(kp, fem, tria, es, points,
                                                       progress);
     if (kp.scheme == "condensed")
-      return std::make_unique<CondensedScheme<dim>>(kp, fem, tria, es, points,
-                                                    continuum_critical, local_damping,
-                                                    progress);
+      return std::make_unique<CondensedScheme<dim>>(
+          kp, fem, tria, es, points, continuum_critical, local_damping, progress);
     return std::make_unique<ExplicitScheme<dim>>(kp, fem, continuum_critical,
                                                  affine_installation);
   }

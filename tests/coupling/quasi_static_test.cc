@@ -134,6 +134,10 @@ TEST_CASE("quasi-static: a relaxation too large is detected as divergence",
   REQUIRE_FALSE(what.empty());
   CHECK(what.find("Coupling/relaxation (1.9)") != std::string::npos);
   CHECK(what.find("subcycles") != std::string::npos);
+  // The advice moves each setting the safe way from where it was: the
+  // default 0.3 from 1.9, twice the subcycles from 200 (not 200 again).
+  CHECK(what.find("(try 0.3)") != std::string::npos);
+  CHECK(what.find("(try 400)") != std::string::npos);
   CHECK(what.find("stiffness contrast") != std::string::npos);
 }
 
