@@ -45,15 +45,16 @@ namespace demfem::apps
         "usage: demfem study FILE.prm [--set \"Section/key=value\"]... "
         "[--print-parameters] [--help]\n"
         "\n"
-        "Speed versus accuracy of the coupled tunnel model (2D): runs the embedded\n"
+        "Speed versus accuracy of the coupled tunnel model: runs the embedded\n"
         "tunnel for every combination of the values listed in the Study subsection\n"
         "(region radius factors x tunnel radius, grain resolutions a/d, coupling\n"
         "variants, schemes, subcycles, time-step safety factors, relaxation factors,\n"
         "stiffness contrasts, packing seeds); the other keys are those of `demfem\n"
-        "tunnel`. Elastic mode (default): unbreakable bonds, error against Kirsch.\n"
+        "tunnel`. Elastic mode (default): unbreakable bonds, error against Kirsch\n"
+        "(2D, and the 3D slab and section: Problem/dimension = 3).\n"
         "Study/breakable = true: breakable bonds, damage-zone depth and crack counts\n"
         "against a full-DEM reference (radius Study/reference radius factor x a,\n"
-        "in-situ stress held by a servo-controlled membrane), speed-up table.\n"
+        "in-situ stress held by a servo-controlled membrane), speed-up table (2D).\n"
         "'DEM region/radius = auto' sizes the region from a Kirsch pre-analysis\n"
         "(sigma1 - sigma3 >= Study/damage threshold x UCS, plus Study/margin grains).\n"
         "Writes study.csv, study_pareto.svg, summary.json (stability map per scheme),\n"
@@ -347,6 +348,16 @@ namespace demfem::apps
         const std::string material = prm.get("material file");
         prm.leave_subsection();
         const study::Settings st = study::read_study_settings(prm, material);
+        // The full-DEM reference is a 2D disk held by a 2D membrane
+        // (coupling/full_dem_reference.h): the 3D slab and section are swept
+        // in the elastic mode, against plane-strain Kirsch (exact for both:
+        // the slab is plane strain through its walls, the section's tunnel
+        // runs through the whole continuum between rollers).
+        AssertThrow(!(st.breakable && base.dimension == 3),
+                    ExcMessage("Study/breakable = true with Problem/dimension = 3: the "
+                               "full-DEM reference is 2D only; sweep the 3D slab or "
+                               "section with Study/breakable = false (elastic, against "
+                               "Kirsch)"));
         // Elastic mode: unbreakable bonds, compared with Kirsch. Breakable
         // mode: compared with the full-DEM reference.
         base.region.breakable = st.breakable;
@@ -410,7 +421,10 @@ namespace demfem::apps
           const double           scale = (a / r) / base.region.mean_diameter();
           g.d_lo                       = base.region.d_lo * scale;
           g.d_hi                       = base.region.d_hi * scale;
-          g.seed                       = seed;
+          // 3D: the slab (or section) keeps its thickness in grain
+          // diameters (DEM region/slab thickness).
+          g.slab_thickness = base.region.slab_thickness * scale;
+          g.seed           = seed;
           return g;
         };
 
@@ -526,7 +540,10 @@ namespace demfem::apps
             n_stable += r.status == "stable";
             n_unstable += r.status == "unstable";
           }
-        j["mode"]     = st.breakable ? "breakable" : "elastic";
+        j["mode"]      = st.breakable ? "breakable" : "elastic";
+        j["dimension"] = base.dimension;
+        if (base.dimension == 3)
+          j["embedding"] = base.continuum.axial_extension > 0 ? "section" : "slab";
         j["runs"]     = rows.size();
         j["stable"]   = n_stable;
         j["unstable"] = n_unstable;

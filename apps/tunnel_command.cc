@@ -88,7 +88,7 @@ namespace demfem::apps
 
     coupling::TunnelParams read_settings(ParameterHandler &prm, bool &radius_auto)
     {
-      coupling::TunnelParams s = read_tunnel_settings(prm, true);
+      coupling::TunnelParams s = read_tunnel_settings(prm);
       radius_auto              = s.region.radius < 0;
       if (radius_auto) // Kirsch pre-analysis (right-sizing)
         {

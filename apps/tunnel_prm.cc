@@ -199,14 +199,11 @@ namespace demfem::apps
     prm.leave_subsection();
   }
 
-  coupling::TunnelParams read_tunnel_settings(ParameterHandler &prm, bool allow_3d)
+  coupling::TunnelParams read_tunnel_settings(ParameterHandler &prm)
   {
     coupling::TunnelParams s;
     prm.enter_subsection("Problem");
-    s.dimension = prm.get_integer("dimension");
-    AssertThrow(allow_3d || s.dimension == 2,
-                ExcMessage("Problem/dimension = 3: demfem study sweeps the 2D problem "
-                           "only; run the 3D slab with demfem tunnel"));
+    s.dimension        = prm.get_integer("dimension");
     s.output_directory = prm.get("output directory");
     prm.leave_subsection();
 
@@ -226,10 +223,10 @@ namespace demfem::apps
         prm.get("mesh") == "generate",
         ExcMessage("Continuum/mesh: the coupled run generates its mesh around the "
                    "DEM region; only 'generate' is allowed"));
-    s.continuum.outer_radius    = prm.get_double("outer radius");
-    s.continuum.young_modulus   = prm.get_double("young modulus");
-    s.continuum.poisson_ratio   = prm.get_double("poisson ratio");
-    s.continuum.density         = prm.get_double("density");
+    s.continuum.outer_radius  = prm.get_double("outer radius");
+    s.continuum.young_modulus = prm.get_double("young modulus");
+    s.continuum.poisson_ratio = prm.get_double("poisson ratio");
+    s.continuum.density       = prm.get_double("density");
     if (const auto ms = prm.get("mass scaling"); ms != "auto")
       s.continuum.mass_scaling =
           parse_number(key_name("Continuum/mass scaling"), ms, 1e-300, 1e6, "");

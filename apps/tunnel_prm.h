@@ -14,10 +14,7 @@ namespace demfem::apps
   /// Reads them, each value checked where it enters (the key named); the
   /// physics as a whole is validated per run (TunnelParams::validate, after
   /// a study's sweep settings are applied). region.radius < 0 means 'auto'.
-  /// allow_3d: Problem/dimension = 3 accepted (demfem tunnel); the study
-  /// refuses it with a message.
-  coupling::TunnelParams read_tunnel_settings(dealii::ParameterHandler &prm,
-                                              bool                      allow_3d = false);
+  coupling::TunnelParams read_tunnel_settings(dealii::ParameterHandler &prm);
 
   /// Checks that a material file named by `key` exists
   /// (dem/specimen/material_file.h reads it and names the file and its own
