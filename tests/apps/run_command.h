@@ -18,7 +18,7 @@ namespace demfem::testing
   /// Runs `DEMFEM_EXE args` with stderr merged into the captured output.
   inline CommandResult run_demfem(const std::string &args)
   {
-    CommandResult r;
+    CommandResult     r;
     const std::string cmd = std::string(DEMFEM_EXE) + " " + args + " 2>&1";
     FILE             *p   = popen(cmd.c_str(), "r");
     if (!p)
@@ -31,12 +31,22 @@ namespace demfem::testing
     return r;
   }
 
+  /// `demfem study apps/examples/EXAMPLE` into output directory d with more
+  /// --set options (DEMFEM_SOURCE_DIR: the test target's definition).
+  inline CommandResult run_study(const std::string &example, const std::string &d,
+                                 const std::string &sets)
+  {
+    return run_demfem("study " + std::string(DEMFEM_SOURCE_DIR) + "/apps/examples/" +
+                      example + " --set \"Problem/output directory=" + d + "\" " + sets);
+  }
+
   /// Extracts the numeric fields of a flat JSON object.
   inline std::map<std::string, double> json_numbers(const std::string &text)
   {
     std::map<std::string, double> v;
     const std::regex              field("\"([A-Za-z_0-9]+)\"\\s*:\\s*(-?[0-9.eE+-]+)");
-    for (auto it = std::sregex_iterator(text.begin(), text.end(), field); it != std::sregex_iterator(); ++it)
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), field);
+         it != std::sregex_iterator(); ++it)
       v[(*it)[1]] = std::stod((*it)[2]);
     return v;
   }

@@ -15,6 +15,7 @@
 
 using demfem::testing::json_numbers;
 using demfem::testing::run_demfem;
+using demfem::testing::run_study;
 
 namespace
 {
@@ -58,15 +59,6 @@ namespace
     return rows;
   }
 
-  // `demfem study apps/examples/EXAMPLE` into directory d with more --set
-  // options.
-  demfem::testing::CommandResult run_study(const std::string &example, const std::string &d,
-                                           const std::string &sets)
-  {
-    return run_demfem("study " + std::string(DEMFEM_SOURCE_DIR) + "/apps/examples/" +
-                      example + " --set \"Problem/output directory=" + d + "\" " + sets);
-  }
-
   std::string dir(const std::string &name)
   {
     const auto d = std::filesystem::temp_directory_path() / ("demfem_study_" + name);
@@ -84,8 +76,8 @@ TEST_CASE("study: breakable mode, embedded runs against the full-DEM reference",
   // boundary lies inside the damage zone).
   const std::string d = dir("breakable");
   const auto        r = run_study("study_breakable_2d.prm", d,
-                                      "--set \"Study/region radius factors=4, 2\" --set "
-                                      "\"Study/agreement tolerance=0.4\"");
+                                  "--set \"Study/region radius factors=4, 2\" --set "
+                                         "\"Study/agreement tolerance=0.4\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
 
@@ -151,9 +143,9 @@ TEST_CASE("study: several seeds give means with 95 % intervals, the region answe
   // Two packings of the breakable example at b/a = 4, condensed continuum.
   const std::string d = dir("breakable_seeds");
   const auto        r = run_study("study_breakable_2d.prm", d,
-                                      "--set \"Study/region radius factors=4\" --set "
-                                      "\"Study/schemes=condensed\" --set "
-                                      "\"Study/seeds=10000,10001\"");
+                                  "--set \"Study/region radius factors=4\" --set "
+                                         "\"Study/schemes=condensed\" --set "
+                                         "\"Study/seeds=10000,10001\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   const auto rows = table(d + "/study.csv");
@@ -161,9 +153,9 @@ TEST_CASE("study: several seeds give means with 95 % intervals, the region answe
   // The interval of the two embedded depths, as the table must print it:
   // mean +- t_{0.975,1} s / sqrt(2), t = 12.7062 (two values: s / sqrt(2) is
   // half their difference).
-  const double a = std::stod(rows[0].at("damage_zone_depth_m"));
-  const double b = std::stod(rows[1].at("damage_zone_depth_m"));
-  const double mean = 0.5 * (a + b), half = 12.7062 * 0.5 * std::abs(a - b);
+  const double      a    = std::stod(rows[0].at("damage_zone_depth_m"));
+  const double      b    = std::stod(rows[1].at("damage_zone_depth_m"));
+  const double      mean = 0.5 * (a + b), half = 12.7062 * 0.5 * std::abs(a - b);
   const std::string md = read(d + "/study.md");
   INFO(md);
   const std::string prefix = "| 4 | 4 | wall-facets, condensed, 1, 0.8 | 2 | ";
@@ -172,7 +164,7 @@ TEST_CASE("study: several seeds give means with 95 % intervals, the region answe
   std::stringstream cells(md.substr(row + prefix.size()));
   std::string       cell;
   std::getline(cells, cell, '|'); // "mean +- half"
-  double m = 0, h = 0;
+  double      m = 0, h = 0;
   std::string pm;
   std::stringstream(cell) >> m >> pm >> h;
   CHECK(pm == "+-");
@@ -199,12 +191,12 @@ TEST_CASE("study: variant, scheme, relaxation and stiffness-contrast axes, inval
   // safety of 1.5 diverges for the explicit wall-facet scheme (docs/study.md).
   const std::string d = dir("axes");
   const auto        r = run_study(
-      "study_2d.prm", d,
-      "--set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
-      "--set \"Study/subcycles=1\" --set \"Study/timestep safety factors=0.8,1.5\" "
-      "--set \"Study/coupling variants=wall-facets,slaved-layer\" --set "
-      "\"Study/schemes=explicit,quasi-static\" --set \"Study/relaxation factors=1\" "
-      "--set \"Study/stiffness contrasts=1,3\"");
+             "study_2d.prm", d,
+             "--set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
+                    "--set \"Study/subcycles=1\" --set \"Study/timestep safety factors=0.8,1.5\" "
+                    "--set \"Study/coupling variants=wall-facets,slaved-layer\" --set "
+                    "\"Study/schemes=explicit,quasi-static\" --set \"Study/relaxation factors=1\" "
+                    "--set \"Study/stiffness contrasts=1,3\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   const std::string text = read(d + "/study.csv");
@@ -242,9 +234,9 @@ TEST_CASE("study: variant, scheme, relaxation and stiffness-contrast axes, inval
   CHECK(s.at("stability_explicit_timestep_safety_largest_stable") == Approx(0.8));
   CHECK(s.at("stability_explicit_timestep_safety_smallest_unstable") == Approx(1.5));
   CHECK(s.at("stability_explicit_stiffness_contrast_largest_stable") == Approx(3));
-  CHECK(
-      read(d + "/summary.json").find("stability_quasi_static_subcycles_smallest_stable") !=
-      std::string::npos);
+  CHECK(read(d + "/summary.json")
+            .find("stability_quasi_static_subcycles_smallest_stable") !=
+        std::string::npos);
 }
 
 TEST_CASE("study: bad values of the new Study keys stop before any output", "[study]")

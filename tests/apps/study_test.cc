@@ -14,13 +14,10 @@
 #include <vector>
 
 using demfem::testing::json_numbers;
-using demfem::testing::run_demfem;
+using demfem::testing::run_study;
 
 namespace
 {
-  const std::string example =
-      "study " + std::string(DEMFEM_SOURCE_DIR) + "/apps/examples/study_2d.prm";
-
   std::string read(const std::string &f)
   {
     std::ifstream     in(f);
@@ -67,9 +64,9 @@ TEST_CASE("study: time-step safety beyond the limit is detected as unstable, no 
   // continuum-growth checks must stop the run. Subcycles 1 and 20: dt is
   // scaled by 1/k for the continuum, so both are stable at safety 0.8.
   const std::string d = dir("stability");
-  const auto        r = run_demfem(
-             example + " --set \"Problem/output directory=" + d +
-             "\" --set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
+  const auto        r = run_study(
+             "study_2d.prm", d,
+             "--set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
                     "--set \"Study/subcycles=1,20\" --set \"Study/timestep safety factors=0.8,1.5\" "
                     "--set \"Study/schemes=explicit\"");
   INFO(r.out);
@@ -105,9 +102,9 @@ TEST_CASE("study: a sub-cycled slaved layer stays accurate (coupled window limit
   // (coupled_model.cc). k = 1 gives +2.3 %; k = 4 must stay within the
   // resolution error of this coarse region (measured +3.3 %; limit 10 %).
   const std::string d = dir("subcycled_slaved");
-  const auto        r = run_demfem(
-             example + " --set \"Problem/output directory=" + d +
-             "\" --set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=4\" "
+  const auto        r = run_study(
+             "study_2d.prm", d,
+             "--set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=4\" "
                     "--set \"Study/coupling variants=slaved-layer\" --set \"Study/subcycles=4\" "
                     "--set \"Study/timestep safety factors=0.8\" --set \"Study/schemes=explicit\"");
   INFO(r.out);
@@ -125,9 +122,9 @@ TEST_CASE("study: DEM region/radius = auto encloses the Kirsch damage zone", "[s
   // where it reaches 0.4 UCS ends at r* = a sqrt(2 p / (0.4 UCS)). UCS = 25
   // MPa: r* = a sqrt(2) = 0.5657 m; region = r* + 3 d, d = a / 4.
   const std::string d = dir("auto");
-  const auto        r = run_demfem(
-             example + " --set \"Problem/output directory=" + d +
-             "\" --set \"Study/region radius factors=auto\" --set \"Study/grain resolutions=4\" "
+  const auto        r = run_study(
+             "study_2d.prm", d,
+             "--set \"Study/region radius factors=auto\" --set \"Study/grain resolutions=4\" "
                     "--set \"Study/subcycles=1\" --set \"Study/timestep safety factors=0.8\" "
                     "--set \"Study/ucs=25e6\" --set \"Study/schemes=explicit\"");
   INFO(r.out);
@@ -151,8 +148,7 @@ TEST_CASE("study: a bad sweep value is rejected naming the key, nothing written"
           "[study]")
 {
   const std::string d = dir("bad");
-  const auto        r = run_demfem(example + " --set \"Problem/output directory=" + d +
-                                   "\" --set \"Study/grain resolutions=3,x\"");
+  const auto r = run_study("study_2d.prm", d, "--set \"Study/grain resolutions=3,x\"");
   CHECK(r.exit_code == 1);
   CHECK(r.out.find("Study/grain resolutions") != std::string::npos);
   CHECK(!std::filesystem::exists(d));
@@ -168,9 +164,9 @@ TEST_CASE("study: the error against Kirsch falls as the grain resolution rises",
   // thread: the wall times of a loaded machine do not matter here.
   setenv("OMP_NUM_THREADS", "1", 1);
   const std::string d = dir("resolution");
-  const auto        r = run_demfem(
-             example + " --set \"Problem/output directory=" + d +
-             "\" --set \"Study/region radius factors=4\" --set \"Study/grain resolutions=3,5\" "
+  const auto        r = run_study(
+             "study_2d.prm", d,
+             "--set \"Study/region radius factors=4\" --set \"Study/grain resolutions=3,5\" "
                     "--set \"Study/subcycles=1\" --set \"Study/timestep safety factors=0.8\" "
                     "--set \"Study/seeds=10000,777\" --set \"Study/schemes=explicit\"");
   INFO(r.out);
@@ -202,9 +198,9 @@ TEST_CASE("study: the explicit and condensed schemes side by side: stability map
   // the map has no relaxation key; the condensed scheme gets its own map.
   setenv("OMP_NUM_THREADS", "1", 1);
   const std::string d = dir("schemes");
-  const auto        r = run_demfem(
-             example + " --set \"Problem/output directory=" + d +
-             "\" --set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
+  const auto        r = run_study(
+             "study_2d.prm", d,
+             "--set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
                     "--set \"Study/subcycles=1\" --set \"Study/timestep safety factors=0.8,1.5\" "
                     "--set \"Study/schemes=explicit,condensed\" "
                     "--set \"Study/relaxation factors=0.3,1\"");
@@ -245,9 +241,9 @@ TEST_CASE("study: the quasi-static map counts larger subcycles as the safe side"
   // at k = 200, not at the diverging k = 1.
   setenv("OMP_NUM_THREADS", "1", 1);
   const std::string d = dir("quasi_static_map");
-  const auto        r = run_demfem(
-             example + " --set \"Problem/output directory=" + d +
-             "\" --set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
+  const auto        r = run_study(
+             "study_2d.prm", d,
+             "--set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
                     "--set \"Study/subcycles=1,200\" --set \"Study/timestep safety factors=0.8\" "
                     "--set \"Study/schemes=quasi-static\" --set \"Study/relaxation factors=0.3\"");
   INFO(r.out);
@@ -272,11 +268,8 @@ TEST_CASE("study: the 3D slab in the elastic mode against plane-strain Kirsch, t
   // +3.3 %). The grains are scaled with a/d and the slab keeps its thickness
   // in grain diameters.
   setenv("OMP_NUM_THREADS", "1", 1);
-  const std::string slab =
-      "study " + std::string(DEMFEM_SOURCE_DIR) + "/apps/examples/study_3d_slab.prm";
   const std::string d = dir("slab3d");
-  const auto        r = run_demfem(slab + " --set \"Problem/output directory=" + d +
-                                   "\" --set \"Study/schemes=condensed\"");
+  const auto r = run_study("study_3d_slab.prm", d, "--set \"Study/schemes=condensed\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   const auto rows = csv(d + "/study.csv");
@@ -293,8 +286,7 @@ TEST_CASE("study: the 3D slab in the elastic mode against plane-strain Kirsch, t
   // Breakable: the full-DEM reference is 2D; refused naming the key before
   // anything is written.
   const std::string d2 = dir("slab3d_breakable");
-  const auto        b  = run_demfem(slab + " --set \"Problem/output directory=" + d2 +
-                                    "\" --set \"Study/breakable=true\"");
+  const auto b = run_study("study_3d_slab.prm", d2, "--set \"Study/breakable=true\"");
   CHECK(b.exit_code == 1);
   CHECK(b.out.find("Study/breakable") != std::string::npos);
   CHECK(b.out.find("2D only") != std::string::npos);
