@@ -499,10 +499,13 @@ namespace demfem::dem
         std::size_t cracks_at_peak = 0;
         // A failure crosses the specimen: a splitting or shear crack breaks
         // about one contact per grain it passes, some N^(1/dim) of them. A
-        // drop after fewer cracks than a quarter of that is a local event
-        // (a grain crushed under a Brazilian platen: measured, 2 cracks
-        // dropped a 1000-grain disk's load by 10 % at a quarter of its
-        // strength, and the load would have risen again).
+        // drop when the test has cracked fewer contacts in all than a
+        // quarter of that is a local event (a grain crushed under a
+        // Brazilian platen: measured, 2 cracks dropped a 1000-grain disk's
+        // load by 10 % at a quarter of its strength, and the load would
+        // have risen again). Counted in all, not after the peak: a split
+        // that formed mostly before the peak may need only a few more
+        // cracks to open.
         const std::size_t failure_cracks = std::max<std::size_t>(
             1, static_cast<std::size_t>(
                    0.25 * std::pow(double(m_.particles.size()), 1.0 / dim)));
@@ -563,7 +566,7 @@ namespace demfem::dem
                             : (r_.history[nh - 1].load + r_.history[nh - 2].load +
                           r_.history[nh - 3].load) /
                              3;
-            if (cracks >= cracks_at_peak + failure_cracks && peak > 0 &&
+            if (cracks > cracks_at_peak && cracks >= failure_cracks && peak > 0 &&
                 recent < p_.load_fraction * peak)
               {
                 r_.ended_by = "post-peak";
