@@ -279,8 +279,25 @@ namespace demfem::apps
         AssertThrow(m.type == "flatjointed",
                     ExcMessage("material file '" + dmat + "': microparameters/type = '" +
                                m.type + "'; only flat-jointed materials are supported"));
-        r.d_lo     = m.diameter_multiplier * m.sizes.front().d_lo;
-        r.d_hi     = m.diameter_multiplier * m.sizes.front().d_hi;
+        // Size range over every piece (a Gaussian piece: mean +- 2 sd
+        // within its truncation): what the coupling reads for the overlap
+        // width and the facet length; the genesis draws from the pieces.
+        r.d_lo = HUGE_VAL;
+        r.d_hi = 0;
+        for (const auto &piece : m.sizes)
+          {
+            const double lo = piece.gaussian
+                                  ? std::max(piece.d_lo, piece.mean - 2 * piece.sd)
+                                  : piece.d_lo;
+            const double hi =
+                piece.gaussian
+                    ? (piece.d_hi > 0 ? std::min(piece.d_hi, piece.mean + 2 * piece.sd)
+                                      : piece.mean + 2 * piece.sd)
+                    : piece.d_hi;
+            r.d_lo = std::min(r.d_lo, m.diameter_multiplier * lo);
+            r.d_hi = std::max(r.d_hi, m.diameter_multiplier * hi);
+          }
+        r.material = m;
         r.density  = m.density;
         r.damping  = m.local_damping;
         r.seed     = m.seed;
@@ -306,6 +323,16 @@ namespace demfem::apps
         const double k = d / r.mean_diameter();
         r.d_lo *= k;
         r.d_hi *= k;
+        if (r.material)
+          {
+            // The material at the region's grain scale: every length of the
+            // microstructure scales with the grains (docs/tunnel.md,
+            // "Grain-size scaling"); stresses and moduli do not.
+            r.material->diameter_multiplier *= k;
+            r.material->igap *= k;
+            r.material->fj_gap.mean *= k;
+            r.material->fj_gap.sd *= k;
+          }
       }
     // In grain diameters of the final size range; checked (>= 2 largest
     // grains) by RegionParams::validate.

@@ -225,6 +225,8 @@ namespace demfem::coupling
             G.slab_walls[s] = w;
           }
       }
+    if (p.material)
+      return carve_region<dim>(m, p, inner, G, progress);
     // Gap of contact k of a group at the current positions. The groups'
     // gaps are those of the latest force pass, one position update old; 3D
     // recomputes them so that the smoothing and the bonding see the packing

@@ -22,9 +22,11 @@
 // which carries no force when installed, and grains left without a bond
 // (rattlers) are removed.
 #include "dem/engine/model.h"
+#include "dem/specimen/material.h"
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -71,6 +73,16 @@ namespace demfem::coupling
     /// Refuse a region whose estimated memory exceeds this [bytes] (<= 0:
     /// half the machine's memory; dem/specimen/memory_budget.h).
     double memory_limit = 0;
+    /// The calibrated material (demfem calibrate's material.json, at the
+    /// region's grain scale): when set, the region is packed and finalized
+    /// by the calibration's genesis (dem::pack_specimen and
+    /// dem::finalize_specimen) in a box around the region and carved to it,
+    /// with every microstructural property of the material (docs/tunnel.md,
+    /// "The region is the calibrated material"); the keys above that the
+    /// material also has (sizes, moduli, strengths, density, damping) are
+    /// then only what the coupling reads (sizes for the overlap width and
+    /// the facet length). Unset: the region is packed from the keys above.
+    std::optional<dem::MaterialParams> material;
     /// Target porosity of the packing of dimension dim.
     double target_porosity(int dim) const { return dim == 2 ? porosity : porosity_3d; }
   };
@@ -105,6 +117,14 @@ namespace demfem::coupling
   template <int dim>
   RegionGroups build_region(dem::Model<dim> &model, const RegionParams &p,
                             std::ostream *progress = nullptr);
+
+  /// The region carved out of the calibration genesis (RegionParams::material
+  /// set); called by build_region with the groups of the slab walls (3D)
+  /// already set and `inner` the radius of the largest circle inside the
+  /// ring (coupling/region_genesis.cc).
+  template <int dim>
+  RegionGroups carve_region(dem::Model<dim> &model, const RegionParams &p, double inner,
+                            RegionGroups G, std::ostream *progress);
 
   /// The 2D region (the API the 2D models use).
   inline RegionGroups build_disk_region(dem::Model<2> &model, const RegionParams &p,

@@ -308,13 +308,20 @@ namespace demfem::dem
     p.diameter_multiplier = std::pow(expected_grain_count<dim>(p, v) / n, 1.0 / dim);
   }
 
-  // Finalization (§4.2.2) lives in genesis_finalize.cc.
-  template <int dim>
-  void finalize_specimen(Specimen<dim> &s, Random &rng, std::ostream *progress);
-
   template <int dim>
   Specimen<dim> build_specimen(const MaterialParams &p, const VesselParams &v,
                                std::ostream *progress, const std::string &where)
+  {
+    Random        rng(p.seed);
+    Specimen<dim> s = pack_specimen<dim>(p, v, rng, progress, where);
+    finalize_specimen(s, rng, progress);
+    return s;
+  }
+
+  template <int dim>
+  Specimen<dim> pack_specimen(const MaterialParams &p, const VesselParams &v,
+                              Random &rng, std::ostream *progress,
+                              const std::string &where)
   {
     p.validate(where, dim);
     VesselParams vp = v;
@@ -327,7 +334,6 @@ namespace demfem::dem
     s.vessel   = make_vessel(s.model.walls, vp, where);
     auto  &m   = s.model;
     auto  &P   = m.particles;
-    Random rng(p.seed);
 
     // 1. Grain cloud of porosity n_c (overlaps not accounted for).
     const double Vv = s.vessel.volume(m.walls);
@@ -513,7 +519,6 @@ namespace demfem::dem
           V += ball_volume<dim>(r);
         scale_radii(m, 0.0, p.density * s.vessel.volume(m.walls) / V);
       }
-    finalize_specimen(s, rng, progress);
     return s;
   }
 
@@ -521,6 +526,10 @@ namespace demfem::dem
                                       std::ostream *, const std::string &);
   template Specimen<3> build_specimen(const MaterialParams &, const VesselParams &,
                                       std::ostream *, const std::string &);
+  template Specimen<2> pack_specimen(const MaterialParams &, const VesselParams &,
+                                     Random &, std::ostream *, const std::string &);
+  template Specimen<3> pack_specimen(const MaterialParams &, const VesselParams &,
+                                     Random &, std::ostream *, const std::string &);
   template double      mean_grain_volume<2>(const MaterialParams &);
   template double      mean_grain_volume<3>(const MaterialParams &);
   template std::vector<double> draw_radii<2>(const MaterialParams &, double, Random &);

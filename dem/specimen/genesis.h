@@ -46,6 +46,24 @@ namespace demfem::dem
                                std::ostream      *progress = nullptr,
                                const std::string &where    = "material");
 
+  /// The two phases of build_specimen, for callers that work between them
+  /// (the coupled region carves its disk out of the packing before the
+  /// bonds are installed, docs/tunnel.md). `rng` is the genesis stream:
+  /// build_specimen seeds it with p.seed and passes it from one phase to the
+  /// next, so the phases called in turn give the same specimen.
+  /// Packing (§4.2.1) at the material pressure, grains still unbonded.
+  template <int dim>
+  Specimen<dim> pack_specimen(const MaterialParams &p, const VesselParams &v,
+                              Random &rng, std::ostream *progress = nullptr,
+                              const std::string &where = "material");
+  /// Finalization (§4.2.2): the material's contacts, bonds within the
+  /// installation gap, flat-jointed microstructure, force-free start.
+  /// smooth_vessel = false when the model's walls are not the vessel's (its
+  /// walls stay where they are; the caller removes grain-wall overlaps).
+  template <int dim>
+  void finalize_specimen(Specimen<dim> &s, Random &rng, std::ostream *progress,
+                         bool smooth_vessel = true);
+
   /// Expected number of grains for p and v (cloud porosity, mean grain volume).
   template <int dim>
   double expected_grain_count(const MaterialParams &p, const VesselParams &v);

@@ -17,7 +17,8 @@
 namespace demfem::dem
 {
   template <int dim>
-  void finalize_specimen(Specimen<dim> &s, Random &rng, std::ostream *progress)
+  void finalize_specimen(Specimen<dim> &s, Random &rng, std::ostream *progress,
+                         bool smooth_vessel)
   {
     using FJ                    = FlatJointLaw<dim>;
     using PB                    = ParallelBondLaw<dim>;
@@ -125,7 +126,7 @@ namespace demfem::dem
     std::array<double, dim> delta;
     delta.fill(0);
     const auto &V = s.vessel;
-    for (int g = 0; g < m.n_groups(); ++g)
+    for (int g = 0; g < (smooth_vessel ? m.n_groups() : 0); ++g)
       {
         const auto &grp = m.group(g);
         for (std::size_t k = 0; k < grp.size(); ++k)
@@ -139,7 +140,7 @@ namespace demfem::dem
                   delta[a] = std::max(delta[a], -gap);
             }
       }
-    if (p.is_bonded())
+    if (p.is_bonded() && smooth_vessel)
       {
         for (int a = 0; a < dim; ++a)
           if (delta[a] > 0 && (V.lo[a] >= 0 || (a == 0 && V.side >= 0)))
@@ -163,6 +164,6 @@ namespace demfem::dem
       }
   }
 
-  template void finalize_specimen(Specimen<2> &, Random &, std::ostream *);
-  template void finalize_specimen(Specimen<3> &, Random &, std::ostream *);
+  template void finalize_specimen(Specimen<2> &, Random &, std::ostream *, bool);
+  template void finalize_specimen(Specimen<3> &, Random &, std::ostream *, bool);
 } // namespace demfem::dem
