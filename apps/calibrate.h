@@ -86,20 +86,26 @@ namespace demfem::apps
                         const std::string &where);
 
   /// How a calibration ended: the exit code and the status the manifest
-  /// records ("ok", "step_limit_reached", "targets_not_reached"; exit 3 for
-  /// either failure, docs/calibrate.md).
+  /// records ("ok", "step_limit_reached", "brazilian_not_split",
+  /// "targets_not_reached"; exit 3 for any failure, docs/calibrate.md).
   struct CalibrateOutcome
   {
     int         exit_code = 0;
     std::string status    = "ok";
   };
 
+  /// The status of a calibration in which `n_at_step_limit` tests ended at
+  /// their step limit and `n_not_split` Brazilian disks did not split:
+  /// "ok", else step_limit_reached (a test stopped early may not have
+  /// failed yet, so it is named first), else brazilian_not_split.
+  std::string calibration_status(std::size_t n_at_step_limit, std::size_t n_not_split);
+
   /// The end of a calibration whose material.json and summary.json are in
   /// `out`: reports where they are after `wall_s` seconds, and exit 3 with
-  /// step_limit_reached when `n_at_step_limit` tests ended at their step
-  /// limit (apps/calibrate_output.cc).
+  /// calibration_status when it is not "ok" (apps/calibrate_output.cc).
   CalibrateOutcome calibration_outcome(const std::string &out, double wall_s,
-                                       std::size_t n_at_step_limit);
+                                       std::size_t n_at_step_limit,
+                                       std::size_t n_not_split = 0);
 
   /// Runs the automatic fit, then the calibration of the best material
   /// (run_calibration): that run's outcome when it failed, else

@@ -47,7 +47,8 @@ namespace demfem::apps
         "plane strain), summary.json, history_<test>.csv, <test>_stress_strain.svg,\n"
         "VTK of the specimen and of each test at peak and at the end (.pvd).\n"
         "Exit 3 (summary.json status step_limit_reached) when a test ended at\n"
-        "Tests/step limit before its post-peak end.\n"
+        "Tests/step limit before its post-peak end, or (status brazilian_not_split)\n"
+        "when the Brazilian disk did not split along its loaded diameter.\n"
         "Material/type = rigid-voronoi | flexible-voronoi (2D): Voronoi grains\n"
         "(subsection Material/Voronoi, docs/voronoi.md) in the same tests (no uniaxial\n"
         "strain; brazilian rigid only), with VTK of cells, contact points, cracks.\n"
@@ -262,6 +263,14 @@ namespace demfem::apps
           "Volumetric method: the crack volumetric strain has left zero "
           "when it stays above this fraction of the elastic volumetric strain at the "
           "peak (0, 1)");
+      prm.declare_entry(
+          "brazilian split fraction", "0.5", Patterns::Double(),
+          "Brazilian failure mode: the disk split along the loaded diameter when at "
+          "least this fraction of its failure's cracks (those after the peak, at "
+          "least a split's worth) lie in the central strip of width D/3 without the "
+          "D/6 next to each platen; else its BTS is no tensile strength: a warning, "
+          "status brazilian_not_split, exit 3, and --fit leaves that packing out of "
+          "the BTS mean (0, 1]");
       prm.declare_entry("seating ratio limit", "1e-4", Patterns::Double(),
                         "ft_eq ratio of seating");
       prm.declare_entry("seating step limit", "20000", Patterns::Integer(0), "");
@@ -541,6 +550,7 @@ namespace demfem::apps
                                         ? dem::CrackInitiationMethod::crack_count
                                         : dem::CrackInitiationMethod::volumetric_strain;
       l.crack_volumetric_fraction = prm.get_double("crack volumetric strain fraction");
+      l.split_fraction            = prm.get_double("brazilian split fraction");
       l.ratio_limit               = prm.get_double("seating ratio limit");
       l.seat_step_limit           = prm.get_integer("seating step limit");
       const std::string rate      = prm.get("loading rate check");
@@ -567,6 +577,7 @@ namespace demfem::apps
             true);
       check(where, t + "crack volumetric strain fraction", l.crack_volumetric_fraction, 0,
             1, true, true);
+      check(where, t + "brazilian split fraction", l.split_fraction, 0, 1, true);
       check(where, t + "seating ratio limit", l.ratio_limit, 0, 1, true);
       prm.leave_subsection();
 

@@ -36,6 +36,9 @@ namespace demfem::apps
   {
     std::map<std::string, double> mean, sd;
     std::string                   error; ///< non-empty: the evaluation failed
+    /// What the means leave out (e.g. a Brazilian disk that did not split),
+    /// logged in fit.csv and on the progress line.
+    std::string note;
   };
 
   /// The mean and sample standard deviation of each list of per-seed values.

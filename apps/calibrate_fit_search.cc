@@ -104,7 +104,7 @@ namespace demfem::apps
           h << ',' << csv_name(p.name);
         for (const auto &t : f.targets)
           h << ',' << csv_name(t.name) << "_mean," << csv_name(t.name) << "_sd";
-        h << ",objective,all_within_tolerance,seconds,error\n";
+        h << ",objective,all_within_tolerance,seconds,error,note\n";
         csv_ = h.str();
       }
 
@@ -249,12 +249,14 @@ namespace demfem::apps
             if (b != m.sd.end())
               row << b->second;
           }
-        std::string err = m.error;
-        for (auto &c : err)
-          if (c == ',' || c == '\n')
-            c = ' ';
-        row << ',' << f << ',' << (within ? 1 : 0) << ',' << seconds << ',' << err
-            << '\n';
+        auto cell = [](std::string t) {
+          for (auto &c : t)
+            if (c == ',' || c == '\n')
+              c = ' ';
+          return t;
+        };
+        row << ',' << f << ',' << (within ? 1 : 0) << ',' << seconds << ','
+            << cell(m.error) << ',' << cell(m.note) << '\n';
         csv_ += row.str();
         dem::vtkout::write_text_atomically(out_ + "/fit.csv", csv_);
         // Progress with ETA against the stage's evaluation budget.
@@ -271,6 +273,8 @@ namespace demfem::apps
           }
         if (!m.error.empty())
           std::cerr << ", failed: " << m.error;
+        else if (!m.note.empty())
+          std::cerr << ", note: " << m.note;
         std::cerr << "; ETA at most " << seconds_text(eta) << "\n";
       }
 
@@ -398,6 +402,8 @@ namespace demfem::apps
         .objs("stages", fit.stages());
     if (!m.error.empty())
       j.str("error", m.error);
+    if (!m.note.empty())
+      j.str("note", m.note);
     dem::vtkout::write_text_atomically(out + "/fit.json", j.text() + "\n");
     dem::vtkout::write_text_atomically(out + "/fit_convergence.svg",
                                        convergence_svg(fit.objectives()));

@@ -192,16 +192,31 @@ namespace demfem::apps
     return s.str();
   }
 
+  std::string calibration_status(const std::size_t n_at_step_limit,
+                                 const std::size_t n_not_split)
+  {
+    if (n_at_step_limit > 0)
+      return "step_limit_reached";
+    return n_not_split > 0 ? "brazilian_not_split" : "ok";
+  }
+
   CalibrateOutcome calibration_outcome(const std::string &out, const double wall_s,
-                                       const std::size_t n_at_step_limit)
+                                       const std::size_t n_at_step_limit,
+                                       const std::size_t n_not_split)
   {
     std::cerr << "demfem calibrate: wrote " << out << "/material.json (" << wall_s
               << " s)\n";
-    if (n_at_step_limit == 0)
+    const std::string status = calibration_status(n_at_step_limit, n_not_split);
+    if (status == "ok")
       return {};
-    std::cerr << "demfem calibrate: " << n_at_step_limit
-              << " test(s) ended at the step limit (summary.json: status "
-                 "step_limit_reached); exit 3\n";
-    return {3, "step_limit_reached"};
+    if (n_at_step_limit > 0)
+      std::cerr << "demfem calibrate: " << n_at_step_limit
+                << " test(s) ended at the step limit\n";
+    if (n_not_split > 0)
+      std::cerr << "demfem calibrate: " << n_not_split
+                << " Brazilian test(s) did not split along the loaded diameter: no "
+                   "BTS\n";
+    std::cerr << "demfem calibrate: summary.json: status " << status << "; exit 3\n";
+    return {3, status};
   }
 } // namespace demfem::apps

@@ -203,7 +203,12 @@ namespace demfem::apps
       if (r.kind == dem::TestKind::brazilian)
         j.num("peak_force_N", r.peak_force)
             .num("disk_radius_m", r.R)
-            .num("thickness_m", r.t);
+            .num("thickness_m", r.t)
+            .str("failure_mode", r.failure_mode)
+            .num("split_fraction", r.split_fraction)
+            .num("failure_cracks", double(r.failure_cracks))
+            .num("split_fraction_peak", r.split_fraction_peak)
+            .num("split_fraction_end", r.split_fraction_end);
       return j;
     }
 
@@ -383,6 +388,7 @@ namespace demfem::apps
               << ", genesis " << genesis_s << " s\n";
 
     std::vector<std::string> truncated; // tests ended by the step limit
+    std::vector<std::string> not_split; // Brazilian tests that did not split
     // One test on a fresh specimen: history CSV, stress-strain SVG, VTK at
     // the peak and the end, and (Tests/loading rate check) the repeats at
     // half and quarter rate on the same packing (fistPkg §5.4).
@@ -448,6 +454,27 @@ namespace demfem::apps
                      "raise Tests/step limit\n";
       };
       check_end(r, label);
+      // A Brazilian disk that did not split along its loaded diameter
+      // (crushed under the platens, damaged all over, or not broken) gives
+      // a peak that is no tensile strength (ISRM 1978;
+      // dem/specimen/brazilian_failure.h): the run says so and is not "ok".
+      if (lp.kind == dem::TestKind::brazilian && r.failure_mode != "split")
+        {
+          not_split.push_back(label);
+          std::cerr << "demfem calibrate: warning: " << label
+                    << " did not split along the loaded diameter (failure mode "
+                    << r.failure_mode << ": ";
+          if (r.failure_cracks == 0)
+            std::cerr << "no crack formed after the peak";
+          else
+            std::cerr << r.split_fraction << " of its " << r.failure_cracks
+                      << " failure cracks in the split zone, below Tests/brazilian "
+                         "split fraction "
+                      << lp.split_fraction << "; all cracks: " << r.split_fraction_peak
+                      << " at the peak, " << r.split_fraction_end << " at the end";
+          std::cerr << "): its peak " << r.peak / 1e6
+                    << " MPa is no tensile strength; material.json bts is null\n";
+        }
       if (r.confining_deviation_to_peak > 0.01)
         std::cerr
             << "demfem calibrate: warning: " << label
@@ -547,7 +574,10 @@ namespace demfem::apps
     const dem::LabTestResult *ucs = get("ucs") ? get("ucs") : get(series_label(0));
     const dem::LabTestResult *el  = ucs ? ucs : get("triaxial");
     const dem::LabTestResult *dt  = get("direct tension");
-    const dem::LabTestResult *bts = get("brazilian");
+    // A Brazilian peak is a BTS only when the disk split (above).
+    const dem::LabTestResult *brazilian = get("brazilian");
+    const dem::LabTestResult *bts =
+        brazilian && brazilian->failure_mode == "split" ? brazilian : nullptr;
     auto ratio = [&](const dem::LabTestResult *a, double dem::LabTestResult::*x,
                      const dem::LabTestResult *b) {
       return a && b && b->peak > 0 ? a->*x / b->peak : nan;
@@ -572,6 +602,8 @@ namespace demfem::apps
         .num("triaxial_strength", get("triaxial") ? get("triaxial")->peak : nan)
         .num("confining_pressure", s.lab.Pc)
         .num("bts", bts ? bts->peak : nan)
+        .str("bts_failure_mode", brazilian ? brazilian->failure_mode : "not run")
+        .num("bts_split_fraction", brazilian ? brazilian->split_fraction : nan)
         .num("direct_tension", dt ? dt->peak : nan)
         .num("direct_tension_regions", dt ? dt->peak_region : nan)
         .num("crack_initiation", el ? el->crack_initiation : nan)
@@ -602,6 +634,7 @@ namespace demfem::apps
         .str("triaxial_strength", "Pa")
         .str("confining_pressure", "Pa")
         .str("bts", "Pa")
+        .str("bts_split_fraction", "1")
         .str("direct_tension", "Pa")
         .str("direct_tension_regions", "Pa")
         .str("crack_initiation", "Pa")
@@ -626,7 +659,7 @@ namespace demfem::apps
 
     Json sum;
     sum.str("command", "calibrate")
-        .str("status", truncated.empty() ? "ok" : "step_limit_reached")
+        .str("status", calibration_status(truncated.size(), not_split.size()))
         .str("parameter_file", s.where)
         .num("dim", dim)
         .num("n_grains", n_grains)
@@ -640,7 +673,8 @@ namespace demfem::apps
     dem::vtkout::write_text_atomically(s.out + "/summary.json", sum.text() + "\n");
     fs::remove(ckpt);
     fs::remove(ckpt + ".prev");
-    return calibration_outcome(s.out, seconds_since(t_start), truncated.size());
+    return calibration_outcome(s.out, seconds_since(t_start), truncated.size(),
+                               not_split.size());
   }
 
   template CalibrateOutcome run_calibration<2>(const CalibrateSettings &);

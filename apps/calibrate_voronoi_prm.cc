@@ -235,6 +235,9 @@ namespace demfem::apps
           1, true, true);
     l.ratio_limit = prm.get_double("seating ratio limit");
     check(where, t + "seating ratio limit", l.ratio_limit, 0, 1, true);
+    if (prm.get_double("brazilian split fraction") != 0.5)
+      refuse(where, "Tests/brazilian split fraction: the Brazilian failure-mode check "
+                    "is not available for Voronoi grains (allowed: 0.5, the default)");
     if (prm.get("loading rate check") != "false")
       refuse(where, "Tests/loading rate check: the rate repeats are not available for "
                     "Voronoi grains (allowed: false)");

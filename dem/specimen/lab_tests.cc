@@ -2,6 +2,7 @@
 // §5.2, §5.4-5.7).
 #include "dem/specimen/lab_tests.h"
 
+#include "dem/specimen/brazilian_failure.h"
 #include "dem/specimen/crack_initiation.h"
 
 #include <array>
@@ -35,6 +36,7 @@ namespace demfem::dem
                 false);
     check_range(where, "crack volumetric strain fraction", crack_volumetric_fraction, 0,
                 1, true, false);
+    check_range(where, "brazilian split fraction", split_fraction, 0, 1, true, true);
   }
 
   const char *test_kind_name(TestKind k)
@@ -198,11 +200,13 @@ namespace demfem::dem
         std::sort(gauge_.begin(), gauge_.end());
         gauge_.erase(std::unique(gauge_.begin(), gauge_.end()), gauge_.end());
         count_cracks();
+        loading_crack0_     = crack_base_ + counted_;
         counted_base_ten_   = n_ten_;
         counted_base_type_  = n_type_;
         counted_base_shear_ = n_shear_;
       }
       std::size_t counted_base_ten_ = 0, counted_base_shear_ = 0;
+      std::size_t loading_crack0_ = 0; // index in m_.cracks of the first loading crack
       std::array<std::size_t, n_bond_types> counted_base_type_{};
 
       void setup_compression()
@@ -509,7 +513,7 @@ namespace demfem::dem
         const std::size_t failure_cracks = std::max<std::size_t>(
             1, static_cast<std::size_t>(
                    0.25 * std::pow(double(m_.particles.size()), 1.0 / dim)));
-        const bool  track_pc       = servo_holds_confinement() && p_.Pc > 0;
+        const bool track_pc = servo_holds_confinement() && p_.Pc > 0;
         if (track_pc)
           r_.confining_deviation = r_.confining_deviation_to_peak = 0;
         for (std::int64_t n = 1; n <= nmax; ++n)
@@ -620,6 +624,32 @@ namespace demfem::dem
                                                p_.crack_volumetric_fraction);
       }
 
+      // Brazilian failure mode from the loading phase's cracks (in order of
+      // breakage; the first n_peak are those of the peak row): decided on
+      // the failure's cracks (brazilian_failure_cracks), with the fractions
+      // of all cracks at the peak and at the end reported beside it.
+      void classify_failure(std::size_t n_peak)
+      {
+        std::vector<Vec<dim>> all;
+        for (std::size_t k = loading_crack0_; k < m_.cracks.size(); ++k)
+          all.push_back(m_.cracks[k].position);
+        n_peak = std::min(n_peak, all.size());
+        const std::size_t n_fail =
+            brazilian_failure_cracks(n_peak, all.size(), m_.particles.size(), dim);
+        const Vec<dim> &c        = s_.vessel.center; // the disk's (setup_brazilian)
+        auto            classify = [&](std::size_t from, std::size_t to) {
+          return classify_brazilian_failure(
+                         std::vector<Vec<dim>>(all.begin() + from, all.begin() + to), c, r_.R,
+                         p_.split_fraction);
+        };
+        const auto failure     = classify(all.size() - n_fail, all.size());
+        r_.failure_mode        = failure.mode;
+        r_.split_fraction      = failure.fraction;
+        r_.failure_cracks      = n_fail;
+        r_.split_fraction_peak = classify(0, n_peak).fraction;
+        r_.split_fraction_end  = classify(0, all.size()).fraction;
+      }
+
       void extract()
       {
         const auto &H = r_.history;
@@ -637,6 +667,7 @@ namespace demfem::dem
           {
             r_.peak_force = -ps.axial_force;
             r_.peak       = brazilian_strength(r_.peak_force, r_.R, r_.t); // Eq. 24
+            classify_failure(pk.cracks_tension + pk.cracks_shear);
           }
         r_.cracks_tension_peak = pk.cracks_tension;
         r_.cracks_shear_peak   = pk.cracks_shear;

@@ -114,6 +114,11 @@ namespace demfem::dem
     /// peak (docs/calibrate.md: 5 % is about 5 x the gauge noise of the
     /// 1000-grain Lac du Bonnet specimen).
     double crack_volumetric_fraction = 0.05;
+    /// Brazilian: the disk split when at least this fraction of its
+    /// failure's cracks lie in the split zone (dem/specimen/brazilian_failure.h;
+    /// 0.5: most of them, between 0.28 for cracks spread over the disk and
+    /// 2/3 for a straight platen-to-platen split).
+    double split_fraction = 0.5;
 
     void validate(const std::string &where, int dim) const;
   };
@@ -167,6 +172,18 @@ namespace demfem::dem
     /// loading; compression: region axial stress at the peak row; NaN for
     /// the Brazilian test (its stress field is not uniform).
     double peak_region = std::numeric_limits<double>::quiet_NaN();
+    /// Brazilian failure mode (dem/specimen/brazilian_failure.h): "split",
+    /// "not_split" (the BTS is no tensile strength) or "no_failure" (no
+    /// crack after the peak); empty for the other tests. Decided by the
+    /// fraction `split_fraction` of the failure's `failure_cracks` cracks
+    /// (the last ones, brazilian_failure_cracks) in the split zone.
+    std::string failure_mode;
+    double      split_fraction = std::numeric_limits<double>::quiet_NaN();
+    std::size_t failure_cracks = 0;
+    /// Fraction of all the loading phase's cracks in the split zone at the
+    /// peak row and at the end (NaN: no cracks, or not a Brazilian test).
+    double split_fraction_peak = std::numeric_limits<double>::quiet_NaN();
+    double split_fraction_end  = std::numeric_limits<double>::quiet_NaN();
     double R = 0, t = 0; ///< Brazilian disk radius and thickness [m]
     double area = 0;     ///< cross-section used for the axial stress [m^2]
   };

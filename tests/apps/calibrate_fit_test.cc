@@ -205,3 +205,39 @@ TEST_CASE("calibrate --fit refuses bad targets and empty search spaces",
       }
   }
 }
+
+TEST_CASE("calibrate --fit does not take a disk that did not split as a BTS",
+          "[calibrate][fit][brazilian]")
+{
+  // The unbreakable material of the fit above, stopped at an axial strain
+  // of 1e-3: its Brazilian disk never breaks, so no packing gives a BTS
+  // (docs/calibrate.md, "Failure mode of the Brazilian test"). The
+  // evaluation fails naming the packing and its failure mode instead of
+  // scoring the load at the strain limit, and the best material's
+  // calibration ends brazilian_not_split (exit 3), not targets_not_reached.
+  const fs::path out = work_dir() / "not_split";
+  fs::remove_all(out);
+  const auto r = run_demfem(
+      "calibrate " +
+      write("not_split.prm",
+            prm(out, 40e9, 2,
+                "  set parameters = effective modulus 10e9 100e9\n"
+                "  set evaluations = 1\n  subsection Targets\n    set bts = 8.8e6\n"
+                "  end\n"))
+          .string() +
+      " --set \"Tests/tests=brazilian\" --fit");
+  INFO(r.out);
+  CHECK(r.exit_code == 3);
+  std::istringstream csv(read(out / "fit.csv"));
+  std::string        header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  CHECK(header.find(",error,note") != std::string::npos);
+  CHECK(row.find("no Brazilian disk split along its loaded diameter: seed 10000 "
+                 "Brazilian no_failure") != std::string::npos);
+  const auto fit = nlohmann::json::parse(read(out / "fit.json"));
+  CHECK(fit["targets"]["bts"]["seed_mean"].is_null());
+  CHECK(nlohmann::json::parse(read(out / "manifest.json"))["status"] ==
+        "brazilian_not_split");
+  CHECK(nlohmann::json::parse(read(out / "material.json"))["bts"].is_null());
+}
