@@ -654,6 +654,21 @@ namespace demfem::apps
     mat.str("fit_window", "secant least squares between " + std::to_string(s.lab.fit_lo) +
                               " and " + std::to_string(s.lab.fit_hi) +
                               " of the peak deviator");
+    // The test settings, so that the same tests can be repeated on this
+    // material elsewhere (demfem tunnel --probe, docs/tunnel.md).
+    Json lab;
+    lab.num("strain_rate_per_s", s.lab.strain_rate)
+        .num("fit_window_low", s.lab.fit_lo)
+        .num("fit_window_high", s.lab.fit_hi)
+        .num("load_fraction", s.lab.load_fraction)
+        .num("strain_limit", s.lab.strain_limit)
+        .num("step_limit", double(s.lab.step_limit))
+        .num("history_interval", s.lab.history_interval)
+        .num("seating_ratio_limit", s.lab.ratio_limit)
+        .num("seating_step_limit", double(s.lab.seat_step_limit))
+        .num("platen_friction", s.lab.platen_friction)
+        .num("split_fraction", s.lab.split_fraction);
+    mat.obj("lab_tests", lab);
     mat.obj("microparameters", microparameters(s.mat, s.vessel));
     dem::vtkout::write_text_atomically(s.out + "/material.json", mat.text() + "\n");
 

@@ -13,6 +13,7 @@
 #include "apps/output_dir.h"
 #include "apps/prm_cli.h"
 #include "apps/study.h"
+#include "apps/tunnel_probe.h"
 #include "coupling/tunnel_run.h"
 
 #include <algorithm>
@@ -32,8 +33,8 @@ namespace demfem::apps
 
     const char *usage =
         "usage: demfem tunnel FILE.prm [--set \"Section/key=value\"]... "
-        "[--restart CHECKPOINT.h5] [--accept STATUS[,STATUS]] [--overwrite] [--defaults] "
-        "[--print-parameters] [--help]\n"
+        "[--restart CHECKPOINT.h5] [--accept STATUS[,STATUS]] [--probe [--probe-seeds N]] "
+        "[--overwrite] [--defaults] [--print-parameters] [--help]\n"
         "\n"
         "Coupled DEM-continuum tunnel excavation, 2D or (Problem/dimension = 3) a\n"
         "slab 0 < z < 'DEM region/slab thickness' in plane strain through walls,\n"
@@ -72,7 +73,15 @@ namespace demfem::apps
         "options:\n"
         "  --restart CHECKPOINT.h5  continue from a checkpoint\n"
         "  --accept STATUS,...      exit 0 for these statuses (not_equilibrated,\n"
-        "                           region_too_small); summary.json still names them\n";
+        "                           region_too_small); summary.json still names them\n"
+        "  --probe                  no tunnel run: build lab specimens with the\n"
+        "                           region's genesis at its grain size and run the\n"
+        "                           UCS and Brazilian tests of the calibration; compare\n"
+        "                           E, nu (within 5 %), UCS, BTS (within 2 seed sd)\n"
+        "                           with 'DEM region/material file'; writes probe.json\n"
+        "                           into Problem/output directory; exit 0 pass, 3 fail\n"
+        "  --probe-seeds N          packing seeds of the probe (default 3; 1 does not\n"
+        "                           judge UCS and BTS)\n";
 
     /// Async-signal-safe: only sets the flag the run polls at step boundaries.
     extern "C" void on_stop_signal(int sig) { coupling::tunnel_stop_requested = sig; }
@@ -155,6 +164,8 @@ namespace demfem::apps
     try
       {
         std::string                      file, restart;
+        bool                             probe       = false;
+        int                              probe_seeds = 3;
         std::vector<coupling::RunStatus> accepted;
         std::string                      accept_text; // as given, for the restart hint
         ParameterHandler                 prm;
@@ -170,6 +181,25 @@ namespace demfem::apps
               AssertThrow(std::filesystem::is_regular_file(restart),
                           ExcMessage("--restart: checkpoint '" + restart +
                                      "' does not exist or is not a file"));
+            }
+          else if (std::string(argv[i]) == "--probe")
+            probe = true;
+          else if (std::string(argv[i]) == "--probe-seeds")
+            {
+              AssertThrow(i + 1 < argc,
+                          ExcMessage("--probe-seeds needs a number of seeds (1 .. 100)"));
+              const std::string n = argv[++i];
+              try
+                {
+                  std::size_t used = 0;
+                  probe_seeds      = std::stoi(n, &used);
+                  AssertThrow(used == n.size(), ExcMessage(""));
+                }
+              catch (...)
+                {
+                  throw UsageError("--probe-seeds: '" + n +
+                                   "' is not a whole number (allowed 1 .. 100)");
+                }
             }
           else if (std::string(argv[i]) == "--accept")
             {
@@ -209,6 +239,16 @@ namespace demfem::apps
           prm.print_parameters(text, ParameterHandler::ShortPRM);
           s.prm_text = text.str();
         }
+        if (probe)
+          {
+            prm.enter_subsection("DEM region");
+            const std::string material = prm.get("material file");
+            prm.leave_subsection();
+            std::filesystem::create_directories(s.output_directory);
+            const bool pass =
+                run_probe(s, material, probe_seeds, s.output_directory, std::cout);
+            return pass ? 0 : 3;
+          }
         s.restart_file = restart;
         // A foreign checkpoint is bad input: refused before anything is written.
         coupling::check_restart(s);

@@ -1,0 +1,278 @@
+// `demfem tunnel --probe` (apps/tunnel_probe.h; docs/tunnel.md, "The probe").
+#include "apps/tunnel_probe.h"
+
+#include "dem/specimen/genesis.h"
+#include "dem/specimen/lab_tests.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace demfem::apps
+{
+  namespace
+  {
+    using json = nlohmann::json;
+
+    double number(const json &j, const char *key)
+    {
+      const auto it = j.find(key);
+      return it != j.end() && it->is_number() ? it->get<double>() : NAN;
+    }
+
+    /// What the material file says: the measured properties, the lab
+    /// specimen's grain scale and vessel, and the test settings.
+    struct Reference
+    {
+      double             E = NAN, nu = NAN, ucs = NAN, bts = NAN;
+      double             diameter_multiplier = NAN;
+      dem::VesselParams  vessel;
+      dem::LabTestParams lab;
+      bool               lab_recorded = false; ///< the file has "lab_tests"
+    };
+
+    Reference read_reference(const std::string &file)
+    {
+      Reference     r;
+      std::ifstream in(file);
+      const json    j = json::parse(in, nullptr, true, true);
+      r.E             = number(j, "E");
+      r.nu            = number(j, "nu");
+      r.ucs           = number(j, "ucs");
+      r.bts           = number(j, "bts");
+      const auto &mp  = j.at("microparameters");
+      r.diameter_multiplier = number(mp, "diameter_multiplier");
+      if (const auto it = mp.find("vessel_shape"); it != mp.end() && it->is_string())
+        r.vessel.shape = it->get<std::string>();
+      r.vessel.H = number(mp, "vessel_H_m");
+      r.vessel.W = number(mp, "vessel_W_m");
+      if (const double D = number(mp, "vessel_D_m"); std::isfinite(D))
+        r.vessel.D = D;
+      if (const double e = number(mp, "vessel_wall_emod_Pa"); std::isfinite(e))
+        r.vessel.emod = e;
+      // The calibration's test settings (calibrate writes them since the
+      // probe exists); older files: the fit window from its description.
+      auto &lab = r.lab;
+      if (const auto it = j.find("lab_tests"); it != j.end() && it->is_object())
+        {
+          r.lab_recorded = true;
+          auto set       = [&](const char *key, auto &field) {
+            if (const double v = number(*it, key); std::isfinite(v))
+              field = static_cast<std::decay_t<decltype(field)>>(v);
+          };
+          set("strain_rate_per_s", lab.strain_rate);
+          set("fit_window_low", lab.fit_lo);
+          set("fit_window_high", lab.fit_hi);
+          set("load_fraction", lab.load_fraction);
+          set("strain_limit", lab.strain_limit);
+          set("step_limit", lab.step_limit);
+          set("history_interval", lab.history_interval);
+          set("seating_ratio_limit", lab.ratio_limit);
+          set("seating_step_limit", lab.seat_step_limit);
+          set("platen_friction", lab.platen_friction);
+          set("split_fraction", lab.split_fraction);
+        }
+      else if (const auto fw = j.find("fit_window"); fw != j.end() && fw->is_string())
+        {
+          double     lo = 0, hi = 0;
+          const auto t = fw->get<std::string>();
+          const auto b = t.find("between");
+          if (b != std::string::npos &&
+              std::sscanf(t.c_str() + b, "between %lf and %lf", &lo, &hi) == 2 &&
+              lo >= 0 && hi > lo && hi <= 1)
+            lab.fit_lo = lo, lab.fit_hi = hi;
+        }
+      return r;
+    }
+
+    struct Stats
+    {
+      double mean = NAN, sd = NAN;
+    };
+    Stats stats(const std::vector<double> &x)
+    {
+      Stats s;
+      if (x.empty())
+        return s;
+      double sum = 0;
+      for (double v : x)
+        sum += v;
+      s.mean = sum / x.size();
+      if (x.size() > 1)
+        {
+          double q = 0;
+          for (double v : x)
+            q += (v - s.mean) * (v - s.mean);
+          s.sd = std::sqrt(q / (x.size() - 1));
+        }
+      return s;
+    }
+
+    struct Measured
+    {
+      std::vector<double>      E, nu, ucs, bts;
+      std::vector<std::string> modes; ///< Brazilian failure modes
+      std::size_t              grains = 0;
+      double                   k      = NAN; ///< grain-size factor region / lab
+    };
+
+    template <int dim>
+    Measured measure(const coupling::TunnelParams &s, const Reference &ref, int seeds,
+                     std::ostream &out)
+    {
+      Measured r;
+      // The grain-size factor: the region's material is the file's with
+      // every length of the microstructure multiplied by k
+      // (apps/tunnel_prm.cc); the lab specimen scales with it, so it holds
+      // the calibration's number of grains.
+      dem::MaterialParams m = *s.region.material;
+      r.k                   = m.diameter_multiplier / ref.diameter_multiplier;
+      dem::VesselParams v   = ref.vessel;
+      v.H *= r.k;
+      v.W *= r.k;
+      if (dim == 3)
+        v.D *= r.k;
+      // The same loading in units of the grains' dynamics: with the
+      // deformability method the contact stiffness does not change with
+      // the grain size while the time step grows as d (mass d^dim, 2D per
+      // unit thickness d^2), so the strain rate is divided by k: the same
+      // strain per step, the same quasi-static quality.
+      dem::LabTestParams lab = ref.lab;
+      lab.strain_rate /= r.k;
+      out << "probe: lab specimen " << v.W << " x " << v.H
+          << (dim == 3 ? " x " + std::to_string(v.D) : std::string()) << " m at "
+          << r.k << " x the material file's grain size, strain rate "
+          << lab.strain_rate << " /s, modulus fit " << lab.fit_lo << " .. "
+          << lab.fit_hi << " of the peak, " << seeds << " packing seed(s)\n";
+      if (!ref.lab_recorded)
+        out << "probe: the material file does not record its test settings "
+               "(lab_tests; written by demfem calibrate since the probe exists): "
+               "the defaults of Tests are used, the comparison is weaker\n";
+      for (int k = 0; k < seeds; ++k)
+        {
+          m.seed = s.region.seed + k;
+          // Each test on a fresh specimen of the seed, as calibrate does.
+          {
+            auto specimen = dem::build_specimen<dim>(m, v, nullptr, "probe specimen");
+            r.grains      = specimen.n_grains();
+            lab.kind      = dem::TestKind::compression;
+            const auto u  = dem::run_lab_test(specimen, lab);
+            r.E.push_back(u.E);
+            r.nu.push_back(u.nu);
+            r.ucs.push_back(u.peak);
+          }
+          auto specimen = dem::build_specimen<dim>(m, v, nullptr, "probe specimen");
+          lab.kind      = dem::TestKind::brazilian;
+          const auto b  = dem::run_lab_test(specimen, lab);
+          r.bts.push_back(b.peak);
+          r.modes.push_back(b.failure_mode);
+          out << "probe: seed " << m.seed << ": " << r.grains << " grains, E "
+              << r.E.back() / 1e9 << " GPa, nu " << r.nu.back() << ", UCS "
+              << r.ucs.back() / 1e6 << " MPa, BTS " << r.bts.back() / 1e6 << " MPa ("
+              << b.failure_mode << ")" << std::endl;
+        }
+      return r;
+    }
+  } // namespace
+
+  bool run_probe(const coupling::TunnelParams &s, const std::string &material_file,
+                 int seeds, const std::string &json_dir, std::ostream &out)
+  {
+    if (!s.region.material)
+      throw dem::InputError("--probe: needs DEM region/material file (the probe "
+                            "compares the region with the material it was "
+                            "calibrated as)");
+    if (seeds < 1 || seeds > 100)
+      throw dem::InputError("--probe-seeds: " + std::to_string(seeds) +
+                            " packing seeds; allowed 1 .. 100");
+    const Reference ref = read_reference(material_file);
+    const Measured  m   = s.dimension == 2 ? measure<2>(s, ref, seeds, out)
+                                           : measure<3>(s, ref, seeds, out);
+
+    bool all = true;
+    json rows = json::array();
+    out << std::setprecision(4) << "probe: E, nu are the "
+        << (s.dimension == 2 ? "plane-strain pair (as the material file's)" : "3D pair")
+        << "; mean (sd) over " << seeds << " seed(s)\n";
+    // One row: the probe's mean against the file's value, judged by a
+    // tolerance (relative) or by the probe's seed scatter.
+    auto row = [&](const std::string &name, const std::vector<double> &x, double want,
+                   double rel_tol, bool by_scatter) {
+      const Stats  st  = stats(x);
+      const double rel = (st.mean - want) / std::abs(want);
+      std::string  rule, verdict;
+      bool         judged = true, ok = true;
+      if (!by_scatter)
+        {
+          rule = "within " + std::to_string(int(std::round(100 * rel_tol))) + " %";
+          ok   = std::abs(rel) <= rel_tol;
+        }
+      else if (x.size() > 1)
+        {
+          rule = "the file's value within 2 seed sd of the probe's mean";
+          ok   = std::abs(st.mean - want) <= 2 * st.sd;
+        }
+      else
+        {
+          rule   = "one seed: not judged (--probe-seeds >= 2 measures the scatter)";
+          judged = false;
+        }
+      verdict = !judged ? "-" : ok ? "pass" : "FAIL";
+      all     = all && ok;
+      out << "  " << std::setw(4) << name << "  probe " << std::setw(10) << st.mean
+          << " (" << st.sd << ")  material file " << std::setw(10) << want << "  "
+          << std::showpos << 100 * rel << std::noshowpos << " %  " << rule << "  "
+          << verdict << "\n";
+      rows.push_back({{"property", name},
+                      {"probe_mean", st.mean},
+                      {"probe_sd", std::isfinite(st.sd) ? json(st.sd) : json()},
+                      {"probe_values", x},
+                      {"material_file", want},
+                      {"difference", rel},
+                      {"rule", rule},
+                      {"verdict", verdict}});
+    };
+    row("E", m.E, ref.E, probe_elastic_tolerance, false);
+    row("nu", m.nu, ref.nu, probe_elastic_tolerance, false);
+    row("UCS", m.ucs, ref.ucs, 0, true);
+    row("BTS", m.bts, ref.bts, 0, true);
+    // A Brazilian disk that did not split has no tensile strength.
+    std::size_t split = 0;
+    for (const auto &mode : m.modes)
+      split += mode == "split";
+    const bool all_split = split == m.modes.size();
+    all                  = all && all_split;
+    out << "  Brazilian disks split: " << split << " of " << m.modes.size() << "  "
+        << (all_split ? "pass" : "FAIL") << "\n";
+    // The continuum gets exactly the material's constants.
+    const bool continuum_ok =
+        s.continuum.young_modulus == ref.E && s.continuum.poisson_ratio == ref.nu;
+    all = all && continuum_ok;
+    out << "  continuum E, nu = " << s.continuum.young_modulus << ", "
+        << s.continuum.poisson_ratio << " (the material file's: " << ref.E << ", "
+        << ref.nu << ")  " << (continuum_ok ? "pass" : "FAIL") << "\n";
+    out << "probe: " << (all ? "pass" : "FAIL") << std::endl;
+    if (!json_dir.empty())
+      {
+        json j;
+        j["material_file"]      = material_file;
+        j["grain_size_factor"]  = m.k;
+        j["grains"]             = m.grains;
+        j["seeds"]              = seeds;
+        j["first_seed"]         = s.region.seed;
+        j["lab_tests_recorded"] = ref.lab_recorded;
+        j["rows"]               = rows;
+        j["brazilian_split"]    = split;
+        j["continuum_E"]        = s.continuum.young_modulus;
+        j["continuum_nu"]       = s.continuum.poisson_ratio;
+        j["pass"]               = all;
+        std::ofstream f(json_dir + "/probe.json");
+        f << j.dump(2) << "\n";
+      }
+    return all;
+  }
+} // namespace demfem::apps

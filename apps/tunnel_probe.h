@@ -1,0 +1,28 @@
+#pragma once
+// `demfem tunnel FILE.prm --probe` (docs/tunnel.md, "The probe"): is the
+// region the calibrated material? The probe builds lab specimens with the
+// region's genesis at the region's grain size (the calibration specimen of
+// the material file scaled by the grain-size factor) and runs the UCS and
+// Brazilian tests of the calibration, for several packing seeds.
+#include "coupling/tunnel_run.h"
+
+#include <ostream>
+#include <string>
+
+namespace demfem::apps
+{
+  /// E and nu of the probe's seed mean within this fraction of the
+  /// material file's (the 5 %).
+  inline constexpr double probe_elastic_tolerance = 0.05;
+
+  /// Runs the probe for the region of `s` (which must hold the material of
+  /// `material_file`) on `seeds` packings (region seed, +1, ...), prints the
+  /// comparison table to `out` and writes probe.json into `json_dir` (when
+  /// not empty). Returns true when every judged row passes: E, nu within
+  /// probe_elastic_tolerance, UCS and BTS of the file within two standard
+  /// deviations of the probe's seed mean (with >= 2 seeds; one seed: not
+  /// judged), every Brazilian disk split, and the continuum's E, nu the
+  /// file's exactly.
+  bool run_probe(const coupling::TunnelParams &s, const std::string &material_file,
+                 int seeds, const std::string &json_dir, std::ostream &out);
+} // namespace demfem::apps

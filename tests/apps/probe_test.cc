@@ -1,0 +1,144 @@
+// `demfem tunnel --probe` (apps/tunnel_probe.h; docs/tunnel.md, "The probe"):
+// lab specimens built by the region's genesis at the region's grain size
+// reproduce the material file.
+#include <catch2/catch.hpp>
+
+#include "run_command.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+using demfem::testing::run_demfem;
+using json = nlohmann::json;
+
+namespace
+{
+  const std::string examples = std::string(DEMFEM_SOURCE_DIR) + "/apps/examples/";
+
+  json read_json(const std::string &f)
+  {
+    std::ifstream in(f);
+    return json::parse(in);
+  }
+
+  // A small calibrated material (the Lac du Bonnet example in a 12.5 x 25 mm
+  // vessel, about 250 grains; UCS and Brazilian, about 10 s): its
+  // material.json in a directory of the test's own (ctest runs the test
+  // cases in parallel processes).
+  std::string small_material(const std::string &tag)
+  {
+    {
+      const std::string dir =
+          (std::filesystem::temp_directory_path() / ("demfem_probe_lab_" + tag)).string();
+      std::filesystem::remove_all(dir);
+      const auto r = run_demfem(
+          "calibrate " + examples +
+          "lac_du_bonnet_2d.prm --set Tests/tests=ucs,brazilian --set \"Tests/loading "
+          "rate check=false\" --set Problem/vtk=false --set \"Material/number of "
+          "grains=250\" --set Vessel/height=0.025 --set Vessel/width=0.0125 --set "
+          "\"Problem/output directory=" +
+          dir + "\"");
+      INFO(r.out);
+      REQUIRE(r.exit_code == 0);
+      return dir + "/material.json";
+    }
+  }
+
+  // The region's mean grain diameter that makes the grain-size factor
+  // exactly 32 (apps/tunnel_prm.cc: k = d / mean diameter of the file).
+  std::string diameter_times_32(const json &m)
+  {
+    const double mult = m["microparameters"]["diameter_multiplier"].get<double>();
+    const auto  &p    = m["microparameters"]["size_distribution"]["piece_0"];
+    const double mean =
+        0.5 * (mult * p["D_lo_m"].get<double>() + mult * p["D_hi_m"].get<double>());
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.17g", 32 * mean);
+    return buf;
+  }
+
+  demfem::testing::CommandResult probe(const std::string &material,
+                                       const std::string &diameter,
+                                       const std::string &dir)
+  {
+    std::filesystem::remove_all(dir);
+    return run_demfem("tunnel " + examples +
+                      "tunnel_2d.prm --set \"DEM region/material file=" + material +
+                      "\" --set \"DEM region/grain diameter=" + diameter +
+                      "\" --set \"Problem/output directory=" + dir +
+                      "\" --probe --probe-seeds 1");
+  }
+} // namespace
+
+TEST_CASE("probe: at 32 times the grain size the lab tests give the material file's "
+          "numbers exactly",
+          "[probe][app]")
+{
+  const std::string file = small_material("exact");
+  const json        m    = read_json(file);
+  const std::string dir = (std::filesystem::temp_directory_path() / "demfem_probe").string();
+  const auto        r   = probe(file, diameter_times_32(m), dir);
+  INFO(r.out);
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.find("probe: pass") != std::string::npos);
+  const json p = read_json(dir + "/probe.json");
+  CHECK(p["grain_size_factor"].get<double>() == 32);
+  CHECK(p["pass"].get<bool>());
+  // Scaling every length by a power of two is exact in floating point, and
+  // the probe divides the strain rate by the same factor (the time step
+  // grows with the grain size): the packing and the tests are the same
+  // computation, bit for bit, unless something in the genesis or the tests
+  // is not scale-free (an absolute length, time or velocity). Same seed
+  // (the material's): E, nu, UCS and BTS equal to round-off.
+  for (const auto &row : p["rows"])
+    {
+      const std::string name = row["property"];
+      const double      want = row["material_file"], got = row["probe_mean"];
+      INFO(name << ": probe " << got << ", material file " << want);
+      CHECK(std::abs(got - want) <= 1e-12 * std::abs(want));
+    }
+}
+
+TEST_CASE("probe: a material file whose E the region does not reproduce fails",
+          "[probe][app]")
+{
+  // The same material with E raised by 10 % in the file: the region's
+  // grains are unchanged, so the probe's E is 9 % below the file's; the
+  // continuum takes the (raised) file value, which still passes.
+  json m = read_json(small_material("bad"));
+  m["E"] = 1.1 * m["E"].get<double>();
+  const std::string dir = (std::filesystem::temp_directory_path() / "demfem_probe_bad").string();
+  std::filesystem::create_directories(dir);
+  const std::string file = dir + ".material.json";
+  {
+    std::ofstream out(file);
+    out << m.dump(2);
+  }
+  const auto r = probe(file, diameter_times_32(m), dir);
+  INFO(r.out);
+  CHECK(r.exit_code == 3);
+  CHECK(r.out.find("probe: FAIL") != std::string::npos);
+  const json p = read_json(dir + "/probe.json");
+  CHECK_FALSE(p["pass"].get<bool>());
+  CHECK(p["rows"][0]["property"] == "E");
+  CHECK(p["rows"][0]["verdict"] == "FAIL");
+  CHECK(p["rows"][0]["difference"].get<double>() == Approx(1 / 1.1 - 1).epsilon(1e-9));
+  CHECK(p["rows"][1]["verdict"] == "pass"); // nu unchanged
+}
+
+TEST_CASE("probe: without a material file it is refused naming the key", "[probe][app]")
+{
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / "demfem_probe_none").string();
+  const auto r = run_demfem("tunnel " + examples +
+                            "tunnel_2d.prm --set \"Problem/output directory=" + dir +
+                            "\" --probe");
+  INFO(r.out);
+  CHECK(r.exit_code == 1);
+  CHECK(r.out.find("DEM region/material file") != std::string::npos);
+}
