@@ -102,7 +102,7 @@ namespace demfem::apps
       s.outer_radius             = prm.get_double("outer radius");
       s.young_modulus            = prm.get_double("young modulus");
       s.poisson_ratio            = prm.get_double("poisson ratio");
-      const std::string material = prm.get("material file");
+      const std::string material = resolve_input_file(prm.get("material file"));
       s.degree                   = prm.get_integer("element degree");
       s.refinements              = prm.get_integer("refinements");
       s.solver                   = prm.get("solver");

@@ -77,6 +77,16 @@ namespace demfem::apps
     return key_path + " (parameter file '" + the_command_line.file + "')";
   }
 
+  std::string resolve_input_file(const std::string &path)
+  {
+    namespace fs = std::filesystem;
+    if (path.empty() || fs::path(path).is_absolute() || fs::exists(path) ||
+        command_line().file.empty())
+      return path;
+    const fs::path beside = fs::path(command_line().file).parent_path() / path;
+    return fs::exists(beside) ? beside.string() : path;
+  }
+
   std::string shell_quoted(const std::vector<std::string> &arguments)
   {
     std::string r;

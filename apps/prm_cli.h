@@ -57,6 +57,13 @@ namespace demfem::apps
   /// error messages name a key, with where its value came from.
   std::string key_name(const std::string &key_path);
 
+  /// An input file named in the parameters (e.g. a material file): a
+  /// relative path is taken from the current directory when it exists
+  /// there, else from the parameter file's directory (so that an example
+  /// names the files next to it and runs from anywhere). Returns the path
+  /// to use (unchanged when neither exists: the caller's check names it).
+  std::string resolve_input_file(const std::string &path);
+
   /// The arguments quoted for a POSIX shell, joined by blanks.
   std::string shell_quoted(const std::vector<std::string> &arguments);
 

@@ -345,7 +345,7 @@ namespace demfem::apps
           return 0;
         coupling::TunnelParams base = read_tunnel_settings(prm);
         prm.enter_subsection("DEM region");
-        const std::string material = prm.get("material file");
+        const std::string material = resolve_input_file(prm.get("material file"));
         prm.leave_subsection();
         const study::Settings st = study::read_study_settings(prm, material);
         // The full-DEM reference is a 2D disk held by a 2D membrane

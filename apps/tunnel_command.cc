@@ -102,7 +102,7 @@ namespace demfem::apps
       if (radius_auto) // Kirsch pre-analysis (right-sizing)
         {
           prm.enter_subsection("DEM region");
-          const std::string material = prm.get("material file");
+          const std::string material = resolve_input_file(prm.get("material file"));
           prm.leave_subsection();
           const auto st   = study::read_study_settings(prm, material);
           const auto ar   = study::auto_region_radius(s.sigma0, s.tunnel_radius, st.ucs,
@@ -242,7 +242,7 @@ namespace demfem::apps
         if (probe)
           {
             prm.enter_subsection("DEM region");
-            const std::string material = prm.get("material file");
+            const std::string material = resolve_input_file(prm.get("material file"));
             prm.leave_subsection();
             std::filesystem::create_directories(s.output_directory);
             const bool pass =

@@ -226,6 +226,16 @@ namespace demfem::apps
     s.continuum.outer_radius  = prm.get_double("outer radius");
     s.continuum.young_modulus = prm.get_double("young modulus");
     s.continuum.poisson_ratio = prm.get_double("poisson ratio");
+    // Checked here even when a material file replaces them: a bad value in
+    // the file is an error, not silently unused.
+    AssertThrow(s.continuum.young_modulus > 0,
+                ExcMessage(key_name("Continuum/young modulus") + " = " +
+                           std::to_string(s.continuum.young_modulus) +
+                           " Pa; allowed: > 0"));
+    AssertThrow(s.continuum.poisson_ratio > -1 && s.continuum.poisson_ratio < 0.5,
+                ExcMessage(key_name("Continuum/poisson ratio") + " = " +
+                           std::to_string(s.continuum.poisson_ratio) +
+                           "; allowed: (-1, 0.5)"));
     s.continuum.density       = prm.get_double("density");
     if (const auto ms = prm.get("mass scaling"); ms != "auto")
       s.continuum.mass_scaling =
@@ -233,7 +243,7 @@ namespace demfem::apps
     else
       s.continuum.mass_scaling = 0; // automatic
     s.continuum.axial_extension = prm.get_double("axial extension");
-    std::string cmat            = prm.get("material file");
+    std::string cmat            = resolve_input_file(prm.get("material file"));
     AssertThrow(prm.get_integer("element degree") == 1,
                 ExcMessage("Continuum/element degree: the wall-facet coupling needs 1 "
                            "(facet vertices are the element nodes)"));
@@ -242,7 +252,7 @@ namespace demfem::apps
     prm.enter_subsection("DEM region");
     auto &r                  = s.region;
     r.radius                 = parse_radius(prm.get("radius"));
-    const auto dmat          = prm.get("material file");
+    const auto dmat          = resolve_input_file(prm.get("material file"));
     r.breakable              = prm.get_bool("breakable");
     const auto gd            = prm.get("grain diameter");
     r.d_lo                   = prm.get_double("grain diameter min");

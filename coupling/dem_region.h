@@ -105,6 +105,10 @@ namespace demfem::coupling
     /// Largest and mean grain-grain overlap over the mean radius at the end
     /// of packing (how tight the packing is).
     double max_overlap_ratio = 0, mean_overlap_ratio = 0;
+    /// Steps of the material genesis when the region was carved from it
+    /// (its own model; 0: the packing ran in the region's model, whose step
+    /// count holds it).
+    std::int64_t genesis_steps = 0;
   };
 
   /// Fills `model` with the packed and bonded region. 2D: the model must

@@ -84,6 +84,7 @@ namespace demfem::coupling
     dem::Specimen<dim> packed =
         dem::pack_specimen<dim>(mat, v, rng, progress, "DEM region (material genesis)");
     std::tie(G.max_overlap_ratio, G.mean_overlap_ratio) = overlap_ratios(packed.model);
+    G.genesis_steps = packed.packing_steps;
 
     // Carve: the grains whose centres lie inside the ring, each shrunk by
     // its largest overlap with the region's walls (the ring; 3D also the

@@ -171,6 +171,8 @@ namespace demfem::coupling
     j["n_fem_dofs"]                      = r.n_fem_dofs;
     j["steps"]                           = r.steps - r.packing_steps;
     j["packing_steps"]                   = r.packing_steps;
+    j["genesis_steps"]                   = r.genesis_steps;
+    j["grain_resolution_a_over_d"]       = json_number(r.grain_resolution_a_over_d);
     j["timestep_s"]                      = json_number(r.timestep);
     j["dem_critical_timestep_s"]         = json_number(r.critical_timestep);
     j["wall_time_s"]                     = json_number(r.wall_time_s);

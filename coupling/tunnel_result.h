@@ -109,6 +109,12 @@ namespace demfem::coupling
     double phase_time_limit        = 0; ///< Coupling/phase time limit [s] (0: none)
     double ratio_tolerance         = 0;
     double mean_grain_diameter     = 0;
+    /// Tunnel radius over the region's mean grain diameter (a/d): below 10
+    /// the damage zone is a few grains deep (warned at the start).
+    double grain_resolution_a_over_d = 0;
+    /// Steps of the material genesis the region was carved from (not in
+    /// `steps` or `packing_steps`: its own model; coupling/region_genesis.cc).
+    std::int64_t genesis_steps = 0;
     /// Stopped on request (signal): a checkpoint was written, no summary.
     bool                     interrupted = false;
     std::string              checkpoint;   ///< latest checkpoint written ("" none)

@@ -250,6 +250,16 @@ namespace demfem::coupling
         check_restart(p); // a foreign checkpoint: refused before anything is written
         std::filesystem::create_directories(dir);
         out << "demfem tunnel: building the DEM region and the continuum" << std::endl;
+        // Below about 10 grains per tunnel radius a damage zone of a
+        // fraction of the radius is one or two grains deep: the depth is
+        // then a count of grains more than a measure (docs/tunnel.md,
+        // "Grain-size scaling").
+        if (const double ad = p.tunnel_radius / p.region.mean_diameter(); ad < 10)
+          out << "warning: a/d = " << ad << " (tunnel radius " << p.tunnel_radius
+              << " m over the mean grain diameter " << p.region.mean_diameter()
+              << " m) is below 10: too coarse to resolve a damage zone of a fraction "
+                 "of the radius; lower DEM region/grain diameter"
+              << std::endl;
         m.build(&out);
         m.set_insitu(p.sigma0);
         r.n_fem_dofs = m.n_fem_dofs();
@@ -450,6 +460,8 @@ namespace demfem::coupling
         r.critical_timestep             = m.dem.critical_timestep();
         r.dem_region_radius             = p.region.radius;
         r.mean_grain_diameter           = p.region.mean_diameter();
+        r.grain_resolution_a_over_d     = p.tunnel_radius / p.region.mean_diameter();
+        r.genesis_steps                 = m.groups.genesis_steps;
         r.interface_force_imbalance_max = m.imbalance_max();
         measures.fill(r);
         r.wall_time_s =

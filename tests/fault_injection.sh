@@ -25,7 +25,11 @@ check() { # check NAME CONDITION...
   if "$@"; then echo "ok: $name"; else echo "FAILED: $name"; failed=$((failed + 1)); fi
 }
 
-small=(--set "DEM region/radius=1.0" --set "Tunnel/radius=0.4"
+# The small verification region of the material keys (no material file).
+small=(--set "DEM region/material file=" --set "Continuum/young modulus=16.3e9"
+       --set "Continuum/poisson ratio=0.11" --set "DEM region/fj ten=8e6"
+       --set "DEM region/fj coh=40e6" --set "DEM region/lnm emod=20e9"
+       --set "DEM region/radius=1.0" --set "Tunnel/radius=0.4"
        --set "DEM region/grain diameter min=0.08" --set "DEM region/grain diameter max=0.12"
        --set "Continuum/outer radius=10" --set "Output/interval=0"
        --set "Coupling/step limit=300" --set "Coupling/ramp steps=300"

@@ -136,8 +136,9 @@ TEST_CASE("probe: without a material file it is refused naming the key", "[probe
   const std::string dir =
       (std::filesystem::temp_directory_path() / "demfem_probe_none").string();
   const auto r = run_demfem("tunnel " + examples +
-                            "tunnel_2d.prm --set \"Problem/output directory=" + dir +
-                            "\" --probe");
+                            "tunnel_2d.prm --set \"DEM region/material file=\" --set "
+                            "\"Problem/output directory=" +
+                            dir + "\" --probe");
   INFO(r.out);
   CHECK(r.exit_code == 1);
   CHECK(r.out.find("DEM region/material file") != std::string::npos);

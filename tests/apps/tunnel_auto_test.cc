@@ -14,7 +14,7 @@ TEST_CASE("tunnel: radius = auto needs a UCS and writes nothing without it", "[t
   fs::remove_all(out);
   const auto r = demfem::testing::run_demfem(
       std::string("tunnel ") + DEMFEM_SOURCE_DIR + "/apps/examples/tunnel_2d.prm" +
-      " --set \"DEM region/radius=auto\" --set \"Problem/output directory=" + out.string() +
+      " --set \"DEM region/material file=\" --set \"DEM region/radius=auto\" --set \"Problem/output directory=" + out.string() +
       "\"");
   CHECK(r.exit_code == 1);
   CHECK_THAT(r.out, Catch::Contains("DEM region/radius = auto") && Catch::Contains("Study/ucs"));

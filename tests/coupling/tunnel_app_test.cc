@@ -103,7 +103,8 @@ TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing",
            std::string(DEMFEM_SOURCE_DIR) +
            "/apps/examples/lac_du_bonnet_2d.material.json\"",
        "incompatible dimension"},
-      {"--set \"Problem/dimension=3\" --set \"DEM region/slab thickness=1\"",
+      {"--set \"Problem/dimension=3\" --set \"DEM region/material file=\" --set \"DEM "
+       "region/slab thickness=1\"",
        "DEM region/slab thickness"},
       {"--set \"Continuum/poisson ratio=0.7\"", "poisson ratio"},
       {"--set \"Coupling/variant=glued\"", "Coupling/variant"},
