@@ -43,9 +43,12 @@ namespace
     return ss.str();
   }
 
-  // Small and fast variant of the example.
+  // Small and fast variant of the example, with the material keys' region
+  // (no material file; the keys of the verification region).
   const std::string small =
-      " --set \"DEM region/radius=1.0\" --set \"Tunnel/radius=0.4\" "
+      " --set \"DEM region/material file=\" --set \"DEM region/lnm emod=20e9\" "
+      "--set \"DEM region/fj ten=8e6\" --set \"DEM region/fj coh=40e6\" "
+      "--set \"DEM region/radius=1.0\" --set \"Tunnel/radius=0.4\" "
       "--set \"DEM region/grain diameter min=0.08\" "
       "--set \"DEM region/grain diameter max=0.12\" "
       "--set \"Continuum/outer radius=10\" --set \"Output/interval=0\" ";
@@ -72,7 +75,12 @@ TEST_CASE("tunnel: a diverging run is detected and reported", "[coupling][app]")
   CHECK(r.code == 2);
   CHECK(r.text.find("diverged") != std::string::npos);
   CHECK(r.text.find("Coupling/relaxation") != std::string::npos); // names the cause
+  // a/d = 0.4 m / 0.1 m = 4: too coarse for a damage zone, said at the start.
+  CHECK(r.text.find("warning: a/d = 4") != std::string::npos);
   const std::string summary = read(dir + "/summary.json");
+  CHECK(summary.find("\"grain_resolution_a_over_d\": 4") != std::string::npos);
+  // The material keys' region packs in the region's own model.
+  CHECK(summary.find("\"genesis_steps\": 0") != std::string::npos);
   CHECK(summary.find("\"status\": \"diverged\"") != std::string::npos);
   CHECK(read(dir + "/manifest.json").find("\"status\": \"diverged\"") !=
         std::string::npos);
