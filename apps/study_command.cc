@@ -419,8 +419,7 @@ namespace demfem::apps
         auto region_at = [&](double r, std::uint64_t seed) {
           coupling::RegionParams g     = base.region;
           const double           scale = (a / r) / base.region.mean_diameter();
-          g.d_lo                       = base.region.d_lo * scale;
-          g.d_hi                       = base.region.d_hi * scale;
+          g.scale_grains(scale); // with a material: its microstructure too
           // 3D: the slab (or section) keeps its thickness in grain
           // diameters (DEM region/slab thickness).
           g.slab_thickness = base.region.slab_thickness * scale;

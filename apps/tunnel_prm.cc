@@ -330,19 +330,7 @@ namespace demfem::apps
       {
         const double d = parse_number(key_name("DEM region/grain diameter"), gd, 1e-300,
                                       std::numeric_limits<double>::max(), "m");
-        const double k = d / r.mean_diameter();
-        r.d_lo *= k;
-        r.d_hi *= k;
-        if (r.material)
-          {
-            // The material at the region's grain scale: every length of the
-            // microstructure scales with the grains (docs/tunnel.md,
-            // "Grain-size scaling"); stresses and moduli do not.
-            r.material->diameter_multiplier *= k;
-            r.material->igap *= k;
-            r.material->fj_gap.mean *= k;
-            r.material->fj_gap.sd *= k;
-          }
+        r.scale_grains(d / r.mean_diameter());
       }
     // In grain diameters of the final size range; checked (>= 2 largest
     // grains) by RegionParams::validate.

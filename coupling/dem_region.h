@@ -70,6 +70,22 @@ namespace demfem::coupling
     /// also checks the slab keys.
     void   validate(const std::string &where, int dim = 2) const;
     double mean_diameter() const { return 0.5 * (d_lo + d_hi); }
+    /// Scales the grains by k: the size range and, with a material, every
+    /// length of its microstructure (size distribution, installation gap,
+    /// gapped joints' gaps); stresses and moduli do not change
+    /// (docs/tunnel.md, "Grain-size scaling").
+    void scale_grains(double k)
+    {
+      d_lo *= k;
+      d_hi *= k;
+      if (material)
+        {
+          material->diameter_multiplier *= k;
+          material->igap *= k;
+          material->fj_gap.mean *= k;
+          material->fj_gap.sd *= k;
+        }
+    }
     /// Refuse a region whose estimated memory exceeds this [bytes] (<= 0:
     /// half the machine's memory; dem/specimen/memory_budget.h).
     double memory_limit = 0;
