@@ -71,6 +71,8 @@ namespace demfem::apps
     std::array<double, 3>          joint_point{{0, 0, 0}};
     dem::SmoothJointLaw<3>::Params joint_sj;
     FitSettings                    fit;
+    /// Problem/seeds: packings the tests run on (run_calibration_seeds).
+    int seeds = 1;
   };
 
   /// A copy of a specimen whose model state is in `checkpoint` (written by
@@ -117,4 +119,12 @@ namespace demfem::apps
   /// when a test ended at its step limit.
   template <int dim>
   CalibrateOutcome run_calibration(const CalibrateSettings &s);
+
+  /// Problem/seeds > 1: run_calibration on each packing seed (Material/seed,
+  /// + 1, ...) into seed_<n>/, then material.json in s.out with the seed
+  /// means of every measured property, `seed_scatter` (sample standard
+  /// deviations), `seed_values` and `seeds` (apps/calibrate_seeds.cc). The
+  /// outcome is the first failed seed's, else ok. seeds = 1: run_calibration.
+  template <int dim>
+  CalibrateOutcome run_calibration_seeds(const CalibrateSettings &s);
 } // namespace demfem::apps

@@ -93,6 +93,13 @@ namespace demfem::apps
           "half the machine's memory");
       prm.declare_entry("vtk", "true", Patterns::Bool(),
                         "Write VTK of specimen and tests");
+      prm.declare_entry(
+          "seeds", "1", Patterns::Integer(1, 100),
+          "Packings the tests run on (Material/seed, seed + 1, ...; 1 .. 100). "
+          "Above 1 each packing's results go to seed_<n>/ and material.json "
+          "holds the seed means, seed_scatter their standard deviations and "
+          "seed_values the single values (a material is its seed mean, not "
+          "one packing)");
       prm.leave_subsection();
 
       prm.enter_subsection("Material");
@@ -395,8 +402,13 @@ namespace demfem::apps
       s.fit.enabled = fit;
       prm.enter_subsection("Problem");
       s.dim = prm.get_integer("dimension");
-      s.out = prm.get("output directory");
-      s.vtk = prm.get_bool("vtk");
+      s.out   = prm.get("output directory");
+      s.vtk   = prm.get_bool("vtk");
+      s.seeds = prm.get_integer("seeds");
+      if (s.seeds > 1 && fit)
+        throw dem::InputError(where + ": Problem/seeds = " + std::to_string(s.seeds) +
+                              " with --fit: the fit averages Fit/seeds packings per "
+                              "evaluation; set Problem/seeds = 1");
       if (const auto ml = prm.get("memory limit"); ml != "auto")
         s.mat.memory_limit =
             1e9 * parse_number(where + ": Problem/memory limit", ml, 1e-6,
@@ -743,7 +755,8 @@ namespace demfem::apps
         RunDirectory           run(s.out, prm);
         const CalibrateOutcome outcome =
             s.fit.enabled ? (s.dim == 2 ? run_fit<2>(s) : run_fit<3>(s))
-                          : (s.dim == 2 ? run_calibration<2>(s) : run_calibration<3>(s));
+                          : (s.dim == 2 ? run_calibration_seeds<2>(s)
+                                        : run_calibration_seeds<3>(s));
         run.finish(outcome.status, outcome.exit_code);
         return outcome.exit_code;
       }

@@ -122,6 +122,9 @@ namespace demfem::apps
                         "in 3D: linear, contactbonded, parallelbonded, flatjointed)");
     s.out = prm.get("output directory");
     s.vtk = prm.get_bool("vtk");
+    if (prm.get_integer("seeds") != 1)
+      refuse(where, "Problem/seeds = " + std::to_string(prm.get_integer("seeds")) +
+                        ": the Voronoi calibration runs one packing (allowed: 1)");
     prm.leave_subsection();
     if (s.out.empty())
       refuse(where, "Problem/output directory must not be empty");

@@ -1,0 +1,96 @@
+// `demfem calibrate` with Problem/seeds > 1 (apps/calibrate_seeds.cc): the
+// material file holds the seed means, their scatter and the single values.
+#include <catch2/catch.hpp>
+
+#include "run_command.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+using demfem::testing::run_demfem;
+using json = nlohmann::json;
+
+namespace
+{
+  json read_json(const std::string &f)
+  {
+    std::ifstream in(f);
+    return json::parse(in);
+  }
+
+  // The Lac du Bonnet example in a 12.5 x 25 mm vessel (about 250 grains),
+  // UCS only: about 10 s per packing.
+  std::string small(const std::string &dir)
+  {
+    return "calibrate " + std::string(DEMFEM_SOURCE_DIR) +
+           "/apps/examples/lac_du_bonnet_2d.prm --set Tests/tests=ucs --set \"Tests/loading "
+           "rate check=false\" --set Problem/vtk=false --set \"Material/number of "
+           "grains=250\" --set Vessel/height=0.025 --set Vessel/width=0.0125 --set "
+           "\"Problem/output directory=" +
+           dir + "\"";
+  }
+} // namespace
+
+TEST_CASE("calibrate: Problem/seeds = 2 writes the seed means, their scatter and values",
+          "[calibrate][seeds][app]")
+{
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / "demfem_calibrate_seeds").string();
+  std::filesystem::remove_all(dir);
+  const auto r = run_demfem(small(dir) + " --set Problem/seeds=2");
+  INFO(r.out);
+  REQUIRE(r.exit_code == 0);
+  const json m  = read_json(dir + "/material.json");
+  const json s0 = read_json(dir + "/seed_10000/material.json");
+  const json s1 = read_json(dir + "/seed_10001/material.json");
+  CHECK(m["seeds"] == json::array({10000, 10001}));
+  for (const char *key : {"E", "nu", "ucs", "crack_initiation", "porosity"})
+    {
+      const double a = s0[key], b = s1[key];
+      INFO(key << ": " << a << ", " << b);
+      // Two different packings: different values (else the seeds did not
+      // reach the genesis).
+      CHECK(a != b);
+      // Mean and sample standard deviation of two values: (a + b) / 2 and
+      // |a - b| / sqrt(2), to round-off.
+      CHECK(m[key].get<double>() == Approx(0.5 * (a + b)).epsilon(1e-12));
+      CHECK(m["seed_scatter"][key].get<double>() ==
+            Approx(std::abs(a - b) / std::sqrt(2.0)).epsilon(1e-9));
+      CHECK(m["seed_values"][key] == json::array({a, b}));
+    }
+  CHECK(m["ratios"]["crack_initiation_to_ucs"].get<double>() ==
+        Approx(0.5 * (s0["ratios"]["crack_initiation_to_ucs"].get<double>() +
+                      s1["ratios"]["crack_initiation_to_ucs"].get<double>()))
+            .epsilon(1e-12));
+  // The material itself is the first seed's (the genesis seed of a region
+  // made from this file) with its test settings.
+  CHECK(m["microparameters"] == s0["microparameters"]);
+  CHECK(m["lab_tests"] == s0["lab_tests"]);
+  CHECK(m["bts"].is_null()); // no Brazilian test run: null in every seed
+}
+
+TEST_CASE("calibrate: Problem/seeds with --fit or out of range is refused naming the key",
+          "[calibrate][seeds][app]")
+{
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / "demfem_calibrate_seeds_bad").string();
+  std::filesystem::remove_all(dir);
+  for (const std::string &bad : {std::string(" --set Problem/seeds=0"),
+                                 std::string(" --set Problem/seeds=101")})
+    {
+      const auto r = run_demfem(small(dir) + bad);
+      INFO(bad << "\n" << r.out);
+      CHECK(r.exit_code == 1);
+      CHECK(r.out.find("seeds") != std::string::npos);
+      CHECK_FALSE(std::filesystem::exists(dir + "/material.json"));
+    }
+  const auto r = run_demfem(small(dir) + " --set Problem/seeds=2 --fit");
+  INFO(r.out);
+  CHECK(r.exit_code == 1);
+  CHECK(r.out.find("Problem/seeds") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir + "/material.json"));
+}
