@@ -259,3 +259,47 @@ TEST_CASE("region genesis: the rim is as dense as the inside (no wall layer)",
   // grains; measured 0.16 against 0.15).
   CHECK(std::abs(rim - in) < 0.03);
 }
+
+TEST_CASE("region genesis: the 3D slab carved from the material genesis lies in the "
+          "slab, starts free of force and carries the material's fractions",
+          "[coupling][region-genesis][region3d]")
+{
+  // Radius 0.6 m, the rich material's two size pieces, slab 0.3 m: a
+  // box of 1.68 x 1.68 x 0.3 m packed (about 900 spheres), about 500 kept.
+  RegionParams p   = region_params(rich_material(), 0.6);
+  p.slab_thickness = 0.3;
+  dem::MaterialParams &m = *p.material;
+  m.fj_Nal               = 4;
+  dem::Model<3>        model;
+  add_cylinder_ring(model.walls, p.radius, p.slab_thickness, 20, 2, "ring");
+  const RegionGroups G = build_region<3>(model, p);
+  const auto        &P = model.particles;
+  REQUIRE(P.size() > 200);
+  // Every grain inside the slab walls and the ring's inscribed circle
+  // (chords of 20 facets: cos(pi / 20) of the radius), shrunk onto them
+  // where it crossed.
+  const double inner = p.radius * std::cos(M_PI / 20);
+  for (std::size_t i = 0; i < P.size(); ++i)
+    {
+      CHECK(P.x[i][2] - P.radius[i] >= -1e-12);
+      CHECK(P.x[i][2] + P.radius[i] <= p.slab_thickness + 1e-12);
+      CHECK(P.x[i].head<2>().norm() < inner);
+    }
+  model.step();
+  // Force-free start, as in 2D: the packing's forces were of order
+  // Pm d^2 = 20e6 x 0.09^2 = 1.6e5 N.
+  double fmax = 0;
+  for (int g = 0; g < model.n_groups(); ++g)
+    for (std::size_t k = 0; k < model.group(g).size(); ++k)
+      fmax = std::max(fmax, model.group(g).force[k].norm());
+  INFO("largest contact force after one step " << fmax << " N");
+  CHECK(fmax <= 1e-9 * 20e6 * 0.09 * 0.09);
+  // fistPkg §2.6.2 Eq. 1 in 3D too.
+  const auto c = dem::contact_counts(model);
+  INFO(c.fj << " joints: B " << c.fj_bonded << " G " << c.fj_gapped << " S " << c.fj_slit);
+  REQUIRE(c.fj > 300);
+  CHECK(std::abs(c.fj_bonded - 0.6 * c.fj) <= 0.5);
+  CHECK(std::abs(c.fj_gapped - 0.2 * c.fj) <= 0.5);
+  CHECK(G.genesis_steps > 0);
+  CHECK(G.n_bonds == std::size_t(c.fj));
+}
