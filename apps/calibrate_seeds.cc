@@ -30,7 +30,7 @@ namespace demfem::apps
                  json &mean_into, json &sd_into, json &values_into)
     {
       double      sum = 0, sq = 0;
-      std::size_t n   = 0;
+      std::size_t n      = 0;
       json        values = json::array();
       for (const json *o : objs)
         {
@@ -55,8 +55,9 @@ namespace demfem::apps
         }
       const double mean = sum / n;
       mean_into[key]    = mean;
-      sd_into[key] = n > 1 ? json(std::sqrt(std::max(0.0, (sq - n * mean * mean) / (n - 1))))
-                           : json(nullptr);
+      sd_into[key] =
+          n > 1 ? json(std::sqrt(std::max(0.0, (sq - n * mean * mean) / (n - 1))))
+                : json(nullptr);
     }
   } // namespace
 
@@ -84,8 +85,8 @@ namespace demfem::apps
 
     // The first seed's file (microparameters, lab_tests, units, texts) with
     // every measured number replaced by the seed mean.
-    json out     = files.front();
-    json scatter = json::object(), values = json::object();
+    json                      out     = files.front();
+    json                      scatter = json::object(), values = json::object();
     std::vector<const json *> objs, ratios;
     for (const auto &f : files)
       {
@@ -116,14 +117,15 @@ namespace demfem::apps
       split += m == "split";
     out["bts_failure_mode"] = split == files.size() ? "split"
                               : split == 0          ? files.front()["bts_failure_mode"]
-                                                    : json("split in " + std::to_string(split) +
-                                                           " of " + std::to_string(files.size()));
-    out["seeds"]        = seeds;
-    out["seed_scatter"] = scatter;
-    out["seed_values"]  = values;
-    out["seed_means"] = "every measured property is the mean over the packings of 'seeds' "
-                        "(nulls left out); seed_scatter: sample standard deviations; "
-                        "per-seed results in seed_<n>/";
+                                           : json("split in " + std::to_string(split) +
+                                                  " of " + std::to_string(files.size()));
+    out["seeds"]            = seeds;
+    out["seed_scatter"]     = scatter;
+    out["seed_values"]      = values;
+    out["seed_means"] =
+        "every measured property is the mean over the packings of 'seeds' "
+        "(nulls left out); seed_scatter: sample standard deviations; "
+        "per-seed results in seed_<n>/";
     dem::vtkout::write_text_atomically(s.out + "/material.json", out.dump(2) + "\n");
     std::cerr << "demfem calibrate: wrote " << s.out << "/material.json (means over "
               << s.seeds << " packings)" << std::endl;

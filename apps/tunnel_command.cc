@@ -33,7 +33,8 @@ namespace demfem::apps
 
     const char *usage =
         "usage: demfem tunnel FILE.prm [--set \"Section/key=value\"]... "
-        "[--restart CHECKPOINT.h5] [--accept STATUS[,STATUS]] [--probe [--probe-seeds N]] "
+        "[--restart CHECKPOINT.h5] [--accept STATUS[,STATUS]] [--probe [--probe-seeds "
+        "N]] "
         "[--overwrite] [--defaults] [--print-parameters] [--help]\n"
         "\n"
         "Coupled DEM-continuum tunnel excavation, 2D or (Problem/dimension = 3) a\n"

@@ -236,7 +236,7 @@ namespace demfem::apps
                 ExcMessage(key_name("Continuum/poisson ratio") + " = " +
                            std::to_string(s.continuum.poisson_ratio) +
                            "; allowed: (-1, 0.5)"));
-    s.continuum.density       = prm.get_double("density");
+    s.continuum.density = prm.get_double("density");
     if (const auto ms = prm.get("mass scaling"); ms != "auto")
       s.continuum.mass_scaling =
           parse_number(key_name("Continuum/mass scaling"), ms, 1e-300, 1e6, "");

@@ -39,12 +39,12 @@ namespace demfem::apps
     {
       Reference     r;
       std::ifstream in(file);
-      const json    j = json::parse(in, nullptr, true, true);
-      r.E             = number(j, "E");
-      r.nu            = number(j, "nu");
-      r.ucs           = number(j, "ucs");
-      r.bts           = number(j, "bts");
-      const auto &mp  = j.at("microparameters");
+      const json    j       = json::parse(in, nullptr, true, true);
+      r.E                   = number(j, "E");
+      r.nu                  = number(j, "nu");
+      r.ucs                 = number(j, "ucs");
+      r.bts                 = number(j, "bts");
+      const auto &mp        = j.at("microparameters");
       r.diameter_multiplier = number(mp, "diameter_multiplier");
       if (const auto it = mp.find("vessel_shape"); it != mp.end() && it->is_string())
         r.vessel.shape = it->get<std::string>();
@@ -144,10 +144,10 @@ namespace demfem::apps
       dem::LabTestParams lab = ref.lab;
       lab.strain_rate /= r.k;
       out << "probe: lab specimen " << v.W << " x " << v.H
-          << (dim == 3 ? " x " + std::to_string(v.D) : std::string()) << " m at "
-          << r.k << " x the material file's grain size, strain rate "
-          << lab.strain_rate << " /s, modulus fit " << lab.fit_lo << " .. "
-          << lab.fit_hi << " of the peak, " << seeds << " packing seed(s)\n";
+          << (dim == 3 ? " x " + std::to_string(v.D) : std::string()) << " m at " << r.k
+          << " x the material file's grain size, strain rate " << lab.strain_rate
+          << " /s, modulus fit " << lab.fit_lo << " .. " << lab.fit_hi << " of the peak, "
+          << seeds << " packing seed(s)\n";
       if (!ref.lab_recorded)
         out << "probe: the material file does not record its test settings "
                "(lab_tests; written by demfem calibrate since the probe exists): "
@@ -193,7 +193,7 @@ namespace demfem::apps
     const Measured  m   = s.dimension == 2 ? measure<2>(s, ref, seeds, out)
                                            : measure<3>(s, ref, seeds, out);
 
-    bool all = true;
+    bool all  = true;
     json rows = json::array();
     out << std::setprecision(4) << "probe: E, nu are the "
         << (s.dimension == 2 ? "plane-strain pair (as the material file's)" : "3D pair")

@@ -59,7 +59,7 @@ namespace demfem::coupling
   RegionGroups carve_region(dem::Model<dim> &m, const RegionParams &p, double inner,
                             RegionGroups G, std::ostream *progress)
   {
-    using LN = dem::LinearLaw<dim>;
+    using LN                = dem::LinearLaw<dim>;
     dem::MaterialParams mat = *p.material;
     mat.seed                = p.seed;
     mat.memory_limit        = p.memory_limit;
@@ -80,11 +80,11 @@ namespace demfem::coupling
         v.D = v.W;
         v.H = t;
       }
-    dem::Random         rng(mat.seed);
+    dem::Random        rng(mat.seed);
     dem::Specimen<dim> packed =
         dem::pack_specimen<dim>(mat, v, rng, progress, "DEM region (material genesis)");
     std::tie(G.max_overlap_ratio, G.mean_overlap_ratio) = overlap_ratios(packed.model);
-    G.genesis_steps = packed.packing_steps;
+    G.genesis_steps                                     = packed.packing_steps;
 
     // Carve: the grains whose centres lie inside the ring, each shrunk by
     // its largest overlap with the region's walls (the ring; 3D also the
@@ -148,10 +148,12 @@ namespace demfem::coupling
     auto &rm        = reg.model;
     // Packing law (frictionless; its contacts are reinstalled by the
     // finalization) and the region's wall laws.
-    G.pack      = rm.template add_law<LN>({}, "DEM region (carved packing)",
-                                     dem::linear_rule<dim>({mat.lnm_emod, mat.lnm_krat}, 0.0));
-    G.wall      = rm.template add_law<LN>({}, "DEM region (ring)",
-                                     dem::linear_rule<dim>({mat.emod, mat.krat}, p.wall_fric));
+    G.pack =
+        rm.template add_law<LN>({}, "DEM region (carved packing)",
+                                dem::linear_rule<dim>({mat.lnm_emod, mat.lnm_krat}, 0.0));
+    G.wall =
+        rm.template add_law<LN>({}, "DEM region (ring)",
+                                dem::linear_rule<dim>({mat.emod, mat.krat}, p.wall_fric));
     G.pack_wall = G.wall;
     if constexpr (dim == 3) // plane strain: frictionless, as a symmetry plane
       {

@@ -27,7 +27,8 @@ namespace
   std::string small(const std::string &dir)
   {
     return "calibrate " + std::string(DEMFEM_SOURCE_DIR) +
-           "/apps/examples/lac_du_bonnet_2d.prm --set Tests/tests=ucs --set \"Tests/loading "
+           "/apps/examples/lac_du_bonnet_2d.prm --set Tests/tests=ucs --set "
+           "\"Tests/loading "
            "rate check=false\" --set Problem/vtk=false --set \"Material/number of "
            "grains=250\" --set Vessel/height=0.025 --set Vessel/width=0.0125 --set "
            "\"Problem/output directory=" +
@@ -79,8 +80,8 @@ TEST_CASE("calibrate: Problem/seeds with --fit or out of range is refused naming
   const std::string dir =
       (std::filesystem::temp_directory_path() / "demfem_calibrate_seeds_bad").string();
   std::filesystem::remove_all(dir);
-  for (const std::string &bad : {std::string(" --set Problem/seeds=0"),
-                                 std::string(" --set Problem/seeds=101")})
+  for (const std::string &bad :
+       {std::string(" --set Problem/seeds=0"), std::string(" --set Problem/seeds=101")})
     {
       const auto r = run_demfem(small(dir) + bad);
       INFO(bad << "\n" << r.out);

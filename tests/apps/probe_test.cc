@@ -81,8 +81,9 @@ TEST_CASE("probe: at 32 times the grain size the lab tests give the material fil
 {
   const std::string file = small_material("exact");
   const json        m    = read_json(file);
-  const std::string dir = (std::filesystem::temp_directory_path() / "demfem_probe").string();
-  const auto        r   = probe(file, diameter_times_32(m), dir);
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / "demfem_probe").string();
+  const auto r = probe(file, diameter_times_32(m), dir);
   INFO(r.out);
   CHECK(r.exit_code == 0);
   CHECK(r.out.find("probe: pass") != std::string::npos);
@@ -112,7 +113,8 @@ TEST_CASE("probe: a material file whose E the region does not reproduce fails",
   // continuum takes the (raised) file value, which still passes.
   json m = read_json(small_material("bad"));
   m["E"] = 1.1 * m["E"].get<double>();
-  const std::string dir = (std::filesystem::temp_directory_path() / "demfem_probe_bad").string();
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / "demfem_probe_bad").string();
   std::filesystem::create_directories(dir);
   const std::string file = dir + ".material.json";
   {

@@ -116,7 +116,7 @@ namespace
                 break;
               }
         }
-      return 1.0 - double(covered) / double(in);
+    return 1.0 - double(covered) / double(in);
   }
 } // namespace
 
@@ -244,10 +244,10 @@ TEST_CASE("region genesis: the carved region starts free of force, inside the ri
 TEST_CASE("region genesis: the rim is as dense as the inside (no wall layer)",
           "[coupling][region-genesis]")
 {
-  const auto  &r  = rich_region();
-  const auto  &P  = r.model.particles;
-  const double d  = 0.12; // largest grain
-  const double in = annulus_porosity(P, 0, 1.0 - 2 * d, 0.004),
+  const auto  &r   = rich_region();
+  const auto  &P   = r.model.particles;
+  const double d   = 0.12; // largest grain
+  const double in  = annulus_porosity(P, 0, 1.0 - 2 * d, 0.004),
                rim = annulus_porosity(P, 1.0 - 2 * d, 1.0 - d, 0.004);
   INFO("porosity inside " << in << ", second grain layer from the ring " << rim);
   // Packed against a wall, the outer two grains of a frictionless packing
@@ -266,11 +266,11 @@ TEST_CASE("region genesis: the 3D slab carved from the material genesis lies in 
 {
   // Radius 0.6 m, the rich material's two size pieces, slab 0.3 m: a
   // box of 1.68 x 1.68 x 0.3 m packed (about 900 spheres), about 500 kept.
-  RegionParams p   = region_params(rich_material(), 0.6);
-  p.slab_thickness = 0.3;
+  RegionParams p         = region_params(rich_material(), 0.6);
+  p.slab_thickness       = 0.3;
   dem::MaterialParams &m = *p.material;
   m.fj_Nal               = 4;
-  dem::Model<3>        model;
+  dem::Model<3> model;
   add_cylinder_ring(model.walls, p.radius, p.slab_thickness, 20, 2, "ring");
   const RegionGroups G = build_region<3>(model, p);
   const auto        &P = model.particles;
@@ -296,7 +296,8 @@ TEST_CASE("region genesis: the 3D slab carved from the material genesis lies in 
   CHECK(fmax <= 1e-9 * 20e6 * 0.09 * 0.09);
   // fistPkg §2.6.2 Eq. 1 in 3D too.
   const auto c = dem::contact_counts(model);
-  INFO(c.fj << " joints: B " << c.fj_bonded << " G " << c.fj_gapped << " S " << c.fj_slit);
+  INFO(c.fj << " joints: B " << c.fj_bonded << " G " << c.fj_gapped << " S "
+            << c.fj_slit);
   REQUIRE(c.fj > 300);
   CHECK(std::abs(c.fj_bonded - 0.6 * c.fj) <= 0.5);
   CHECK(std::abs(c.fj_gapped - 0.2 * c.fj) <= 0.5);
