@@ -94,7 +94,6 @@ namespace demfem::coupling
     // would shrink below half its size: it is left out instead.
     const auto         &Q = packed.model.particles;
     auto               &W = m.walls;
-    std::vector<double> mass_per_volume;
     std::size_t         n_cut = 0, n_shrunk = 0;
     const double        ring_tol = 1e-12 * inner;
     for (std::size_t i = 0; i < Q.size(); ++i)
@@ -134,7 +133,6 @@ namespace demfem::coupling
       *progress << "DEM region: " << m.particles.size() << " of " << Q.size()
                 << " packed grains carved (" << n_shrunk << " shrunk onto the ring, "
                 << n_cut << " more than half outside left out)\n";
-    G.packed_porosity = 0;
 
     // Finalization by the calibration's code in the region's model (ring
     // walls, 3D slab walls): the packing contacts become the material's
