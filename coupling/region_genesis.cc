@@ -92,10 +92,10 @@ namespace demfem::coupling
     // (fistPkg §4.2.2 moves a vessel's walls instead; the ring is the
     // continuum's boundary and cannot move). A grain more than half outside
     // would shrink below half its size: it is left out instead.
-    const auto         &Q = packed.model.particles;
-    auto               &W = m.walls;
-    std::size_t         n_cut = 0, n_shrunk = 0;
-    const double        ring_tol = 1e-12 * inner;
+    const auto  &Q     = packed.model.particles;
+    auto        &W     = m.walls;
+    std::size_t  n_cut = 0, n_shrunk = 0;
+    const double ring_tol = 1e-12 * inner;
     for (std::size_t i = 0; i < Q.size(); ++i)
       {
         dem::Vec<dim> x = Q.x[i];
