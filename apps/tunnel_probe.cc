@@ -118,6 +118,7 @@ namespace demfem::apps
       std::vector<std::string> modes; ///< Brazilian failure modes
       std::size_t              grains = 0;
       double                   k      = NAN; ///< grain-size factor region / lab
+      double fit_stress_lo = NAN, fit_stress_hi = NAN; ///< modulus fit window [Pa]
     };
 
     template <int dim>
@@ -143,11 +144,25 @@ namespace demfem::apps
       // strain per step, the same quasi-static quality.
       dem::LabTestParams lab = ref.lab;
       lab.strain_rate /= r.k;
+      // E and nu read at the stresses the material file read them at: its
+      // window's fractions of its UCS. A packing stronger than the file's
+      // would otherwise be read higher up its curve, where more bonds have
+      // broken (docs/tunnel.md, "The probe").
+      if (!(ref.ucs > 0))
+        throw dem::InputError("--probe: the material file has no positive \"ucs\"; the "
+                              "probe reads E and nu in the file's stress window, "
+                              "fit_window_low .. fit_window_high x ucs");
+      lab.fit_stress_lo = ref.lab.fit_lo * ref.ucs;
+      lab.fit_stress_hi = ref.lab.fit_hi * ref.ucs;
+      r.fit_stress_lo   = lab.fit_stress_lo;
+      r.fit_stress_hi   = lab.fit_stress_hi;
+      lab.validate("the material file's lab_tests and ucs", dim);
       out << "probe: lab specimen " << v.W << " x " << v.H
           << (dim == 3 ? " x " + std::to_string(v.D) : std::string()) << " m at " << r.k
           << " x the material file's grain size, strain rate " << lab.strain_rate
-          << " /s, modulus fit " << lab.fit_lo << " .. " << lab.fit_hi << " of the peak, "
-          << seeds << " packing seed(s)\n";
+          << " /s, modulus fit between " << lab.fit_stress_lo / 1e6 << " and "
+          << lab.fit_stress_hi / 1e6 << " MPa deviator (the file's " << ref.lab.fit_lo
+          << " .. " << ref.lab.fit_hi << " of its UCS), " << seeds << " packing seed(s)\n";
       if (!ref.lab_recorded)
         out << "probe: the material file does not record its test settings "
                "(lab_tests; written by demfem calibrate since the probe exists): "
@@ -265,6 +280,7 @@ namespace demfem::apps
         j["seeds"]              = seeds;
         j["first_seed"]         = s.region.seed;
         j["lab_tests_recorded"] = ref.lab_recorded;
+        j["fit_window_stress_Pa"] = {m.fit_stress_lo, m.fit_stress_hi};
         j["rows"]               = rows;
         j["brazilian_split"]    = split;
         j["continuum_E"]        = s.continuum.young_modulus;

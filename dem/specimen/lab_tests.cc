@@ -32,6 +32,10 @@ namespace demfem::dem
     check_range(where, "platen friction", platen_friction, 0, inf);
     check_range(where, "fit window low", fit_lo, 0, 1, false, true);
     check_range(where, "fit window high", fit_hi, fit_lo, 1, true, false);
+    check_range(where, "fit window stress low", fit_stress_lo, 0, inf);
+    if (fit_stress_hi > 0)
+      check_range(where, "fit window stress high", fit_stress_hi, fit_stress_lo, inf, true,
+                  false);
     check_range(where, "crack initiation fraction", crack_initiation_fraction, 0, 1, true,
                 false);
     check_range(where, "crack volumetric strain fraction", crack_volumetric_fraction, 0,
@@ -608,6 +612,17 @@ namespace demfem::dem
                                  : std::numeric_limits<double>::quiet_NaN();
       }
 
+      /// The modulus fit window as fractions of this test's peak load:
+      /// LabTestParams::fit_lo/hi, or its stress window if one is given.
+      double fit_window_low() const
+      {
+        return p_.fit_stress_hi > 0 ? p_.fit_stress_lo / r_.peak_load : p_.fit_lo;
+      }
+      double fit_window_high() const
+      {
+        return p_.fit_stress_hi > 0 ? p_.fit_stress_hi / r_.peak_load : p_.fit_hi;
+      }
+
       /// Crack initiation by the crack volumetric strain
       /// (dem/specimen/crack_initiation.h); H.size() if it does not apply.
       std::size_t volumetric_crack_initiation_row(double E, double nu) const
@@ -620,7 +635,8 @@ namespace demfem::dem
             b.load.push_back(h.load);
           }
         b.peak_row = r_.peak_row;
-        return crack_volumetric_initiation_row(b, E, nu, dim - 1, p_.fit_lo, p_.fit_hi,
+        return crack_volumetric_initiation_row(b, E, nu, dim - 1, fit_window_low(),
+                                               fit_window_high(),
                                                p_.crack_volumetric_fraction);
       }
 
@@ -697,13 +713,13 @@ namespace demfem::dem
         r_.peak_region  = std::abs(pk.region_axial_stress);
         r_.crack_damage = volumetric_reversal_stress();
         // Elastic constants from the loading branch between fit_lo and
-        // fit_hi of the peak deviator (fistPkg §5.2): strains gauge based
-        // (the specimen itself, free of the grain-platen compliance), axial
-        // stress wall based.
+        // fit_hi of the peak deviator (fistPkg §5.2), or in the given stress
+        // window: strains gauge based (the specimen itself, free of the
+        // grain-platen compliance), axial stress wall based.
         std::vector<double> ea, er, sa, ew;
         for (std::size_t i = 0; i <= r_.peak_row; ++i)
-          if (H[i].load >= p_.fit_lo * r_.peak_load &&
-              H[i].load <= p_.fit_hi * r_.peak_load)
+          if (H[i].load >= fit_window_low() * r_.peak_load &&
+              H[i].load <= fit_window_high() * r_.peak_load)
             {
               ea.push_back(H[i].gauge_axial_strain);
               er.push_back(H[i].lateral_strain);

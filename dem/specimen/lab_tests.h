@@ -102,6 +102,13 @@ namespace demfem::dem
     /// Window of the modulus fit, as fractions of the peak load (loading
     /// branch before the peak): E and nu are least-squares slopes in it.
     double fit_lo = 0.1, fit_hi = 0.5;
+    /// The same window in deviator stress [Pa], used instead of the
+    /// fractions when fit_stress_hi > 0. The moduli of a bonded assembly
+    /// depend on the stress they are read at (bonds start to break well
+    /// below the peak), so a specimen compared with another material's
+    /// E, nu is read at that material's stresses, not at fractions of its
+    /// own peak (apps/tunnel_probe.cc; docs/tunnel.md, "The probe").
+    double fit_stress_lo = 0, fit_stress_hi = 0;
     /// Crack-initiation stress reported as `crack_initiation` (both are
     /// always measured).
     CrackInitiationMethod crack_initiation_method =
