@@ -117,7 +117,7 @@ namespace demfem::apps
       std::vector<double>      E, nu, ucs, bts;
       std::vector<std::string> modes; ///< Brazilian failure modes
       std::size_t              grains = 0;
-      double                   k      = NAN; ///< grain-size factor region / lab
+      double                   k      = NAN;           ///< grain-size factor region / lab
       double fit_stress_lo = NAN, fit_stress_hi = NAN; ///< modulus fit window [Pa]
     };
 
@@ -162,7 +162,8 @@ namespace demfem::apps
           << " x the material file's grain size, strain rate " << lab.strain_rate
           << " /s, modulus fit between " << lab.fit_stress_lo / 1e6 << " and "
           << lab.fit_stress_hi / 1e6 << " MPa deviator (the file's " << ref.lab.fit_lo
-          << " .. " << ref.lab.fit_hi << " of its UCS), " << seeds << " packing seed(s)\n";
+          << " .. " << ref.lab.fit_hi << " of its UCS), " << seeds
+          << " packing seed(s)\n";
       if (!ref.lab_recorded)
         out << "probe: the material file does not record its test settings "
                "(lab_tests; written by demfem calibrate since the probe exists): "
@@ -274,18 +275,18 @@ namespace demfem::apps
     if (!json_dir.empty())
       {
         json j;
-        j["material_file"]      = material_file;
-        j["grain_size_factor"]  = m.k;
-        j["grains"]             = m.grains;
-        j["seeds"]              = seeds;
-        j["first_seed"]         = s.region.seed;
-        j["lab_tests_recorded"] = ref.lab_recorded;
+        j["material_file"]        = material_file;
+        j["grain_size_factor"]    = m.k;
+        j["grains"]               = m.grains;
+        j["seeds"]                = seeds;
+        j["first_seed"]           = s.region.seed;
+        j["lab_tests_recorded"]   = ref.lab_recorded;
         j["fit_window_stress_Pa"] = {m.fit_stress_lo, m.fit_stress_hi};
-        j["rows"]               = rows;
-        j["brazilian_split"]    = split;
-        j["continuum_E"]        = s.continuum.young_modulus;
-        j["continuum_nu"]       = s.continuum.poisson_ratio;
-        j["pass"]               = all;
+        j["rows"]                 = rows;
+        j["brazilian_split"]      = split;
+        j["continuum_E"]          = s.continuum.young_modulus;
+        j["continuum_nu"]         = s.continuum.poisson_ratio;
+        j["pass"]                 = all;
         std::ofstream f(json_dir + "/probe.json");
         f << j.dump(2) << "\n";
       }

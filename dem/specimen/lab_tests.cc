@@ -34,8 +34,8 @@ namespace demfem::dem
     check_range(where, "fit window high", fit_hi, fit_lo, 1, true, false);
     check_range(where, "fit window stress low", fit_stress_lo, 0, inf);
     if (fit_stress_hi > 0)
-      check_range(where, "fit window stress high", fit_stress_hi, fit_stress_lo, inf, true,
-                  false);
+      check_range(where, "fit window stress high", fit_stress_hi, fit_stress_lo, inf,
+                  true, false);
     check_range(where, "crack initiation fraction", crack_initiation_fraction, 0, 1, true,
                 false);
     check_range(where, "crack volumetric strain fraction", crack_volumetric_fraction, 0,

@@ -309,3 +309,39 @@ TEST_CASE("the strength does not depend on the history interval", "[labtests]")
   for (const auto &h : r[0].history)
     CHECK(h.load <= r[0].peak_load);
 }
+
+TEST_CASE("the modulus fit window in stress reads the fraction window's rows",
+          "[labtests]")
+{
+  // LabTestParams::fit_stress_lo/hi replace the fractions of the peak by
+  // deviator stresses (the probe reads a packing at its material file's
+  // stresses). The same specimen and trajectory with the stress window set
+  // to the fractions x this test's peak selects the same history rows, so
+  // E and nu agree to round-off (1e-12: the window bounds differ by an ulp).
+  const MaterialParams p           = breakable_material(20e6, 6e6, 5);
+  LabTestParams        l           = breakable_ucs();
+  Specimen<2>          a           = build_specimen<2>(p, box2d());
+  const LabTestResult  by_fraction = run_lab_test(a, l);
+  REQUIRE(by_fraction.ended_by == "post-peak");
+  l.fit_stress_lo               = l.fit_lo * by_fraction.peak_load;
+  l.fit_stress_hi               = l.fit_hi * by_fraction.peak_load;
+  l.fit_lo                      = 0.6; // ignored while a stress window is set
+  l.fit_hi                      = 0.9;
+  Specimen<2>         b         = build_specimen<2>(p, box2d());
+  const LabTestResult by_stress = run_lab_test(b, l);
+  REQUIRE(by_stress.peak_load == by_fraction.peak_load);
+  CHECK(by_stress.E_ps == Approx(by_fraction.E_ps).epsilon(1e-12));
+  CHECK(by_stress.nu_ps == Approx(by_fraction.nu_ps).epsilon(1e-12));
+  // A window higher up the curve reads another (softer) response: the
+  // stress window is really used.
+  l.fit_stress_lo            = 0.6 * by_fraction.peak_load;
+  l.fit_stress_hi            = 0.9 * by_fraction.peak_load;
+  Specimen<2>         c      = build_specimen<2>(p, box2d());
+  const LabTestResult higher = run_lab_test(c, l);
+  INFO("E_ps " << by_fraction.E_ps << " (0.1-0.5 of the peak), " << higher.E_ps
+               << " (0.6-0.9)");
+  CHECK(higher.E_ps < by_fraction.E_ps);
+  // An inverted window is refused, naming it.
+  l.fit_stress_hi = 0.5 * l.fit_stress_lo;
+  CHECK_THROWS_WITH(l.validate("Tests", 2), Catch::Contains("fit window stress high"));
+}
