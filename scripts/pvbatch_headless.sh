@@ -8,7 +8,7 @@
 #   scripts/pvbatch_headless.sh scripts/tunnel_2d_view.py out/tunnel_2d [FILE.png]
 set -euo pipefail
 for tool in Xvfb pvbatch; do
-  command -v "$tool" > /dev/null || { echo "pvbatch_headless.sh: $tool not found (Debian packages xvfb, paraview, python3-paraview)" >&2; exit 2; }
+  command -v "$tool" > /dev/null || { echo "pvbatch_headless.sh: $tool not found (Debian packages xvfb, paraview and python3-paraview; the last conflicts with libvtk9-dev: docs/tunnel.md, \"ParaView\")" >&2; exit 2; }
 done
 display=""
 for n in $(seq $((100 + $$ % 800)) $((100 + $$ % 800 + 50))); do
