@@ -147,7 +147,9 @@ namespace demfem::apps
     prm.declare_entry("lnm krat", "1.5", Patterns::Double(),
                       "kappa* of non-bonded contacts");
     prm.declare_entry("lnm fric", "0.5", Patterns::Double(), "Friction, non-bonded");
-    prm.declare_entry("seed", "10000", Patterns::Integer(0), "Packing seed");
+    prm.declare_entry("seed", "material", Patterns::Anything(),
+                      "Packing seed, a non-negative integer; material: the material "
+                      "file's seed (10000 without a material file)");
     prm.leave_subsection();
 
     prm.enter_subsection("Coupling");
@@ -271,7 +273,11 @@ namespace demfem::apps
     r.lnm_emod               = prm.get_double("lnm emod");
     r.lnm_krat               = prm.get_double("lnm krat");
     r.lnm_fric               = prm.get_double("lnm fric");
-    r.seed                   = prm.get_integer("seed");
+    const auto seed_text     = prm.get("seed");
+    const bool seed_given    = seed_text != "material";
+    if (seed_given)
+      r.seed = parse_integer(key_name("DEM region/seed"), seed_text, 0,
+                             std::numeric_limits<long long>::max());
     if (const auto ml = prm.get("memory limit"); ml != "auto")
       r.memory_limit = 1e9 * parse_number(key_name("DEM region/memory limit"), ml, 1e-6,
                                           std::numeric_limits<double>::max(), "GB");
@@ -310,7 +316,10 @@ namespace demfem::apps
         r.material = m;
         r.density  = m.density;
         r.damping  = m.local_damping;
-        r.seed     = m.seed;
+        // The material's packing unless another seed was asked for (a
+        // seed sweep of tunnel runs packs other realizations of it).
+        if (!seed_given)
+          r.seed = m.seed;
         r.lnm_emod = m.lnm_emod;
         r.lnm_krat = m.lnm_krat;
         r.lnm_fric = m.lnm_fric;

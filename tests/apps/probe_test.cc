@@ -30,7 +30,7 @@ namespace
   // vessel, about 250 grains; UCS and Brazilian, about 10 s): its
   // material.json in a directory of the test's own (ctest runs the test
   // cases in parallel processes).
-  std::string small_material(const std::string &tag)
+  std::string small_material(const std::string &tag, const std::string &extra = "")
   {
     {
       const std::string dir =
@@ -42,7 +42,7 @@ namespace
           "rate check=false\" --set Problem/vtk=false --set \"Material/number of "
           "grains=250\" --set Vessel/height=0.025 --set Vessel/width=0.0125 --set "
           "\"Problem/output directory=" +
-          dir + "\"");
+          dir + "\" " + extra);
       INFO(r.out);
       REQUIRE(r.exit_code == 0);
       return dir + "/material.json";
@@ -64,14 +64,15 @@ namespace
 
   demfem::testing::CommandResult probe(const std::string &material,
                                        const std::string &diameter,
-                                       const std::string &dir)
+                                       const std::string &dir,
+                                       const std::string &extra = "")
   {
     std::filesystem::remove_all(dir);
     return run_demfem("tunnel " + examples +
                       "tunnel_2d.prm --set \"DEM region/material file=" + material +
                       "\" --set \"DEM region/grain diameter=" + diameter +
                       "\" --set \"Problem/output directory=" + dir +
-                      "\" --probe --probe-seeds 1");
+                      "\" --probe --probe-seeds 1 " + extra);
   }
 } // namespace
 
@@ -144,4 +145,34 @@ TEST_CASE("probe: without a material file it is refused naming the key", "[probe
   INFO(r.out);
   CHECK(r.exit_code == 1);
   CHECK(r.out.find("DEM region/material file") != std::string::npos);
+}
+
+TEST_CASE("probe: DEM region/seed picks the packing, by default the material file's",
+          "[probe][app]")
+{
+  // DEM region/seed = material (the default) packs the material file's
+  // realization; an integer packs another one (a seed sweep of tunnel runs);
+  // anything else is refused naming the key.
+  const std::string file = small_material("seed", "--set Material/seed=4242");
+  const json        m    = read_json(file);
+  REQUIRE(m["microparameters"]["seed"].get<long long>() == 4242);
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / "demfem_probe_seed").string();
+  const auto r = probe(file, diameter_times_32(m), dir);
+  INFO(r.out);
+  CHECK(r.exit_code == 0);
+  CHECK(read_json(dir + "/probe.json")["first_seed"].get<long long>() == 4242);
+  CHECK(r.out.find("probe: seed 4242:") != std::string::npos);
+
+  const auto other =
+      probe(file, diameter_times_32(m), dir, "--set \"DEM region/seed=77\"");
+  INFO(other.out);
+  CHECK(read_json(dir + "/probe.json")["first_seed"].get<long long>() == 77);
+  CHECK(other.out.find("probe: seed 77:") != std::string::npos);
+
+  const auto bad =
+      probe(file, diameter_times_32(m), dir, "--set \"DEM region/seed=7.5\"");
+  INFO(bad.out);
+  CHECK(bad.exit_code == 1);
+  CHECK(bad.out.find("DEM region/seed") != std::string::npos);
 }
