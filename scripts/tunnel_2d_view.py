@@ -170,52 +170,41 @@ umag = [math.sqrt(float(x) ** 2 + float(y) ** 2 + float(z) ** 2)
 outside = [m for m, p in zip(umag, pts) if math.hypot(float(p[0]), float(p[1])) >= a]
 umax = percentile(outside, 98) or max(umag + [1e-12])
 
+
+def colour_bar(display, lut, title, x):
+    """A horizontal colour bar of lut at x (fraction of the view's width)."""
+    display.SetScalarBarVisibility(view, True)
+    bar = GetScalarBar(lut, view)
+    bar.Title, bar.ComponentTitle = title, ""
+    bar.TitleColor = bar.LabelColor = [0, 0, 0]
+    bar.WindowLocation, bar.Orientation = "Any Location", "Horizontal"
+    bar.Position, bar.ScalarBarLength, bar.ScalarBarThickness = [x, 0.03], 0.4, 14
+    bar.TitleFontSize, bar.LabelFontSize = 16, 14
+    bar.RangeLabelFormat = "%-#.3g"
+
+
+def fixed_scale(name, preset, lo, hi, invert=False):
+    """The colour map of array name, preset colours, fixed range [lo, hi]."""
+    lut = GetColorTransferFunction(name)
+    lut.ApplyPreset(preset, True)
+    if invert:
+        lut.InvertTransferFunction()
+    lut.RescaleTransferFunction(lo, hi)
+    lut.AutomaticRescaleRangeMode = "Never"
+    return lut
+
+
 rock_display = Show(rock, view)
 ColorBy(rock_display, ("POINTS", "sigma_1_MPa"))
-s1_lut = GetColorTransferFunction("sigma_1_MPa")
-s1_lut.ApplyPreset("Viridis (matplotlib)", True)
-s1_lut.RescaleTransferFunction(lo, hi)
-s1_lut.AutomaticRescaleRangeMode = "Never"
-rock_display.SetScalarBarVisibility(view, True)
-bar = GetScalarBar(s1_lut, view)
-bar.Title = "continuum sigma_1 [MPa], compression +"
-bar.ComponentTitle = ""
-bar.TitleColor = bar.LabelColor = [0, 0, 0]
-bar.WindowLocation = "Any Location"
-bar.Orientation = "Horizontal"
-bar.Position = [0.05, 0.03]
-bar.ScalarBarLength = 0.4
-bar.TitleFontSize = 16
-bar.LabelFontSize = 14
-bar.ScalarBarThickness = 14
-bar.RangeLabelFormat = "%-#.3g"
+colour_bar(rock_display, fixed_scale("sigma_1_MPa", "Viridis (matplotlib)", lo, hi),
+           "continuum sigma_1 [MPa], compression +", 0.05)
 
 grain_display = Show(grains, view)
 grain_display.Ambient, grain_display.Diffuse = 1.0, 0.0  # flat disks, as in the plane
 ColorBy(grain_display, ("POINTS", "excavation_displacement_mm", "Magnitude"))
-u_lut = GetColorTransferFunction("excavation_displacement_mm")
-u_lut.ApplyPreset("Grayscale", True)
-u_lut.InvertTransferFunction()
+u_lut = fixed_scale("excavation_displacement_mm", "Grayscale", 0.0, umax, invert=True)
 u_lut.VectorMode = "Magnitude"
-u_lut.RescaleTransferFunction(0.0, umax)
-u_lut.AutomaticRescaleRangeMode = "Never"
-grain_display.SetScalarBarVisibility(view, True)
-ubar = GetScalarBar(u_lut, view)
-ubar.Title = "grain displacement by the excavation [mm]"
-ubar.ComponentTitle = ""
-ubar.TitleColor = ubar.LabelColor = [0, 0, 0]
-ubar.WindowLocation = "Any Location"
-ubar.Orientation = "Horizontal"
-ubar.Position = [0.55, 0.03]
-ubar.ScalarBarLength = 0.4
-ubar.TitleFontSize = 16
-ubar.LabelFontSize = 14
-ubar.ScalarBarThickness = 14
-ubar.RangeLabelFormat = "%-#.3g"
-bar.TitleFontSize = 16
-bar.LabelFontSize = 14
-bar.ScalarBarThickness = 14
-bar.RangeLabelFormat = "%-#.3g"
+colour_bar(grain_display, u_lut, "grain displacement by the excavation [mm]", 0.55)
 
 crack_display = Show(cracks, view)
 ColorBy(crack_display, ("CELLS", "mode"))
