@@ -39,11 +39,16 @@ namespace demfem::apps
     {
       Reference     r;
       std::ifstream in(file);
-      const json    j       = json::parse(in, nullptr, true, true);
-      r.E                   = number(j, "E");
-      r.nu                  = number(j, "nu");
-      r.ucs                 = number(j, "ucs");
-      r.bts                 = number(j, "bts");
+      const json    j = json::parse(in, nullptr, true, true);
+      r.E             = number(j, "E");
+      r.nu            = number(j, "nu");
+      r.ucs           = number(j, "ucs");
+      r.bts           = number(j, "bts");
+      // The probe reads E and nu in the file's stress window (below).
+      if (!(r.ucs > 0))
+        throw dem::InputError("--probe: material file '" + file +
+                              "': \"ucs\" is missing or not positive; the probe reads E "
+                              "and nu between fit_window_low and fit_window_high x ucs");
       const auto &mp        = j.at("microparameters");
       r.diameter_multiplier = number(mp, "diameter_multiplier");
       if (const auto it = mp.find("vessel_shape"); it != mp.end() && it->is_string())
@@ -148,10 +153,6 @@ namespace demfem::apps
       // window's fractions of its UCS. A packing stronger than the file's
       // would otherwise be read higher up its curve, where more bonds have
       // broken (docs/tunnel.md, "The probe").
-      if (!(ref.ucs > 0))
-        throw dem::InputError("--probe: the material file has no positive \"ucs\"; the "
-                              "probe reads E and nu in the file's stress window, "
-                              "fit_window_low .. fit_window_high x ucs");
       lab.fit_stress_lo = ref.lab.fit_lo * ref.ucs;
       lab.fit_stress_hi = ref.lab.fit_hi * ref.ucs;
       r.fit_stress_lo   = lab.fit_stress_lo;
