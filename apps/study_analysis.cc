@@ -180,7 +180,8 @@ namespace demfem::apps::study
          "final_ratio,variant,scheme,relaxation,stiffness_contrast,breakable,"
          "cracks_total,cracks_excavation,cracks_tensile,cracks_shear,"
          "damage_zone_depth_m,reference_depth_m,cracks_rel_diff,agrees,"
-         "region_too_small,damaged_area_m2,notch_depth_m,notch_angle_deg,diagnosis\n";
+         "region_too_small,damaged_area_m2,notch_depth_m,notch_angle_deg,genesis_steps,"
+         "diagnosis\n";
     for (const auto &r : rows)
       {
         const bool ok  = r.status == "stable";
@@ -212,7 +213,13 @@ namespace demfem::apps::study
           << (dmg ? (r.region_too_small ? "yes" : "no") : "") << ","
           << num(r.result.damage.damaged_area, dmg) << ","
           << num(r.result.damage.notch_depth, dmg) << ","
-          << num(r.result.damage.notch_angle, dmg) << "," << quoted(r.diagnosis) << "\n";
+          << num(r.result.damage.notch_angle, dmg)
+          << ","
+          // A material-file region is packed in a model of its own before
+          // the run (coupling/region_genesis.cc): its steps are a cost that
+          // `steps` does not hold.
+          << (ran ? std::to_string(r.result.genesis_steps) : "") << ","
+          << quoted(r.diagnosis) << "\n";
       }
     write_file_atomically(file, o.str());
   }

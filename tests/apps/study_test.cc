@@ -73,8 +73,13 @@ TEST_CASE("study: time-step safety beyond the limit is detected as unstable, no 
   REQUIRE(r.exit_code == 0);
   const auto rows = csv(d + "/study.csv");
   REQUIRE(rows.size() == 5); // header + 2 x 2 runs
+  // The material keys' region is packed in the run's own model: no genesis
+  // steps beside `steps` (a material-file region's genesis would count here).
+  REQUIRE(rows[0].size() > 36);
+  CHECK(rows[0][36] == "genesis_steps");
   for (std::size_t i = 1; i < rows.size(); ++i)
     {
+      CHECK(rows[i][36] == "0");
       const bool beyond = std::stod(rows[i][7]) > 1;
       CHECK(rows[i][8] == (beyond ? "unstable" : "stable"));
       // a stable run is flagged equilibrated exactly when its final
