@@ -3,6 +3,7 @@
 #include "apps/calibrate_fit.h"
 
 #include "apps/calibrate_output.h"
+#include "common/statistics.h"
 #include "dem/io/vtk_output.h"
 
 #include <nlopt.hpp>
@@ -23,13 +24,9 @@ namespace demfem::apps
     out.error = error;
     for (const auto &[name, v] : values)
       {
-        double m = 0, q = 0;
-        for (double x : v)
-          m += x / double(v.size());
-        for (double x : v)
-          q += (x - m) * (x - m);
-        out.mean[name] = m;
-        out.sd[name]   = v.size() > 1 ? std::sqrt(q / double(v.size() - 1)) : 0.0;
+        const auto i   = statistics::mean_interval(v);
+        out.mean[name] = i.mean;
+        out.sd[name]   = v.size() > 1 ? i.sd : 0.0;
       }
     return out;
   }

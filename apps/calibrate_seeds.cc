@@ -2,6 +2,7 @@
 // a material's properties are the means over packings, not one packing's
 // values (docs/calibrate.md, "Several packings").
 #include "apps/calibrate.h"
+#include "common/statistics.h"
 #include "dem/io/vtk_output.h"
 
 #include <nlohmann/json.hpp>
@@ -29,35 +30,29 @@ namespace demfem::apps
     void average(const std::vector<const json *> &objs, const std::string &key,
                  json &mean_into, json &sd_into, json &values_into)
     {
-      double      sum = 0, sq = 0;
-      std::size_t n      = 0;
-      json        values = json::array();
+      std::vector<double> measured;
+      json                values = json::array();
       for (const json *o : objs)
         {
           const auto it = o->find(key);
           if (it != o->end() && it->is_number())
             {
-              const double v = it->get<double>();
-              sum += v;
-              sq += v * v;
-              ++n;
-              values.push_back(v);
+              measured.push_back(it->get<double>());
+              values.push_back(measured.back());
             }
           else
             values.push_back(nullptr);
         }
       values_into[key] = values;
-      if (n == 0)
+      if (measured.empty())
         {
           mean_into[key] = nullptr;
           sd_into[key]   = nullptr;
           return;
         }
-      const double mean = sum / n;
-      mean_into[key]    = mean;
-      sd_into[key] =
-          n > 1 ? json(std::sqrt(std::max(0.0, (sq - n * mean * mean) / (n - 1))))
-                : json(nullptr);
+      const auto i   = statistics::mean_interval(measured);
+      mean_into[key] = i.mean;
+      sd_into[key]   = measured.size() > 1 ? json(i.sd) : json(nullptr);
     }
   } // namespace
 

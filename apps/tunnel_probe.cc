@@ -1,6 +1,8 @@
 // `demfem tunnel --probe` (apps/tunnel_probe.h; docs/tunnel.md, "The probe").
 #include "apps/tunnel_probe.h"
 
+#include "common/statistics.h"
+
 #include "dem/specimen/genesis.h"
 #include "dem/specimen/lab_tests.h"
 
@@ -92,29 +94,6 @@ namespace demfem::apps
             lab.fit_lo = lo, lab.fit_hi = hi;
         }
       return r;
-    }
-
-    struct Stats
-    {
-      double mean = NAN, sd = NAN;
-    };
-    Stats stats(const std::vector<double> &x)
-    {
-      Stats s;
-      if (x.empty())
-        return s;
-      double sum = 0;
-      for (double v : x)
-        sum += v;
-      s.mean = sum / x.size();
-      if (x.size() > 1)
-        {
-          double q = 0;
-          for (double v : x)
-            q += (v - s.mean) * (v - s.mean);
-          s.sd = std::sqrt(q / (x.size() - 1));
-        }
-      return s;
     }
 
     struct Measured
@@ -219,7 +198,7 @@ namespace demfem::apps
     // tolerance (relative) or by the probe's seed scatter.
     auto row = [&](const std::string &name, const std::vector<double> &x, double want,
                    double rel_tol, bool by_scatter) {
-      const Stats  st  = stats(x);
+      const auto   st  = statistics::mean_interval(x);
       const double rel = (st.mean - want) / std::abs(want);
       std::string  rule, verdict;
       bool         judged = true, ok = true;
