@@ -205,6 +205,9 @@ namespace demfem::apps::study
           return dmg ? std::to_string(n) : std::string();
         };
         const bool cmp = dmg && std::isfinite(r.error);
+        // genesis_steps: a material-file region is packed in a model of its
+        // own before the run (coupling/region_genesis.cc), a cost that
+        // `steps` does not hold.
         o << count(r.result.cracks_total) << "," << count(r.cracks_excavation) << ","
           << count(r.result.cracks_tensile) << "," << count(r.result.cracks_shear) << ","
           << num(r.result.damage_zone_depth, dmg) << "," << num(r.reference_depth, cmp)
@@ -213,11 +216,7 @@ namespace demfem::apps::study
           << (dmg ? (r.region_too_small ? "yes" : "no") : "") << ","
           << num(r.result.damage.damaged_area, dmg) << ","
           << num(r.result.damage.notch_depth, dmg) << ","
-          << num(r.result.damage.notch_angle, dmg)
-          << ","
-          // A material-file region is packed in a model of its own before
-          // the run (coupling/region_genesis.cc): its steps are a cost that
-          // `steps` does not hold.
+          << num(r.result.damage.notch_angle, dmg) << ","
           << (ran ? std::to_string(r.result.genesis_steps) : "") << ","
           << quoted(r.diagnosis) << "\n";
       }

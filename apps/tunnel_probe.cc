@@ -101,8 +101,7 @@ namespace demfem::apps
       std::vector<double>      E, nu, ucs, bts;
       std::vector<std::string> modes; ///< Brazilian failure modes
       std::size_t              grains = 0;
-      double                   k      = NAN;           ///< grain-size factor region / lab
-      double fit_stress_lo = NAN, fit_stress_hi = NAN; ///< modulus fit window [Pa]
+      double                   k      = NAN; ///< grain-size factor region / lab
     };
 
     template <int dim>
@@ -134,8 +133,6 @@ namespace demfem::apps
       // broken (docs/tunnel.md, "The probe").
       lab.fit_stress_lo = ref.lab.fit_lo * ref.ucs;
       lab.fit_stress_hi = ref.lab.fit_hi * ref.ucs;
-      r.fit_stress_lo   = lab.fit_stress_lo;
-      r.fit_stress_hi   = lab.fit_stress_hi;
       lab.validate("the material file's lab_tests and ucs", dim);
       out << "probe: lab specimen " << v.W << " x " << v.H
           << (dim == 3 ? " x " + std::to_string(v.D) : std::string()) << " m at " << r.k
@@ -261,7 +258,7 @@ namespace demfem::apps
         j["seeds"]                = seeds;
         j["first_seed"]           = s.region.seed;
         j["lab_tests_recorded"]   = ref.lab_recorded;
-        j["fit_window_stress_Pa"] = {m.fit_stress_lo, m.fit_stress_hi};
+        j["fit_window_stress_Pa"] = {ref.lab.fit_lo * ref.ucs, ref.lab.fit_hi * ref.ucs};
         j["rows"]                 = rows;
         j["brazilian_split"]      = split;
         j["continuum_E"]          = s.continuum.young_modulus;

@@ -717,9 +717,10 @@ namespace demfem::dem
         // window: strains gauge based (the specimen itself, free of the
         // grain-platen compliance), axial stress wall based.
         std::vector<double> ea, er, sa, ew;
+        const double        lo = fit_window_low() * r_.peak_load;
+        const double        hi = fit_window_high() * r_.peak_load;
         for (std::size_t i = 0; i <= r_.peak_row; ++i)
-          if (H[i].load >= fit_window_low() * r_.peak_load &&
-              H[i].load <= fit_window_high() * r_.peak_load)
+          if (H[i].load >= lo && H[i].load <= hi)
             {
               ea.push_back(H[i].gauge_axial_strain);
               er.push_back(H[i].lateral_strain);
