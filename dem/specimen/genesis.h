@@ -1,9 +1,9 @@
 #pragma once
 // Material genesis (fistPkg §4.2): packing (boundary contraction or grain
 // scaling, §4.2.1) and finalization (§4.2.2) in a material vessel (§4.1).
-#include "dem/specimen/material.h"
-#include "dem/measure/measurement.h"
 #include "dem/engine/model.h"
+#include "dem/measure/measurement.h"
+#include "dem/specimen/material.h"
 #include "dem/specimen/vessel.h"
 
 #include <ostream>
@@ -53,16 +53,21 @@ namespace demfem::dem
   /// next, so the phases called in turn give the same specimen.
   /// Packing (§4.2.1) at the material pressure, grains still unbonded.
   template <int dim>
-  Specimen<dim> pack_specimen(const MaterialParams &p, const VesselParams &v,
-                              Random &rng, std::ostream *progress = nullptr,
-                              const std::string &where = "material");
+  Specimen<dim> pack_specimen(const MaterialParams &p, const VesselParams &v, Random &rng,
+                              std::ostream      *progress = nullptr,
+                              const std::string &where    = "material");
   /// Finalization (§4.2.2): the material's contacts, bonds within the
   /// installation gap, flat-jointed microstructure, force-free start.
   /// smooth_vessel = false when the model's walls are not the vessel's (its
   /// walls stay where they are; the caller removes grain-wall overlaps).
+  /// `shrunk` (empty, or one value per grain): the radius a grain lost when
+  /// the caller shrank it onto its walls after packing; a pair is bonded
+  /// within g_i + shrunk_i + shrunk_j, so the packing contacts the shrinking
+  /// opened keep their bonds (installed force-free across the opened gap).
   template <int dim>
   void finalize_specimen(Specimen<dim> &s, Random &rng, std::ostream *progress,
-                         bool smooth_vessel = true);
+                         bool                       smooth_vessel = true,
+                         const std::vector<double> &shrunk        = {});
 
   /// Expected number of grains for p and v (cloud porosity, mean grain volume).
   template <int dim>

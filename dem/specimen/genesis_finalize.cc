@@ -4,21 +4,22 @@
 // smoothing.
 #include "dem/laws/contact_bond_law.h"
 #include "dem/laws/flat_joint_law.h"
-#include "dem/specimen/genesis.h"
 #include "dem/laws/linear_law.h"
 #include "dem/laws/parallel_bond_law.h"
+#include "dem/specimen/genesis.h"
 #include "dem/specimen/property_rules.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 #include <tuple>
 
 namespace demfem::dem
 {
   template <int dim>
   void finalize_specimen(Specimen<dim> &s, Random &rng, std::ostream *progress,
-                         bool smooth_vessel)
+                         bool smooth_vessel, const std::vector<double> &shrunk)
   {
     using FJ                    = FlatJointLaw<dim>;
     using PB                    = ParallelBondLaw<dim>;
@@ -64,13 +65,27 @@ namespace demfem::dem
             const double xa = P.x[a][0] - P.radius[a], xb = P.x[b][0] - P.radius[b];
             return xa < xb || (xa == xb && a < b);
           });
+          if (!shrunk.empty() && shrunk.size() != N)
+            throw std::invalid_argument("finalize_specimen: one shrinking per grain");
+          // Beyond the installation gap, grain i reaches as far as the
+          // caller's shrinking opened its packing contacts (1e-6 relative:
+          // above the shrinking's own 1e-7 margin and round-off); the
+          // sweep's bound uses the largest reach.
+          auto reach = [&](std::uint32_t i) {
+            return shrunk.empty() ? 0.0 : shrunk[i] * (1 + 1e-6);
+          };
+          double reach_max = 0;
+          for (std::size_t i = 0; i < N; ++i)
+            reach_max = std::max(reach_max, reach(static_cast<std::uint32_t>(i)));
           for (std::size_t a = 0; a < N; ++a)
             for (std::size_t b = a + 1; b < N; ++b)
               {
                 const std::uint32_t i = o[a], j = o[b];
-                if (P.x[j][0] - P.radius[j] > P.x[i][0] + P.radius[i] + p.igap)
+                if (P.x[j][0] - P.radius[j] >
+                    P.x[i][0] + P.radius[i] + p.igap + reach(i) + reach_max)
                   break;
-                if ((P.x[j] - P.x[i]).norm() - P.radius[i] - P.radius[j] <= p.igap)
+                if ((P.x[j] - P.x[i]).norm() - P.radius[i] - P.radius[j] <=
+                    p.igap + reach(i) + reach(j))
                   pairs.emplace_back(std::min(i, j), std::max(i, j));
               }
           std::sort(pairs.begin(), pairs.end());
@@ -164,6 +179,8 @@ namespace demfem::dem
       }
   }
 
-  template void finalize_specimen(Specimen<2> &, Random &, std::ostream *, bool);
-  template void finalize_specimen(Specimen<3> &, Random &, std::ostream *, bool);
+  template void finalize_specimen(Specimen<2> &, Random &, std::ostream *, bool,
+                                  const std::vector<double> &);
+  template void finalize_specimen(Specimen<3> &, Random &, std::ostream *, bool,
+                                  const std::vector<double> &);
 } // namespace demfem::dem

@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <sstream>
 #include <vector>
 
 using namespace demfem;
@@ -61,8 +62,9 @@ namespace
 
   struct Region2D
   {
-    dem::Model<2> model;
-    RegionGroups  groups;
+    dem::Model<2>      model;
+    RegionGroups       groups;
+    std::ostringstream log; // build_region's progress lines
   };
   // The region of radius b inside a ring of n straight segments.
   void build(Region2D &r, const RegionParams &p, unsigned int n = 64)
@@ -75,7 +77,22 @@ namespace
                                       p.radius * std::sin(2 * M_PI * k / n)));
     for (unsigned int k = 0; k < n; ++k)
       W.add_facet(wall, {{v[k], v[(k + 1) % n]}});
-    r.groups = build_region<2>(r.model, p);
+    r.groups = build_region<2>(r.model, p, &r.log);
+  }
+
+  // Clearance of grain i from the ring (smallest distance from its surface
+  // to a facet).
+  double ring_clearance(const dem::Model<2> &m, std::size_t i)
+  {
+    const auto &P = m.particles;
+    double      c = HUGE_VAL;
+    for (std::size_t f = 0; f < m.walls.n_facets(); ++f)
+      {
+        std::array<double, 2> w;
+        c = std::min(c,
+                     (m.walls.closest_point(f, P.x[i], w) - P.x[i]).norm() - P.radius[i]);
+      }
+    return c;
   }
 
   const Region2D &rich_region()
@@ -204,13 +221,18 @@ TEST_CASE("region genesis: both size pieces and the installation gap",
   // box packed with both, the last grain of each piece shifts it by < 1 %.
   CHECK(small / all == Approx(0.5).margin(0.05));
   // Installation gap g_i = 4 mm: grains apart by up to g_i are bonded, none
-  // farther.
+  // farther, except a grain shrunk onto the ring, which keeps the bonds of
+  // its packing contacts across the gap its shrinking opened (next test).
+  // Grains off the ring: clearance above 1 um (those shrunk onto it keep
+  // 1e-7 of their overlap, far below).
   const auto &grp   = joints(r.model);
   double      gmax  = -HUGE_VAL;
   std::size_t apart = 0;
   for (std::size_t k = 0; k < grp.size(); ++k)
     {
-      const auto   i = grp.end1[k], j = grp.end2[k];
+      const auto i = grp.end1[k], j = grp.end2[k];
+      if (ring_clearance(r.model, i) < 1e-6 || ring_clearance(r.model, j) < 1e-6)
+        continue;
       const double g = (P.x[j] - P.x[i]).norm() - P.radius[i] - P.radius[j];
       gmax           = std::max(gmax, g);
       apart += g > 0 ? 1 : 0;
@@ -239,6 +261,38 @@ TEST_CASE("region genesis: the carved region starts free of force, inside the ri
   const double fmax = dem::max_contact_force(r.model);
   INFO("largest contact force after one step " << fmax << " N/m");
   CHECK(fmax <= 1e-9 * 20e6 * 0.09);
+}
+
+TEST_CASE("region genesis: grains shrunk onto the ring keep their bonds and touch it",
+          "[coupling][region-genesis]")
+{
+  // A grain shrunk onto the ring by more than the installation gap was
+  // left without a bond, removed as a rattler, and the ring kept almost no
+  // contacts (measured on the 1 m verification region: one; a wall-facet
+  // ring then carried nothing). Now every grain the carving shrank stays,
+  // touching the ring, with at least one bond.
+  const auto       &r   = rich_region();
+  const std::string log = r.log.str();
+  const auto        at  = log.find(" shrunk onto the ring");
+  REQUIRE(at != std::string::npos);
+  const auto       from   = log.rfind('(', at) + 1;
+  const long       shrunk = std::stol(log.substr(from, at - from));
+  const auto      &P      = r.model.particles;
+  const auto      &grp    = joints(r.model);
+  std::vector<int> bonds(P.size(), 0);
+  for (std::size_t k = 0; k < grp.size(); ++k)
+    ++bonds[grp.end1[k]], ++bonds[grp.end2[k]];
+  long touching = 0, unbonded = 0;
+  for (std::size_t i = 0; i < P.size(); ++i)
+    if (ring_clearance(r.model, i) < 1e-6)
+      {
+        ++touching;
+        unbonded += bonds[i] == 0;
+      }
+  INFO(shrunk << " grains shrunk onto the ring, " << touching << " touch it");
+  REQUIRE(shrunk > 10);
+  CHECK(touching == shrunk);
+  CHECK(unbonded == 0);
 }
 
 TEST_CASE("region genesis: the rim is as dense as the inside (no wall layer)",
