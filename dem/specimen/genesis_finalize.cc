@@ -68,15 +68,17 @@ namespace demfem::dem
           if (!shrunk.empty() && shrunk.size() != N)
             throw std::invalid_argument("finalize_specimen: one shrinking per grain");
           // Beyond the installation gap, grain i reaches as far as the
-          // caller's shrinking opened its packing contacts (1e-6 relative:
-          // above the shrinking's own 1e-7 margin and round-off); the
-          // sweep's bound uses the largest reach.
+          // caller's shrinking opened its packing contacts (shrunk[i] is the
+          // radius it lost, margin included; 1e-6 relative covers the
+          // round-off of the recomputed gap); the sweep's bound uses the
+          // largest reach.
           auto reach = [&](std::uint32_t i) {
             return shrunk.empty() ? 0.0 : shrunk[i] * (1 + 1e-6);
           };
-          double reach_max = 0;
-          for (std::size_t i = 0; i < N; ++i)
-            reach_max = std::max(reach_max, reach(static_cast<std::uint32_t>(i)));
+          const double reach_max =
+              shrunk.empty()
+                  ? 0.0
+                  : *std::max_element(shrunk.begin(), shrunk.end()) * (1 + 1e-6);
           for (std::size_t a = 0; a < N; ++a)
             for (std::size_t b = a + 1; b < N; ++b)
               {
