@@ -1,5 +1,6 @@
 #include "coupling/dem_region.h"
 
+#include "dem/measure/measurement.h"
 #include "dem/specimen/memory_budget.h"
 #include "dem/specimen/property_rules.h"
 
@@ -494,6 +495,11 @@ namespace demfem::coupling
       }
     m.reset_energy_baseline();
     G.porosity = porosity(P, volume);
+    // Inside the rim (two of the largest grains off the ring), where the
+    // looser layer along the ring does not reach (dem_region.h).
+    const double r_interior = inner - 2 * p.d_hi;
+    G.interior_porosity =
+        r_interior > 0.3 * inner ? dem::column_porosity(m, r_interior, t) : G.porosity;
     if (progress)
       {
         *progress << "DEM region: " << G.n_bonds << " flat joints, "

@@ -118,6 +118,11 @@ namespace demfem::coupling
     /// not subtracted) after packing and smoothing, and after the rattlers
     /// were removed.
     double packed_porosity = 0, porosity = 0;
+    /// Porosity inside the rim (dem::column_porosity two of the largest
+    /// grains inside the ring): the solid fraction that turns the grains'
+    /// stress into the continuum's (VTK averaged_stress, the patch tests).
+    /// The whole region's porosity counts the carved rim's gaps as well.
+    double interior_porosity = 0;
     /// Largest and mean grain-grain overlap over the mean radius at the end
     /// of packing (how tight the packing is).
     double max_overlap_ratio = 0, mean_overlap_ratio = 0;

@@ -14,6 +14,7 @@
 // the region, so the rim has the packing's density.
 #include "coupling/dem_region.h"
 #include "dem/laws/linear_law.h"
+#include "dem/measure/measurement.h"
 #include "dem/specimen/genesis.h"
 #include "dem/specimen/property_rules.h"
 
@@ -52,6 +53,153 @@ namespace demfem::coupling
               }
         }
       return {mx / rmean, n > 0 ? sum / n / rmean : 0.0};
+    }
+
+    // The carved grains before they enter the region's model.
+    template <int dim>
+    struct RimGrains
+    {
+      std::vector<dem::Vec<dim>> x;
+      std::vector<double>        r, density;
+      std::vector<double>        shrunk;   // radius lost to the ring (shrinking), or
+                                           // distance moved onto it (close_rim)
+      std::vector<double>        ring_gap; // gap to the ring (0: touching it)
+      std::vector<dem::Vec<dim>> toward;   // in-plane unit vector to the ring's
+                                           // closest point
+    };
+
+    // Gap between a grain and the ring's facets (3D: not the slab walls) and
+    // the in-plane direction to the closest facet point; HUGE_VAL when the
+    // grain lies more than its radius inside the inscribed circle (it cannot
+    // be a rim grain, close_rim).
+    template <int dim>
+    std::pair<double, dem::Vec<dim>> ring_gap_of(const dem::Walls<dim> &W,
+                                                 const RegionGroups    &G,
+                                                 const dem::Vec<dim> &x, double r,
+                                                 double inner)
+    {
+      std::pair<double, dem::Vec<dim>> best{HUGE_VAL, dem::Vec<dim>::Zero()};
+      if (x.template head<2>().norm() + 2 * r < inner * (1 - 1e-12))
+        return best;
+      for (std::size_t f = 0; f < W.n_facets(); ++f)
+        if (dim == 2 ||
+            (W.facet_wall[f] != G.slab_walls[0] && W.facet_wall[f] != G.slab_walls[1]))
+          {
+            std::array<double, dim> w;
+            dem::Vec<dim>           d = W.closest_point(f, x, w) - x;
+            if constexpr (dim == 3)
+              d[2] = 0; // the ring's facets are vertical: move in the plane
+            const double g = d.norm() - r;
+            if (g < best.first)
+              best = {g, d / std::max(d.norm(), 1e-300)};
+          }
+      return best;
+    }
+
+    // How far grain i can move along e before it overlaps a grain of its
+    // angular bin or the two next to it by more than `allowed_overlap` (or
+    // by more than it does now).
+    template <int dim>
+    double blocked_at(const RimGrains<dim>                        &rim,
+                      const std::vector<std::vector<std::size_t>> &bins, int b0,
+                      std::size_t i, const dem::Vec<dim> &e, double allowed_overlap)
+    {
+      const int n_bin = static_cast<int>(bins.size());
+      double    s     = HUGE_VAL;
+      for (int db = -1; db <= 1; ++db)
+        {
+          if (n_bin < 3 && db != 0)
+            continue;
+          for (const std::size_t j : bins[(b0 + db + n_bin) % n_bin])
+            {
+              // Smallest s at which |x_i + s e - x_j| falls to D.
+              const dem::Vec<dim> dx   = rim.x[j] - rim.x[i];
+              const double        dist = dx.norm();
+              const double D     = std::min(dist, rim.r[i] + rim.r[j] - allowed_overlap);
+              const double ahead = dx.dot(e);
+              const double disc  = ahead * ahead - dist * dist + D * D;
+              if (j == i || ahead <= 0 || disc < 0)
+                continue;
+              s = std::min(s, std::max(0.0, ahead - std::sqrt(disc)));
+            }
+        }
+      return s;
+    }
+
+    // Closes the rim onto the ring (docs/tunnel.md, "The carved rim"). A
+    // region carved out of a packing touches the ring only where grains were
+    // shrunk onto it; the rest of its rim lies up to a grain radius inside,
+    // so a ring of wall facets (or the reference's membrane) would load the
+    // region at a few points. Each rim grain whose gap to the ring is at most
+    // its radius is moved onto the ring along the direction to it, unless
+    // another grain blocks the way. Grains nearest the ring move first, so
+    // a grain behind another stays blocked. The distance moved is added to `shrunk`: the
+    // finalization bonds the packing contacts the move opened (pairs within
+    // g_i + shrunk_i + shrunk_j, dem::finalize_specimen). A grain in
+    // contact with a neighbour beside it must pass it: the pair may overlap
+    // by up to `allowed_overlap` (the packing's mean overlap, so the rim
+    // stays within the packing's own overlaps). Returns the number of grains
+    // moved and of those blocked.
+    template <int dim>
+    std::pair<std::size_t, std::size_t> close_rim(RimGrains<dim>        &rim,
+                                                  const dem::Walls<dim> &W,
+                                                  const RegionGroups &G, double inner,
+                                                  double allowed_overlap)
+    {
+      const std::size_t n = rim.x.size();
+      if (n == 0)
+        return {0, 0};
+      const double r_max = *std::max_element(rim.r.begin(), rim.r.end());
+      // Blockers: grains within four of the largest radii of the ring,
+      // binned by angle so that each candidate checks its bin and the two
+      // next to it (a blocker lies within 3 r_max of the candidate).
+      const double band  = inner - 4 * r_max;
+      const double reach = 4 * r_max / std::max(band, 1e-300);
+      const int    n_bin = band > 0 ? std::max(1, static_cast<int>(2 * M_PI / reach)) : 1;
+      auto         bin_of = [&](const dem::Vec<dim> &x) {
+        const double th = std::atan2(x[1], x[0]) + M_PI; // [0, 2 pi]
+        return std::min(n_bin - 1, static_cast<int>(th / (2 * M_PI) * n_bin));
+      };
+      std::vector<std::vector<std::size_t>> bins(n_bin);
+      std::vector<std::size_t>              candidates;
+      for (std::size_t i = 0; i < n; ++i)
+        {
+          if (rim.x[i].template head<2>().norm() + rim.r[i] > band)
+            bins[bin_of(rim.x[i])].push_back(i);
+          if (rim.ring_gap[i] > 0 && rim.ring_gap[i] <= rim.r[i])
+            candidates.push_back(i);
+        }
+      std::sort(candidates.begin(), candidates.end(), [&](std::size_t a, std::size_t b) {
+        return rim.ring_gap[a] < rim.ring_gap[b];
+      });
+      std::size_t moved = 0, blocked = 0;
+      for (const std::size_t i : candidates)
+        {
+          // Two passes: the ring is a polygon, so a move toward the closest
+          // point of one facet can leave a residual gap near a vertex. Each
+          // move stops 1e-7 of the gap short of the ring (as the shrinking
+          // does): the grain touches it free of force. A grain that cannot
+          // reach the ring stays where it is (moving it part of the way
+          // would open gaps behind it and gain no contact).
+          double total = 0;
+          for (int pass = 0; pass < 2 && rim.ring_gap[i] > 1e-6 * rim.r[i]; ++pass)
+            {
+              const dem::Vec<dim> e    = rim.toward[i];
+              const double        want = rim.ring_gap[i] * (1 - 1e-7);
+              if (total + want > rim.r[i] ||
+                  blocked_at(rim, bins, bin_of(rim.x[i]), i, e, allowed_overlap) < want)
+                break;
+              rim.x[i] += want * e;
+              total += want;
+              std::tie(rim.ring_gap[i], rim.toward[i]) =
+                  ring_gap_of(W, G, rim.x[i], rim.r[i], inner);
+              rim.ring_gap[i] = std::max(rim.ring_gap[i], 0.0);
+            }
+          rim.shrunk[i] += total;
+          moved += total > 0;
+          blocked += total == 0;
+        }
+      return {moved, blocked};
     }
   } // namespace
 
@@ -92,28 +240,19 @@ namespace demfem::coupling
     // (fistPkg §4.2.2 moves a vessel's walls instead; the ring is the
     // continuum's boundary and cannot move). A grain more than half outside
     // would shrink below half its size: it is left out instead.
-    const auto         &Q     = packed.model.particles;
-    auto               &W     = m.walls;
-    std::size_t         n_cut = 0, n_shrunk = 0;
-    std::vector<double> shrunk; // radius each carved grain lost (finalization)
-    const double        ring_tol = 1e-12 * inner;
+    const auto    &Q     = packed.model.particles;
+    auto          &W     = m.walls;
+    std::size_t    n_cut = 0, n_shrunk = 0;
+    RimGrains<dim> rim; // the carved grains, before they enter the model
     for (std::size_t i = 0; i < Q.size(); ++i)
       {
         dem::Vec<dim> x = Q.x[i];
         if constexpr (dim == 3)
           x[2] += 0.5 * t; // the vessel is centred at z = 0, the slab at t/2
-        const double rho_xy = x.template head<2>().norm();
-        if (rho_xy >= inner)
+        if (x.template head<2>().norm() >= inner)
           continue;
-        double gap = HUGE_VAL; // smallest grain-wall gap
-        if (rho_xy + Q.radius[i] > inner - ring_tol)
-          for (std::size_t f = 0; f < W.n_facets(); ++f)
-            if (dim == 2 || (W.facet_wall[f] != G.slab_walls[0] &&
-                             W.facet_wall[f] != G.slab_walls[1]))
-              {
-                std::array<double, dim> w;
-                gap = std::min(gap, (W.closest_point(f, x, w) - x).norm() - Q.radius[i]);
-              }
+        const auto [ring_gap, toward] = ring_gap_of(W, G, x, Q.radius[i], inner);
+        double gap                    = ring_gap;
         if constexpr (dim == 3)
           gap = std::min({gap, x[2] - Q.radius[i], t - x[2] - Q.radius[i]});
         double r = Q.radius[i];
@@ -127,14 +266,27 @@ namespace demfem::coupling
               }
             ++n_shrunk;
           }
-        const double rho = Q.mass[i] / ball_volume<dim>(Q.radius[i]);
-        m.particles.add(x, r, rho);
-        shrunk.push_back(Q.radius[i] - r);
+        rim.x.push_back(x);
+        rim.r.push_back(r);
+        rim.density.push_back(Q.mass[i] / ball_volume<dim>(Q.radius[i]));
+        rim.shrunk.push_back(Q.radius[i] - r);
+        rim.ring_gap.push_back(gap < 0 ? 0.0 : ring_gap);
+        rim.toward.push_back(toward);
       }
+    double r_mean = 0;
+    for (double r : Q.radius)
+      r_mean += r / Q.size();
+    const auto [n_moved, n_blocked] =
+        close_rim(rim, W, G, inner, G.mean_overlap_ratio * r_mean);
+    for (std::size_t i = 0; i < rim.x.size(); ++i)
+      m.particles.add(rim.x[i], rim.r[i], rim.density[i]);
+    const std::vector<double> &shrunk =
+        rim.shrunk; // radius each grain lost (finalization)
     if (progress)
       *progress << "DEM region: " << m.particles.size() << " of " << Q.size()
                 << " packed grains carved (" << n_shrunk << " shrunk onto the ring, "
-                << n_cut << " more than half outside left out)\n";
+                << n_cut << " more than half outside left out, " << n_moved
+                << " moved onto the ring, " << n_blocked << " blocked)\n";
 
     // Finalization by the calibration's code in the region's model (ring
     // walls, 3D slab walls): the packing contacts become the material's
@@ -212,11 +364,17 @@ namespace demfem::coupling
     const double volume = M_PI * inner * inner * t;
     G.porosity          = 1 - solid / volume;
     G.packed_porosity   = packed.porosity();
-    m                   = std::move(rm);
+    // The interior's porosity: the column two of the largest grains inside
+    // the ring, where the carving and the rim's moves did not reach (a
+    // region too small for that uses its whole porosity).
+    const double r_interior = inner - 2 * p.d_hi;
+    G.interior_porosity =
+        r_interior > 0.3 * inner ? dem::column_porosity(rm, r_interior, t) : G.porosity;
+    m = std::move(rm);
     if (progress)
       *progress << "DEM region: " << G.n_bonds << " bonds, " << G.n_rattlers
-                << " rattlers removed, porosity " << G.porosity << " (packing "
-                << G.packed_porosity << ")\n";
+                << " rattlers removed, porosity " << G.porosity << " (interior "
+                << G.interior_porosity << ", packing " << G.packed_porosity << ")\n";
     return G;
   }
 

@@ -30,10 +30,10 @@ namespace demfem::coupling
       const auto pf = name("particles", ".vtp"), bf = name("bonds", ".vtp"),
                  cf = name("cracks", ".vtp"), uf = name("continuum", ".vtu");
       // averaged_stress as continuum-equivalent stress: the grain stress
-      // times the region's solid fraction after packing (particle_stress.h),
+      // times the solid fraction inside the region's rim (particle_stress.h),
       // comparable with the continuum's stress_* arrays.
-      const double solid =
-          m.groups.porosity > 0 && m.groups.porosity < 1 ? 1 - m.groups.porosity : 1.0;
+      const double n     = m.groups.interior_porosity;
+      const double solid = n > 0 && n < 1 ? 1 - n : 1.0;
       dem::vtkout::write_particles(dir_ + "/" + pf, m.dem, solid);
       dem::vtkout::write_contacts(dir_ + "/" + bf, m.dem);
       dem::vtkout::write_cracks(dir_ + "/" + cf, m.dem.current_cracks());

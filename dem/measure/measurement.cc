@@ -176,6 +176,51 @@ namespace demfem::dem
   }
 
   template <int dim>
+  double column_porosity(const Model<dim> &m, double radius, double height)
+  {
+    if constexpr (dim == 2)
+      return region_porosity(m, Region<2>{Vec<2>::Zero(), radius});
+    else
+      {
+        // A sphere's part inside the cylinder: its z slices (disks of
+        // radius r cos(theta) at z = r sin(theta)) cut by the circle of the
+        // cylinder, integrated over theta (smooth in theta: the midpoint
+        // rule's error falls fast; 48 points resolve the lens of a grain
+        // crossing the rim to about 1e-4 of its volume).
+        constexpr int n  = 48;
+        const auto   &P  = m.particles;
+        double        Vg = 0;
+        for (std::size_t i = 0; i < P.size(); ++i)
+          {
+            const double r = P.radius[i], rho = P.x[i].template head<2>().norm();
+            if (rho + r <= radius)
+              Vg += grain_volume<3>(r);
+            else if (rho - r < radius)
+              for (int k = 0; k < n; ++k)
+                {
+                  const double th = M_PI * ((k + 0.5) / n - 0.5);
+                  Vg += lens<2>(r * std::cos(th), radius, rho) * r * std::cos(th) * M_PI /
+                        n;
+                }
+          }
+        for (int g = 0; g < m.n_groups(); ++g)
+          {
+            const auto &grp = m.group(g);
+            for (std::size_t k = 0; k < grp.size(); ++k)
+              {
+                if (grp.is_wall[k] || grp.xc[k].template head<2>().norm() > radius)
+                  continue;
+                const auto   i = grp.end1[k], j = grp.end2[k];
+                const double d = (P.x[i] - P.x[j]).norm();
+                if (d < P.radius[i] + P.radius[j])
+                  Vg -= lens<3>(P.radius[i], P.radius[j], d);
+              }
+          }
+        return 1 - Vg / (M_PI * radius * radius * height);
+      }
+  }
+
+  template <int dim>
   ContactCounts contact_counts(const Model<dim> &m)
   {
     ContactCounts c;
@@ -271,6 +316,7 @@ namespace demfem::dem
                                                 const Region<dim> &);                    \
   template double                     porosity(const Model<dim> &, double);              \
   template double        region_porosity(const Model<dim> &, const Region<dim> &);       \
+  template double        column_porosity(const Model<dim> &, double, double);            \
   template ContactCounts contact_counts(const Model<dim> &);                             \
   template Tensor<dim>   fabric_tensor(const Model<dim> &, const Region<dim> *);         \
   template double        max_contact_force(const Model<dim> &);

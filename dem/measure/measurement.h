@@ -51,6 +51,13 @@ namespace demfem::dem
   /// Porosity in a region from the grains whose centres lie in it.
   template <int dim>
   double region_porosity(const Model<dim> &m, const Region<dim> &r);
+  /// Porosity in the column of radius `radius` about the z axis: 2D the
+  /// disk (region_porosity), 3D the cylinder between z = 0 and `height` (a
+  /// slab between its walls), each grain's part inside it exact up to the
+  /// quadrature of its slices, overlaps whose contact point lies inside
+  /// removed.
+  template <int dim>
+  double column_porosity(const Model<dim> &m, double radius, double height);
 
   /// Microstructural counts (fistPkg §3.1).
   struct ContactCounts
