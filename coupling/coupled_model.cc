@@ -53,7 +53,8 @@ namespace demfem::coupling
       // The wall facets' grain contacts are not in the coupled critical
       // step: a lighter continuum then went silently wrong (measured:
       // centre stress -597 MPa for a -10 MPa patch test).
-      throw dem::InputError(w + ": Continuum/mass scaling = auto is implemented for "
+      throw dem::InputError(w +
+                            ": Continuum/mass scaling = auto is implemented for "
                             "Coupling/variant = slaved-layer with Coupling/scheme = "
                             "explicit (given: " +
                             kp.variant + ", " + kp.scheme +
@@ -223,7 +224,11 @@ namespace demfem::coupling
           extra = std::max(extra, 2 * katt[k] / mass[k]);
       return 2 / std::sqrt(4 / (own * own) + extra);
     };
-    fem_crit = coupled_critical_step();
+    // The carving leaves the rim's grains 1e-7 of their gap off the ring
+    // (coupling/region_genesis.cc): the ring contacts close under the first
+    // load, so the critical step counts them from the start.
+    dem.touching_gap = 1e-6 * dem.particles.min_radius();
+    fem_crit         = coupled_critical_step();
     if (!(cp.mass_scaling > 0) && kp.scheme == "explicit")
       {
         // Automatic mass scaling: every term of omega^2 is over a mass, so
@@ -233,9 +238,10 @@ namespace demfem::coupling
         // one (s <= 1). The damping follows (critical for the slowest mode,
         // a proportional to the shear-wave speed, as above).
         const double dem_critical = dem.critical_timestep();
-        const double s            = std::min(
-            1.0, std::pow(kp.subcycles * dem_critical / (window_limit_fraction() * fem_crit), 2));
-        es.mass_scaling = s;
+        const double s            = std::min(1.0, std::pow(kp.subcycles * dem_critical /
+                                                               (window_limit_fraction() * fem_crit),
+                                                           2));
+        es.mass_scaling           = s;
         if (!(cp.damping >= 0))
           es.damping /= std::sqrt(s);
         fem_->set_mass_scaling(es.mass_scaling);
@@ -244,8 +250,9 @@ namespace demfem::coupling
       }
     // The scheme, once (coupling_scheme.h): explicit dynamics or the
     // relaxed static response.
-    scheme_  = make_coupling_scheme<dim>(kp, *fem_, tria, es, points, fem_crit,
-                                        affine_installation(), dem.local_damping, progress);
+    scheme_ =
+        make_coupling_scheme<dim>(kp, *fem_, tria, es, points, fem_crit,
+                                  affine_installation(), dem.local_damping, progress);
     dem_crit = dem.critical_timestep();
     dt_ =
         kp.safety * std::min(dem_crit, scheme_->dem_step_limit(window_limit_fraction()));

@@ -181,19 +181,51 @@ namespace demfem::coupling
           // does): the grain touches it free of force. A grain that cannot
           // reach the ring stays where it is (moving it part of the way
           // would open gaps behind it and gain no contact).
-          double total = 0;
+          const dem::Vec<dim> x_was = rim.x[i], toward_was = rim.toward[i];
+          const double        gap_was  = rim.ring_gap[i];
+          double              total    = 0;
+          auto                try_move = [&](const dem::Vec<dim> &e, double want) {
+            if (total + want > rim.r[i] ||
+                blocked_at(rim, bins, bin_of(rim.x[i]), i, e, allowed_overlap) < want)
+              return false;
+            rim.x[i] += want * e;
+            total += want;
+            std::tie(rim.ring_gap[i], rim.toward[i]) =
+                ring_gap_of(W, G, rim.x[i], rim.r[i], inner);
+            rim.ring_gap[i] = std::max(rim.ring_gap[i], 0.0);
+            return true;
+          };
+          // Blocked on the direct way: a grain beside it may leave room at
+          // a slant. Directions tilted by 15, 30 and 45 degrees either side,
+          // each to the inscribed circle (the polygon's residual is closed
+          // by the direct passes below).
+          if (blocked_at(rim, bins, bin_of(rim.x[i]), i, rim.toward[i], allowed_overlap) <
+              rim.ring_gap[i] * (1 - 1e-7))
+            for (int k = 1; k <= 6; ++k)
+              {
+                const double  a = (k % 2 ? 1 : -1) * ((k + 1) / 2) * M_PI / 12;
+                dem::Vec<dim> e = dem::Vec<dim>::Zero();
+                e[0] = std::cos(a) * rim.toward[i][0] - std::sin(a) * rim.toward[i][1];
+                e[1] = std::sin(a) * rim.toward[i][0] + std::cos(a) * rim.toward[i][1];
+                // |x + s e| = inner - r in the plane.
+                const dem::Vec<2> x  = rim.x[i].template head<2>();
+                const double      xe = x.dot(e.template head<2>());
+                const double      c  = std::pow(inner - rim.r[i], 2) - x.squaredNorm();
+                const double      sq = xe * xe + c;
+                if (c <= 0 || sq < 0)
+                  break; // already at the inscribed circle
+                if (try_move(e, (-xe + std::sqrt(sq)) * (1 - 1e-7)))
+                  break;
+              }
           for (int pass = 0; pass < 2 && rim.ring_gap[i] > 1e-6 * rim.r[i]; ++pass)
-            {
-              const dem::Vec<dim> e    = rim.toward[i];
-              const double        want = rim.ring_gap[i] * (1 - 1e-7);
-              if (total + want > rim.r[i] ||
-                  blocked_at(rim, bins, bin_of(rim.x[i]), i, e, allowed_overlap) < want)
-                break;
-              rim.x[i] += want * e;
-              total += want;
-              std::tie(rim.ring_gap[i], rim.toward[i]) =
-                  ring_gap_of(W, G, rim.x[i], rim.r[i], inner);
-              rim.ring_gap[i] = std::max(rim.ring_gap[i], 0.0);
+            if (!try_move(rim.toward[i], rim.ring_gap[i] * (1 - 1e-7)))
+              break;
+          if (total > 0 && rim.ring_gap[i] > 1e-6 * rim.r[i])
+            { // a slanted move the direct passes could not complete: undo
+              rim.x[i]        = x_was;
+              rim.toward[i]   = toward_was;
+              rim.ring_gap[i] = gap_was;
+              total           = 0;
             }
           rim.shrunk[i] += total;
           moved += total > 0;

@@ -207,7 +207,7 @@ namespace demfem::coupling
     const auto         &P = dem.particles;
     std::vector<double> kt(P.size(), 0.0), kr(P.size(), 0.0);
     for (int g = 0; g < dem.n_groups(); ++g)
-      dem.group(g).accumulate_stiffness(P, kt, kr);
+      dem.group(g).accumulate_stiffness(P, kt, kr, dem.touching_gap);
     for (std::size_t s = 0; s < slaved.size(); ++s)
       {
         const auto &S    = slaved[s];

@@ -76,9 +76,12 @@ namespace demfem::dem
     virtual double           slip_energy(std::size_t k) const                        = 0;
     /// Adds each active contact's translational stiffness max(kn, ks) to
     /// kt[particle] and its rotational stiffness max(kb, kt) + ks |arm|^2 to
-    /// kr[particle] (memo §1.12; input of Model::critical_timestep).
+    /// kr[particle] (memo §1.12; input of Model::critical_timestep). A
+    /// contact whose gap is at most `touching_gap` counts as active
+    /// (Model::touching_gap).
     virtual void accumulate_stiffness(const Particles<dim> &p, std::vector<double> &kt,
-                                      std::vector<double> &kr) const = 0;
+                                      std::vector<double> &kr,
+                                      double               touching_gap) const = 0;
     /// Sum of the strain energy of all contacts of the group (the values
     /// evaluated by the last `compute` when requested and still current).
     virtual double total_strain_energy() const = 0;
@@ -239,11 +242,11 @@ namespace demfem::dem
       return Law::strain_energy(params, props_[k], this->state(k));
     }
     void accumulate_stiffness(const Particles<dim> &p, std::vector<double> &kt,
-                              std::vector<double> &kr) const override
+                              std::vector<double> &kr, double touching_gap) const override
     {
       for (std::size_t k = 0; k < this->size(); ++k)
         {
-          if (!active(k))
+          if (!active(k) && !(this->gap[k] <= touching_gap))
             continue;
           const ContactStiffness s   = stiffness(k, p);
           const double           ktr = std::max(s.kn, s.ks);

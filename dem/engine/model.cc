@@ -108,7 +108,7 @@ namespace demfem::dem
     const std::size_t   N = particles.size();
     std::vector<double> kt(N, 0.0), kr(N, 0.0);
     for (const auto &g : groups_)
-      g->accumulate_stiffness(particles, kt, kr);
+      g->accumulate_stiffness(particles, kt, kr, touching_gap);
     double dt = std::numeric_limits<double>::infinity();
     for (std::size_t p = 0; p < N; ++p)
       {

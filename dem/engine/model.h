@@ -132,6 +132,11 @@ namespace demfem::dem
     /// Critical time step (memo §1.12): min over particles of
     /// sqrt(m / k_tran) and sqrt(I / k_rot) from the contact stiffnesses.
     double critical_timestep() const;
+    /// Contacts whose gap is at most this [m] count in the critical time
+    /// step as if closed (default 0: closed contacts only). Grains placed
+    /// onto a wall free of force (a carved region's rim, coupling/) touch it
+    /// across a gap of round-off size and close under the first load.
+    double touching_gap = 0;
 
     /// Advances one step (detection when needed, forces, motion).
     void step();

@@ -1,6 +1,6 @@
 // Engine-level tests: contact detection, integration, time step, stability.
-#include "dem/laws/linear_law.h"
 #include "dem/engine/model.h"
+#include "dem/laws/linear_law.h"
 
 #include <catch2/catch.hpp>
 
@@ -33,8 +33,8 @@ namespace
   template <int dim>
   void check_detection(std::uint64_t seed)
   {
-    Model<dim> m;
-    const int  n   = dim == 2 ? 600 : 500;
+    Model<dim>   m;
+    const int    n   = dim == 2 ? 600 : 500;
     const double box = dim == 2 ? 40.0 : 14.0;
     random_cloud(m, n, box, seed);
     LinearLaw<2>::Params dummy;
@@ -58,13 +58,15 @@ namespace
   }
 } // namespace
 
-TEST_CASE("grid detection finds exactly the brute-force pairs (2D)", "[engine][detection]")
+TEST_CASE("grid detection finds exactly the brute-force pairs (2D)",
+          "[engine][detection]")
 {
   for (std::uint64_t seed : {1, 2, 3})
     check_detection<2>(seed);
 }
 
-TEST_CASE("grid detection finds exactly the brute-force pairs (3D)", "[engine][detection]")
+TEST_CASE("grid detection finds exactly the brute-force pairs (3D)",
+          "[engine][detection]")
 {
   for (std::uint64_t seed : {4, 5})
     check_detection<3>(seed);
@@ -86,7 +88,7 @@ namespace
     typename LinearLaw<dim>::Params lp;
     lp.kn = 1e7, lp.ks = 1e7, lp.friction = 0.5;
     m.set_default_law(m.template add_law<LinearLaw<dim>>(lp), -1);
-    m.local_damping = 0;
+    m.local_damping   = 0;
     const double mass = m.particles.mass[0];
     m.set_timestep(dt_fraction * std::sqrt(mass / lp.kn));
     const double e0 = m.kinetic_energy();
@@ -135,7 +137,8 @@ namespace
   }
 } // namespace
 
-TEST_CASE("time step above critical is refused, below critical is stable", "[engine][timestep]")
+TEST_CASE("time step above critical is refused, below critical is stable",
+          "[engine][timestep]")
 {
   Model<2> probe;
   lattice(probe, 8);
@@ -171,7 +174,8 @@ TEST_CASE("time step above critical is refused, below critical is stable", "[eng
   CHECK(slow.kinetic_energy() + slow.strain_energy() == Approx(e0).epsilon(0.05));
 }
 
-TEST_CASE("divergence is detected by the energy monitor when the check is off", "[engine][timestep]")
+TEST_CASE("divergence is detected by the energy monitor when the check is off",
+          "[engine][timestep]")
 {
   Model<2> m;
   lattice(m, 6);
@@ -183,10 +187,39 @@ TEST_CASE("divergence is detected by the energy monitor when the check is off", 
         m.particles.fixity[i] = fix_all;
     }
   m.particles.v[14][0] = 1e-3; // a small disturbance
-  const double crit = m.critical_timestep();
-  m.check_timestep  = false;
+  const double crit    = m.critical_timestep();
+  m.check_timestep     = false;
   m.set_timestep(4.0 * crit); // beyond the true central-difference limit
   CHECK_THROWS_AS(m.cycle(5000), InstabilityError);
+}
+
+TEST_CASE("contacts within the touching gap count in the critical time step",
+          "[engine][timestep]")
+{
+  // Two disks 1 nm apart (the carved rim's grains sit 1e-7 of their gap off
+  // the ring, coupling/region_genesis.cc): open, so the critical step does
+  // not see them until they close; with Model::touching_gap above the gap
+  // it equals the step of the same pair closed by 1 nm (linear stiffness:
+  // independent of the overlap; the lever arm differs by 1e-8 relative).
+  auto critical = [](double gap, double touching) {
+    Model<2> m;
+    m.particles.add(Vec<2>(0, 0), 0.1, 2650);
+    m.particles.add(Vec<2>(0.2 + gap, 0), 0.1, 2650);
+    LinearLaw<2>::Params lp;
+    lp.kn       = 1e8;
+    lp.ks       = 5e7;
+    const int g = m.add_law<LinearLaw<2>>(lp);
+    m.set_default_law(g, g);
+    m.touching_gap = touching;
+    m.set_timestep(1e-12); // one force pass: the contact's gap, no motion
+    m.step();
+    return m.critical_timestep();
+  };
+  const double closed = critical(-1e-9, 0);
+  REQUIRE(std::isfinite(closed));
+  CHECK(std::isinf(critical(1e-9, 0)));
+  CHECK(critical(1e-9, 1e-8) == Approx(closed).epsilon(1e-6));
+  CHECK(std::isinf(critical(1e-7, 1e-8))); // farther than the touching gap
 }
 
 TEST_CASE("invalid particle input names the property", "[engine][input]")
@@ -218,7 +251,7 @@ TEST_CASE("reordering particles by cell does not change the physics", "[engine][
   const auto [a, na] = run(false);
   const auto [b, nb] = run(true);
   CHECK(na == nb);
-  double moved = 0, diff = 0;
+  double   moved = 0, diff = 0;
   Model<2> ref;
   random_cloud(ref, 400, 25.0, 11);
   for (std::size_t i = 0; i < a.size(); ++i)
@@ -247,13 +280,13 @@ TEST_CASE("cracks follow the material after breakage (fistPkg §3.4)", "[engine]
   m.particles.v[1] = Vec<2>(1e-3, 0); // open 1e-6 per step; breaks at 1e-4
   for (int s = 0; s < 400 && m.cracks.empty(); ++s)
     m.step();
-  REQUIRE(m.cracks.size() == 2); // both elements break in tension together
+  REQUIRE(m.cracks.size() == 2);  // both elements break in tension together
   const auto   before = m.cracks; // geometry at breakage
-  const double g_brk = (m.particles.x[1] - m.particles.x[0]).norm() - 2.0;
+  const double g_brk  = (m.particles.x[1] - m.particles.x[0]).norm() - 2.0;
   // Move the pair rigidly: turn it by 90 degrees about particle 0 and open
   // the contact by a further 0.1.
   m.particles.x[1] = Vec<2>(0, 2.0 + g_brk + 0.1);
-  const auto now = m.current_cracks();
+  const auto now   = m.current_cracks();
   for (std::size_t k = 0; k < 2; ++k)
     {
       const auto &c = now[k];
