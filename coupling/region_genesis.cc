@@ -126,20 +126,21 @@ namespace demfem::coupling
       return s;
     }
 
-    // Closes the rim onto the ring (docs/tunnel.md, "The carved rim"). A
-    // region carved out of a packing touches the ring only where grains were
-    // shrunk onto it; the rest of its rim lies up to a grain radius inside,
-    // so a ring of wall facets (or the reference's membrane) would load the
-    // region at a few points. Each rim grain whose gap to the ring is at most
-    // its radius is moved onto the ring along the direction to it, unless
-    // another grain blocks the way. Grains nearest the ring move first, so
-    // a grain behind another stays blocked. The distance moved is added to `shrunk`: the
-    // finalization bonds the packing contacts the move opened (pairs within
-    // g_i + shrunk_i + shrunk_j, dem::finalize_specimen). A grain in
-    // contact with a neighbour beside it must pass it: the pair may overlap
-    // by up to `allowed_overlap` (the packing's mean overlap, so the rim
-    // stays within the packing's own overlaps). Returns the number of grains
-    // moved and of those blocked.
+    // Closes the rim onto the ring (docs/tunnel.md, "The region is the
+    // calibrated material", step 2). A region carved out of a packing
+    // touches the ring only where grains were shrunk onto it; the rest of
+    // its rim lies up to a grain radius inside, so a ring of wall facets (or
+    // the reference's membrane) would load the region at a few points. Each
+    // rim grain whose gap to the ring is at most its radius is moved onto
+    // the ring along the direction to it, unless another grain blocks the
+    // way. Grains nearest the ring move first, so a grain behind another
+    // stays blocked. A grain in contact with a neighbour beside it must pass
+    // it: the pair may overlap by up to `allowed_overlap` (the packing's
+    // mean overlap, so the rim stays within the packing's own overlaps). The
+    // distance moved is added to `shrunk`: the finalization bonds the
+    // packing contacts the move opened (pairs within g_i + shrunk_i +
+    // shrunk_j, dem::finalize_specimen). Returns the number of grains moved
+    // and of those blocked.
     template <int dim>
     std::pair<std::size_t, std::size_t> close_rim(RimGrains<dim>        &rim,
                                                   const dem::Walls<dim> &W,
