@@ -336,9 +336,36 @@ TEST_CASE("region genesis: the 3D slab carved from the material genesis lies in 
   m.fj_Nal               = 4;
   dem::Model<3> model;
   add_cylinder_ring(model.walls, p.radius, p.slab_thickness, 20, 2, "ring");
-  const RegionGroups G = build_region<3>(model, p);
+  std::ostringstream log;
+  const RegionGroups G = build_region<3>(model, p, &log);
   const auto        &P = model.particles;
   REQUIRE(P.size() > 200);
+  // The rim closed onto the ring in 3D as in 2D: at least the grains moved
+  // onto it touch the ring's (vertical) facets, within round-off.
+  {
+    INFO(log.str());
+    const auto at = log.str().find(" moved onto the ring");
+    REQUIRE(at != std::string::npos);
+    const auto from     = log.str().find_last_of(",", at) + 1;
+    const long moved    = std::stol(log.str().substr(from, at - from));
+    long       touching = 0;
+    for (std::size_t i = 0; i < P.size(); ++i)
+      {
+        double c = HUGE_VAL;
+        for (std::size_t f = 0; f < model.walls.n_facets(); ++f)
+          if (model.walls.facet_wall[f] != G.slab_walls[0] &&
+              model.walls.facet_wall[f] != G.slab_walls[1])
+            {
+              std::array<double, 3> w;
+              c = std::min(c, (model.walls.closest_point(f, P.x[i], w) - P.x[i]).norm() -
+                                  P.radius[i]);
+            }
+        touching += c < 1e-6;
+      }
+    INFO(moved << " grains moved onto the ring, " << touching << " touch it");
+    CHECK(moved > 0);
+    CHECK(touching >= moved);
+  }
   // Every grain inside the slab walls and the ring's inscribed circle
   // (chords of 20 facets: cos(pi / 20) of the radius), shrunk onto them
   // where it crossed.
