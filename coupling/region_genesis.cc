@@ -313,8 +313,6 @@ namespace demfem::coupling
         close_rim(rim, W, G, inner, G.mean_overlap_ratio * r_mean);
     for (std::size_t i = 0; i < rim.x.size(); ++i)
       m.particles.add(rim.x[i], rim.r[i], rim.density[i]);
-    const std::vector<double> &shrunk =
-        rim.shrunk; // radius each grain lost (finalization)
     if (progress)
       *progress << "DEM region: " << m.particles.size() << " of " << Q.size()
                 << " packed grains carved (" << n_shrunk << " shrunk onto the ring, "
@@ -363,7 +361,7 @@ namespace demfem::coupling
     rm.invalidate_contacts();
     rm.detect_contacts();
     reg.wall_group = G.wall;
-    dem::finalize_specimen(reg, rng, progress, false, shrunk);
+    dem::finalize_specimen(reg, rng, progress, false, rim.shrunk);
     G.linear = reg.linear_group;
     G.bond   = reg.bond_group;
 

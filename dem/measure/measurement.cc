@@ -147,6 +147,32 @@ namespace demfem::dem
     return 1 - Vg / V;
   }
 
+  namespace
+  {
+    // Summed lens volume of the overlapping grain pairs whose contact point
+    // satisfies `in` (the porosities count each overlap once).
+    template <int dim, class In>
+    double overlap_volume(const Model<dim> &m, In &&in)
+    {
+      const auto &P = m.particles;
+      double      V = 0;
+      for (int g = 0; g < m.n_groups(); ++g)
+        {
+          const auto &grp = m.group(g);
+          for (std::size_t k = 0; k < grp.size(); ++k)
+            {
+              if (grp.is_wall[k] || !in(grp.xc[k]))
+                continue;
+              const auto   i = grp.end1[k], j = grp.end2[k];
+              const double d = (P.x[i] - P.x[j]).norm();
+              if (d < P.radius[i] + P.radius[j])
+                V += lens<dim>(P.radius[i], P.radius[j], d);
+            }
+        }
+      return V;
+    }
+  } // namespace
+
   template <int dim>
   double region_porosity(const Model<dim> &m, const Region<dim> &r)
   {
@@ -159,19 +185,7 @@ namespace demfem::dem
     double      Vg = 0;
     for (std::size_t i = 0; i < P.size(); ++i)
       Vg += lens<dim>(P.radius[i], r.radius, (P.x[i] - r.center).norm());
-    for (int g = 0; g < m.n_groups(); ++g)
-      {
-        const auto &grp = m.group(g);
-        for (std::size_t k = 0; k < grp.size(); ++k)
-          {
-            if (grp.is_wall[k] || !inside(r, grp.xc[k]))
-              continue;
-            const auto   i = grp.end1[k], j = grp.end2[k];
-            const double d = (P.x[i] - P.x[j]).norm();
-            if (d < P.radius[i] + P.radius[j])
-              Vg -= lens<dim>(P.radius[i], P.radius[j], d);
-          }
-      }
+    Vg -= overlap_volume(m, [&](const Vec<dim> &xc) { return inside(r, xc); });
     return 1 - Vg / r.volume();
   }
 
@@ -203,19 +217,8 @@ namespace demfem::dem
                         n;
                 }
           }
-        for (int g = 0; g < m.n_groups(); ++g)
-          {
-            const auto &grp = m.group(g);
-            for (std::size_t k = 0; k < grp.size(); ++k)
-              {
-                if (grp.is_wall[k] || grp.xc[k].template head<2>().norm() > radius)
-                  continue;
-                const auto   i = grp.end1[k], j = grp.end2[k];
-                const double d = (P.x[i] - P.x[j]).norm();
-                if (d < P.radius[i] + P.radius[j])
-                  Vg -= lens<3>(P.radius[i], P.radius[j], d);
-              }
-          }
+        Vg -= overlap_volume(
+            m, [&](const Vec<3> &xc) { return xc.template head<2>().norm() <= radius; });
         return 1 - Vg / (M_PI * radius * radius * height);
       }
   }
