@@ -194,7 +194,9 @@ namespace demfem::apps
               .num("crack_damage_Pa", r.crack_damage)
               .num("peak_regions_Pa", r.peak_region)
               .num("confining_deviation", r.confining_deviation)
-              .num("confining_deviation_to_peak", r.confining_deviation_to_peak);
+              .num("confining_deviation_to_peak", r.confining_deviation_to_peak)
+              .num("confining_spike_to_peak", r.confining_spike_to_peak)
+              .num("confining_window_s", r.confining_window);
           if (dim == 2)
             j.num("E_plane_stress_Pa", r.E_ps).num("nu_plane_stress", r.nu_ps);
         }
@@ -440,7 +442,9 @@ namespace demfem::apps
                 << r.ended_by << ", " << r.loading_steps << " steps, " << test_s << " s)";
       if (r.confining_deviation == r.confining_deviation)
         std::cerr << ", Pc held within " << 100 * r.confining_deviation_to_peak
-                  << " % to the peak";
+                  << " % to the peak (averaged over " << r.confining_window
+                  << " s; single-step spikes up to " << 100 * r.confining_spike_to_peak
+                  << " %)";
       std::cerr << "\n";
       // A test stopped by the step limit before its post-peak end may not
       // have reached its peak: the run says so and does not end "ok".
@@ -454,6 +458,16 @@ namespace demfem::apps
                      "raise Tests/step limit\n";
       };
       check_end(r, label);
+      // A strength test that reached the strain limit with its load still at
+      // its largest (peak in the last history row) measured no peak: the
+      // material hardens beyond the limit. Said, not fatal: a strain limit
+      // in the elastic range is a way to measure E and nu only.
+      if (r.ended_by == "strain limit" && !r.history.empty() &&
+          r.peak_row + 1 == r.history.size() && lp.kind != dem::TestKind::brazilian)
+        std::cerr << "demfem calibrate: warning: " << label
+                  << " reached Tests/strain limit = " << lp.strain_limit
+                  << " with its load still rising: its peak " << r.peak / 1e6
+                  << " MPa is no strength; raise Tests/strain limit\n";
       // A Brazilian disk that did not split along its loaded diameter
       // (crushed under the platens, damaged all over, or not broken) gives
       // a peak that is no tensile strength (ISRM 1978;
@@ -476,10 +490,10 @@ namespace demfem::apps
                     << " MPa is no tensile strength; material.json bts is null\n";
         }
       if (r.confining_deviation_to_peak > 0.01)
-        std::cerr
-            << "demfem calibrate: warning: " << label
-            << ": the confining pressure deviated by more than 1 % before the peak; "
-               "lower Tests/strain rate (the servo lags a fast-moving boundary)\n";
+        std::cerr << "demfem calibrate: warning: " << label
+                  << ": the confining pressure (averaged over a wave's crossing time) "
+                     "deviated by more than 1 % before the peak; lower Tests/strain rate "
+                     "(the servo lags a fast-moving boundary)\n";
       if (s.rate_check > 0)
         {
           // A quasi-static peak does not move when the rate is halved

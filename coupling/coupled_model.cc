@@ -224,11 +224,8 @@ namespace demfem::coupling
           extra = std::max(extra, 2 * katt[k] / mass[k]);
       return 2 / std::sqrt(4 / (own * own) + extra);
     };
-    // The carving leaves the rim's grains 1e-7 of their gap off the ring
-    // (coupling/region_genesis.cc): the ring contacts close under the first
-    // load, so the critical step counts them from the start.
-    dem.touching_gap = 1e-6 * dem.particles.min_radius();
-    fem_crit         = coupled_critical_step();
+    // build_region set dem.touching_gap: the carved rim's contacts count.
+    fem_crit = coupled_critical_step();
     if (!(cp.mass_scaling > 0) && kp.scheme == "explicit")
       {
         // Automatic mass scaling: every term of omega^2 is over a mass, so

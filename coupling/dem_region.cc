@@ -74,12 +74,6 @@ namespace demfem::coupling
     }
 
     template <int dim>
-    double grain_volume(double r)
-    {
-      return dim == 2 ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r;
-    }
-
-    template <int dim>
     void set_radius(dem::Particles<dim> &P, std::size_t i, double r, double density)
     {
       P.radius[i] = r;
@@ -90,7 +84,7 @@ namespace demfem::coupling
         }
       else
         {
-          P.mass[i]    = density * grain_volume<3>(r);
+          P.mass[i]    = density * dem::ball_volume<3>(r);
           P.inertia[i] = 0.4 * P.mass[i] * r * r;
         }
     }
@@ -149,7 +143,7 @@ namespace demfem::coupling
     {
       double v = 0;
       for (double r : P.radius)
-        v += grain_volume<dim>(r);
+        v += dem::ball_volume<dim>(r);
       return 1 - v / volume;
     }
   } // namespace
@@ -181,6 +175,19 @@ namespace demfem::coupling
         }
     return wall;
   }
+
+  // The carving leaves the rim's grains 1e-7 of their gap off the ring
+  // (coupling/region_genesis.cc): the ring contacts close under the first
+  // load, so the critical time step counts them from the start
+  // (Model::touching_gap). Set for every region, where it is built.
+  namespace
+  {
+    template <int dim>
+    void count_touching_contacts(dem::Model<dim> &m)
+    {
+      m.touching_gap = 1e-6 * m.particles.min_radius();
+    }
+  } // namespace
 
   template <int dim>
   RegionGroups build_region(dem::Model<dim> &m, const RegionParams &p,
@@ -227,7 +234,11 @@ namespace demfem::coupling
           }
       }
     if (p.material)
-      return carve_region<dim>(m, p, inner, G, progress);
+      {
+        RegionGroups carved = carve_region<dim>(m, p, inner, G, progress);
+        count_touching_contacts(m);
+        return carved;
+      }
     // Gap of contact k of a group at the current positions. The groups'
     // gaps are those of the latest force pass, one position update old; 3D
     // recomputes them so that the smoothing and the bonding see the packing
@@ -512,6 +523,7 @@ namespace demfem::coupling
                     << G.mean_overlap_ratio << " mean, " << G.max_overlap_ratio
                     << " max\n";
       }
+    count_touching_contacts(m);
     return G;
   }
 

@@ -228,8 +228,6 @@ namespace demfem::coupling
         step0 = m.step_count();
         // Fixed step as the embedded model (safety x DEM critical).
         m.check_timestep = true;
-        m.touching_gap =
-            1e-6 * m.particles.min_radius(); // the carved rim (coupled_model.cc)
         m.set_timestep(p.safety * m.critical_timestep());
         m.reset_energy_baseline();
         // Floor of the vertex stiffness: one grain-ring contact (kn = 2 E*,

@@ -25,12 +25,6 @@ namespace demfem::coupling
 {
   namespace
   {
-    template <int dim>
-    double ball_volume(double r)
-    {
-      return dim == 2 ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r;
-    }
-
     // Largest grain-grain overlap over the mean radius, and the mean over
     // the overlapping pairs (how tight the packing is).
     template <int dim>
@@ -301,7 +295,7 @@ namespace demfem::coupling
           }
         rim.x.push_back(x);
         rim.r.push_back(r);
-        rim.density.push_back(Q.mass[i] / ball_volume<dim>(Q.radius[i]));
+        rim.density.push_back(Q.mass[i] / dem::ball_volume<dim>(Q.radius[i]));
         rim.shrunk.push_back(Q.radius[i] - r);
         rim.ring_gap.push_back(gap < 0 ? 0.0 : ring_gap);
         rim.toward.push_back(toward);
@@ -391,7 +385,7 @@ namespace demfem::coupling
     rm.reset_energy_baseline();
     double solid = 0;
     for (double r : P.radius)
-      solid += ball_volume<dim>(r);
+      solid += dem::ball_volume<dim>(r);
     const double volume = M_PI * inner * inner * t;
     G.porosity          = 1 - solid / volume;
     G.packed_porosity   = packed.porosity();

@@ -7,11 +7,13 @@
 namespace demfem::dem
 {
   template <int dim>
-  std::size_t Particles<dim>::add(const Vec<dim> &position, double r, double density, int grp)
+  std::size_t Particles<dim>::add(const Vec<dim> &position, double r, double density,
+                                  int grp)
   {
     check_range("particle " + std::to_string(size()), "radius", r, 0, HUGE_VAL, true);
-    check_range("particle " + std::to_string(size()), "density", density, 0, HUGE_VAL, true);
-    const double volume = (dim == 2 ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r);
+    check_range("particle " + std::to_string(size()), "density", density, 0, HUGE_VAL,
+                true);
+    const double volume = ball_volume<dim>(r);
     const double mss    = density * volume;
     x.push_back(position);
     x0.push_back(position);
@@ -73,7 +75,8 @@ namespace demfem::dem
         b[k] = a[order[k]];
       a.swap(b);
     };
-    apply(x), apply(x0), apply(v), apply(w), apply(f), apply(m), apply(f_ext), apply(m_ext);
+    apply(x), apply(x0), apply(v), apply(w), apply(f), apply(m), apply(f_ext),
+        apply(m_ext);
     apply(radius), apply(mass), apply(inertia), apply(fixity), apply(group), apply(id);
   }
 

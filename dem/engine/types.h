@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -36,13 +37,15 @@ namespace demfem::dem
 
   /// Checks lo <= value (or lo < value when open) and value <= hi (or < hi);
   /// throws InputError naming the parameter, where it came from and the range.
-  void check_range(const std::string &where,
-                   const std::string &name,
-                   double value,
-                   double lo,
-                   double hi,
-                   bool lo_open = false,
-                   bool hi_open = false);
+  void check_range(const std::string &where, const std::string &name, double value,
+                   double lo, double hi, bool lo_open = false, bool hi_open = false);
+
+  /// Volume of a grain of radius r: a disk of unit thickness (2D) or a ball.
+  template <int dim>
+  constexpr double ball_volume(double r)
+  {
+    return dim == 2 ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r;
+  }
 
   /// 2D cross product z-component / scalar-rotation helpers.
   inline double cross2(const Vec<2> &a, const Vec<2> &b)

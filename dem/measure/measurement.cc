@@ -15,12 +15,6 @@ namespace demfem::dem
 {
   namespace
   {
-    template <int dim>
-    double grain_volume(double r)
-    {
-      return dim == 2 ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r;
-    }
-
     /// Area (2D) or volume (3D) of the intersection of two disks or balls of
     /// radii a and b whose centres are d apart (circle-circle lens area;
     /// sphere-sphere lens volume pi (a + b - d)^2 (d^2 + 2 d (a + b) -
@@ -31,7 +25,7 @@ namespace demfem::dem
       if (d >= a + b)
         return 0;
       if (d <= std::abs(a - b))
-        return grain_volume<dim>(std::min(a, b));
+        return ball_volume<dim>(std::min(a, b));
       if constexpr (dim == 2)
         {
           const double ca = std::clamp((d * d + a * a - b * b) / (2 * d * a), -1.0, 1.0);
@@ -143,7 +137,7 @@ namespace demfem::dem
   {
     double Vg = 0;
     for (double r : m.particles.radius)
-      Vg += grain_volume<dim>(r);
+      Vg += ball_volume<dim>(r);
     return 1 - Vg / V;
   }
 
@@ -208,7 +202,7 @@ namespace demfem::dem
           {
             const double r = P.radius[i], rho = P.x[i].template head<2>().norm();
             if (rho + r <= radius)
-              Vg += grain_volume<3>(r);
+              Vg += ball_volume<3>(r);
             else if (rho - r < radius)
               for (int k = 0; k < n; ++k)
                 {

@@ -29,7 +29,7 @@ namespace demfem::dem
     for (std::size_t i = 0; i < P.size(); ++i)
       {
         const double r = P.radius[i];
-        const double V = dim == 2 ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r;
+        const double V = ball_volume<dim>(r);
         // eval(): a = a + a^T aliases in Eigen.
         const StressTensor<dim> sym = s[i] + s[i].transpose();
         s[i]                        = (0.5 * solid_fraction / V) * sym;

@@ -21,12 +21,6 @@ namespace demfem::dem
 {
   namespace
   {
-    template <int dim>
-    double ball_volume(double r)
-    {
-      return dim == 2 ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r;
-    }
-
     /// Number-mean grain volume of one size piece (diameter multiplier 1).
     template <int dim>
     double mean_grain_volume(const SizePiece &s)
@@ -319,9 +313,8 @@ namespace demfem::dem
   }
 
   template <int dim>
-  Specimen<dim> pack_specimen(const MaterialParams &p, const VesselParams &v,
-                              Random &rng, std::ostream *progress,
-                              const std::string &where)
+  Specimen<dim> pack_specimen(const MaterialParams &p, const VesselParams &v, Random &rng,
+                              std::ostream *progress, const std::string &where)
   {
     p.validate(where, dim);
     VesselParams vp = v;
@@ -332,8 +325,8 @@ namespace demfem::dem
     Specimen<dim> s;
     s.material = p;
     s.vessel   = make_vessel(s.model.walls, vp, where);
-    auto  &m   = s.model;
-    auto  &P   = m.particles;
+    auto &m    = s.model;
+    auto &P    = m.particles;
 
     // 1. Grain cloud of porosity n_c (overlaps not accounted for).
     const double Vv = s.vessel.volume(m.walls);

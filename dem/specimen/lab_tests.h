@@ -91,7 +91,10 @@ namespace demfem::dem
     std::int64_t step_limit     = 2000000; ///< loading-phase step limit
     int          history_interval = 50;    ///< steps between history rows
     // seating (compression) / set-up (Brazilian) equilibrium
-    ServoParams  servo;                  ///< v_limit 0: automatic (§Table 10: 10 a H)
+    /// Confining servo. v_limit 0: automatic, Table 10's 10 eps_rate H in
+    /// seating, at least 2 Pc / (rho c) in loading (docs/calibrate.md); the
+    /// integral gain acts in loading only.
+    ServoParams  servo;
     double       ratio_limit     = 1e-4; ///< ft_eq ratio limit for seating
     std::int64_t seat_step_limit = 100000;
     double       grip_thickness  = 0.1; ///< direct tension: t_g / H
@@ -165,11 +168,18 @@ namespace demfem::dem
     /// from joint cracks (smooth joint).
     std::array<std::size_t, n_bond_types> cracks_by_type{};
     /// Confined compression (Pc > 0): largest relative deviation
-    /// |P_a - Pc| / Pc of the servo-controlled lateral wall pressures P_a
-    /// over the history rows of the loading phase (to the end, past the
-    /// peak) and up to the peak row; NaN for the other tests.
+    /// |P_a - Pc| / Pc of the servo-controlled lateral wall pressures P_a,
+    /// each averaged over windows of `confining_window` (the time a
+    /// compression wave takes to cross the specimen between the confining
+    /// walls), over every step of the loading phase (to the end, past the
+    /// peak) and up to the peak; NaN for the other tests.
     double confining_deviation         = std::numeric_limits<double>::quiet_NaN();
     double confining_deviation_to_peak = std::numeric_limits<double>::quiet_NaN();
+    /// The largest single-step deviation up to the peak (a crack burst next
+    /// to a wall kicks its contact forces for a few steps), and the
+    /// averaging window [s].
+    double confining_spike_to_peak = std::numeric_limits<double>::quiet_NaN();
+    double confining_window        = std::numeric_limits<double>::quiet_NaN();
     /// Crack-damage stress (Martin & Chandler): axial-stress magnitude at the
     /// reversal of the volumetric strain (gauge based), i.e. at the most
     /// compacted state before the peak; NaN if the volume only grows.

@@ -14,9 +14,12 @@ namespace demfem::dem
     check_range("servo", "alpha", p.alpha, 0, 1, true, true);
     check_range("servo", "v_limit", p.v_limit, 0, HUGE_VAL, true);
     check_range("servo", "tol", p.tol, 0, 1, true, true);
+    check_range("servo", "integral gain", p.integral_gain, 0,
+                2 - p.alpha - 2 * std::sqrt(1 - p.alpha));
     on_.fill(false);
     target_.fill(0);
     velocity_.fill(0);
+    integral_velocity_.fill(0);
   }
 
   template <int dim>
@@ -53,7 +56,7 @@ namespace demfem::dem
   }
 
   template <int dim>
-  void Servo<dim>::update(Model<dim> &m) const
+  void Servo<dim>::update(Model<dim> &m)
   {
     // Summed normal stiffness of the contacts on each wall pair (Itasca
     // 2008 §3.10.5: G = alpha A / (k_n N_c dt)).
@@ -113,6 +116,16 @@ namespace demfem::dem
                 // Each wall of a pair moves by v: the pair's stiffness halves.
                 const double G = p_.alpha * vessel_.area(m.walls, a) / (kn[a] * dt);
                 v              = G * err;
+                if (p_.integral_gain > 0)
+                  {
+                    // Conditional integration (anti-windup): the integral
+                    // stops growing while the velocity limit holds the wall.
+                    const double vi =
+                        integral_velocity_[a] + (p_.integral_gain / p_.alpha) * v;
+                    if (std::abs(v + vi) < p_.v_limit)
+                      integral_velocity_[a] = vi;
+                    v += integral_velocity_[a];
+                  }
               }
             else
               v = err > 0 ? p_.v_limit : -p_.v_limit;
@@ -132,8 +145,9 @@ namespace demfem::dem
   }
 
   template <int dim>
-  void Servo<dim>::stop(Model<dim> &m) const
+  void Servo<dim>::stop(Model<dim> &m)
   {
+    integral_velocity_.fill(0);
     for (int a = 0; a < dim; ++a)
       if (!(vessel_.cylinder() && a > 0 && a < dim - 1))
         vessel_.set_velocity(m.walls, a, 0.0);

@@ -17,6 +17,19 @@ namespace demfem::dem
     /// pressure (isotropic compression, used for packing): per-axis control
     /// stalls when the assembly carries a deviator at yield.
     bool isotropic = false;
+    /// Integral gain beta of the per-axis control (0: proportional only).
+    /// A proportional servo lags a boundary that must keep moving (a
+    /// specimen dilating under the platens) by e = v / G; the integral term
+    /// learns that velocity and removes the lag:
+    /// v = G (e + (beta / alpha) sum of e over the steps), i.e. an integral
+    /// time T_i = alpha dt / beta. Like alpha it is a per-step gain (G is
+    /// per step, fistPkg Table 9). Allowed 0 <= beta <= 2 - alpha -
+    /// 2 sqrt(1 - alpha): the loop of one wall on grains that stay put,
+    /// e_{n+1} = (1 - alpha) e_n - beta sum e, then has real poles and does
+    /// not overshoot (alpha 0.5, beta 0.05: poles 0.89 and 0.56). A wall
+    /// pair moves both walls for the mean pressure and closes half of that
+    /// (poles 0.86 +- 0.08i: damped). docs/calibrate.md, "What the tests do".
+    double integral_gain = 0.05;
   };
 
   template <int dim>
@@ -30,17 +43,18 @@ namespace demfem::dem
     void set_velocity(int a, double v);
     /// Sets the wall velocities from the current wall pressures; call every
     /// step before Model::step.
-    void update(Model<dim> &m) const;
+    void update(Model<dim> &m);
     /// Wall pressure (compression positive) of axis a.
     double pressure(const Model<dim> &m, int a) const;
     /// All servo-controlled pressures within tol of their targets.
     bool within_tolerance(const Model<dim> &m) const;
-    void stop(Model<dim> &m) const; ///< zero wall velocities
+    void stop(Model<dim> &m); ///< zero wall velocities and the integral term
 
   private:
     Vessel<dim>             vessel_; // a copy: ids only, positions live in the walls
     ServoParams             p_;
     std::array<bool, dim>   on_;
     std::array<double, dim> target_, velocity_;
+    std::array<double, dim> integral_velocity_; // G / T_i int e dt, per axis
   };
 } // namespace demfem::dem

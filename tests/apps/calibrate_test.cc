@@ -307,6 +307,26 @@ TEST_CASE("calibrate: a test stopped by the step limit is not ok", "[calibrate]"
   CHECK(fs::is_regular_file(out / "material.json"));
 }
 
+TEST_CASE("calibrate: a peak at the strain limit is said to be no strength",
+          "[calibrate]")
+{
+  // A strain limit of 1e-4 stops the UCS test in its elastic range (its
+  // peak lies near 1e-3 at this rate): the load is still rising, so the
+  // run warns that the peak is no strength. E and nu are measured, so the
+  // run stays ok.
+  const fs::path out = work_dir() / "strain_limit_out";
+  fs::remove_all(out);
+  const fs::path prm = write("strain_limit.prm", tiny_prm(out));
+  const auto     r   = run_demfem("calibrate " + prm.string() +
+                                  " --set \"Tests/tests=ucs\" --set \"Problem/vtk=false\""
+                                        " --set \"Tests/strain limit=1e-4\"");
+  INFO(r.out);
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.find("with its load still rising") != std::string::npos);
+  const auto sum = nlohmann::json::parse(read(out / "summary.json"));
+  CHECK(sum["tests"]["ucs"]["ended_by"] == "strain limit");
+}
+
 TEST_CASE("calibrate: the run owns its output directory", "[calibrate]")
 {
   // manifest.json records the run; a second run into the same directory is

@@ -124,15 +124,17 @@ TEST_CASE("confined compression: the servo holds Pc up to and past the peak (2D)
   REQUIRE(r.ended_by == "post-peak");
   // The peak is a material failure well above the confinement.
   CHECK(r.peak > 3 * Pc);
-  // Up to the peak the wall stress stays near Pc at every history row. Each
-  // lateral wall of this 250-grain specimen carries about 15 grain contacts,
-  // so a crack next to it moves the instantaneous wall stress by a few %:
-  // measured 2.8 % at 0.15/s (4.6 % at 0.3/s); 1 % is the elastic-range
-  // requirement below and the calibrate report for real specimens. Past
-  // the peak the specimen dilates dynamically along its shear band
-  // (measured up to 41 %): reported, not held.
-  CHECK(r.confining_deviation_to_peak < 0.04);
+  // Up to the peak the wall stress, averaged over a wave's crossing time
+  // (56 steps here), stays within 1 % of Pc: measured 0.74 % (2.8 % with
+  // the proportional servo, sampled at the history rows). Each lateral
+  // wall carries about 15 grain contacts, so a crack next to it kicks the
+  // instantaneous stress by several % for a few steps (spikes measured up
+  // to 9 %). Past the peak the specimen dilates dynamically along its
+  // shear band (measured up to 45 %): reported, not held.
+  CHECK(r.confining_deviation_to_peak < 0.01);
   CHECK(r.confining_deviation >= r.confining_deviation_to_peak);
+  CHECK(r.confining_spike_to_peak >= r.confining_deviation_to_peak);
+  // One history row's instantaneous value: a spike may fall on it.
   CHECK(pk.lateral_wall_stress == Approx(-Pc).epsilon(0.04));
   // Cracking starts before the peak; the volumetric strain reverses
   // (dilatancy) between crack initiation and the peak.
@@ -155,6 +157,41 @@ TEST_CASE("confined compression: the servo holds Pc on the 3D cylinder wall",
   CHECK(r.confining_deviation < 0.01);
 }
 
+TEST_CASE("confined compression: the servo's integral term removes the lag; the "
+          "deviation does not depend on the history interval (2D)",
+          "[labtests][confined]")
+{
+  // Elastic specimen at 0.5/s: the lateral walls must keep moving outward
+  // as the platens close, which a proportional servo follows only with an
+  // error e = v / G (measured 0.96 % here, 0.08 % with the integral term,
+  // which learns the velocity: dem/specimen/servo.h). At 1/s this
+  // 250-grain specimen's seating fails the energy check, with or without
+  // the integral term (the seating has none; not investigated further).
+  const double  Pc       = 2e6;
+  LabTestParams l        = elastic_test(CompressionType::confined, Pc);
+  l.strain_rate          = 0.5;
+  LabTestParams p        = l;
+  p.servo.integral_gain  = 0;
+  const LabTestResult pr = run<2>(elastic(), box2d(), 250, p);
+  const LabTestResult pi = run<2>(elastic(), box2d(), 250, l);
+  LabTestParams       h  = l;
+  h.history_interval     = 7;
+  const LabTestResult ph = run<2>(elastic(), box2d(), 250, h);
+  INFO("Pc deviation: proportional " << pr.confining_deviation_to_peak << ", with the "
+                                     << "integral term " << pi.confining_deviation_to_peak
+                                     << " (spikes " << pi.confining_spike_to_peak
+                                     << "), window " << pi.confining_window << " s");
+  CHECK(pr.confining_deviation_to_peak > 0.005);
+  CHECK(pi.confining_deviation_to_peak < 0.2 * pr.confining_deviation_to_peak);
+  CHECK(pi.confining_spike_to_peak >= pi.confining_deviation_to_peak);
+  // The window: the crossing time of a wave at sqrt(E*/rho) over W.
+  CHECK(pi.confining_window == Approx(0.03 / std::sqrt(4e10 / 2650)).epsilon(0.01));
+  // Every step is sampled and the strain limit checked every step: the
+  // history rows do not enter.
+  CHECK(ph.confining_deviation_to_peak == pi.confining_deviation_to_peak);
+  CHECK(ph.peak == pi.peak);
+}
+
 TEST_CASE("confined modulus equals the unconfined one in the elastic range (2D)",
           "[labtests][confined]")
 {
@@ -171,7 +208,7 @@ TEST_CASE("confined modulus equals the unconfined one in the elastic range (2D)"
                         << c.confining_deviation);
   REQUIRE(u.E_ps > 0);
   CHECK(c.E_ps == Approx(u.E_ps).epsilon(0.05));
-  CHECK(c.nu_ps == Approx(u.nu_ps).margin(0.02));
+  CHECK(c.nu_ps == Approx(u.nu_ps).margin(0.025));
   CHECK(c.confining_deviation < 0.01);
 }
 
