@@ -492,8 +492,8 @@ namespace demfem::apps
       if (r.confining_deviation_to_peak > 0.01)
         std::cerr << "demfem calibrate: warning: " << label
                   << ": the confining pressure (averaged over a wave's crossing time) "
-                     "deviated by more than 1 % before the peak; lower Tests/strain rate "
-                     "(the servo lags a fast-moving boundary)\n";
+                     "deviated by more than 1 % before the peak (crack bursts next to "
+                     "the walls; docs/calibrate.md, \"What the tests do\")\n";
       if (s.rate_check > 0)
         {
           // A quasi-static peak does not move when the rate is halved
