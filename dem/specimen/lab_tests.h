@@ -91,9 +91,9 @@ namespace demfem::dem
     std::int64_t step_limit     = 2000000; ///< loading-phase step limit
     int          history_interval = 50;    ///< steps between history rows
     // seating (compression) / set-up (Brazilian) equilibrium
-    /// Confining servo. v_limit 0: automatic, Table 10's 10 eps_rate H in
-    /// seating, at least 2 Pc / (rho c) in loading (docs/calibrate.md); the
-    /// integral gain acts in loading only.
+    /// Confining servo. v_limit 0: automatic, Table 10's 10 eps_rate H, in
+    /// seating at most Pc / (rho c), in loading at least 2 Pc / (rho c)
+    /// (docs/calibrate.md); the integral gain acts in loading only.
     ServoParams  servo;
     double       ratio_limit     = 1e-4; ///< ft_eq ratio limit for seating
     std::int64_t seat_step_limit = 100000;

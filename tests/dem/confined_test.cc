@@ -161,15 +161,15 @@ TEST_CASE("confined compression: the servo's integral term removes the lag; the 
           "deviation does not depend on the history interval (2D)",
           "[labtests][confined]")
 {
-  // Elastic specimen at 0.5/s: the lateral walls must keep moving outward
-  // as the platens close, which a proportional servo follows only with an
-  // error e = v / G (measured 0.96 % here, 0.08 % with the integral term,
-  // which learns the velocity: dem/specimen/servo.h). At 1/s this
-  // 250-grain specimen's seating fails the energy check, with or without
-  // the integral term (the seating has none; not investigated further).
+  // Elastic specimen at 1/s: the lateral walls must keep moving outward as
+  // the platens close, which a proportional servo follows only with an
+  // error e = v / G (measured 1.9 % here, 0.17 % with the integral term,
+  // which learns the velocity: dem/specimen/servo.h). The seating runs at
+  // most at Pc / (rho c): at Table 10's 10 eps_rate H (0.6 m/s) it failed
+  // the energy check.
   const double  Pc       = 2e6;
   LabTestParams l        = elastic_test(CompressionType::confined, Pc);
-  l.strain_rate          = 0.5;
+  l.strain_rate          = 1.0;
   LabTestParams p        = l;
   p.servo.integral_gain  = 0;
   const LabTestResult pr = run<2>(elastic(), box2d(), 250, p);
@@ -181,7 +181,7 @@ TEST_CASE("confined compression: the servo's integral term removes the lag; the 
                                      << "integral term " << pi.confining_deviation_to_peak
                                      << " (spikes " << pi.confining_spike_to_peak
                                      << "), window " << pi.confining_window << " s");
-  CHECK(pr.confining_deviation_to_peak > 0.005);
+  CHECK(pr.confining_deviation_to_peak > 0.01);
   CHECK(pi.confining_deviation_to_peak < 0.2 * pr.confining_deviation_to_peak);
   CHECK(pi.confining_spike_to_peak >= pi.confining_deviation_to_peak);
   // The window: the crossing time of a wave at sqrt(E*/rho) over W.
