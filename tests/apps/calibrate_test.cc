@@ -58,6 +58,21 @@ namespace
     return p;
   }
 
+  // The tiny material of `tiny_prm` calibrated into work_dir()/<name>_out
+  // with extra command-line arguments (--set ...).
+  struct TinyRun
+  {
+    fs::path                       out;
+    demfem::testing::CommandResult r;
+  };
+  TinyRun run_tiny(const std::string &name, const std::string &args)
+  {
+    const fs::path out = work_dir() / (name + "_out");
+    fs::remove_all(out);
+    const fs::path prm = write(name + ".prm", tiny_prm(out));
+    return {out, run_demfem("calibrate " + prm.string() + " " + args)};
+  }
+
   std::string read(const fs::path &p)
   {
     std::ifstream     f(p);
@@ -288,12 +303,9 @@ TEST_CASE("calibrate: a test stopped by the step limit is not ok", "[calibrate]"
   // 300 loading steps end the UCS test long before its peak (about 10 000
   // steps at this rate): a warning naming the key, status and exit 3, the
   // results still written.
-  const fs::path out = work_dir() / "step_limit_out";
-  fs::remove_all(out);
-  const fs::path prm = write("step_limit.prm", tiny_prm(out));
-  const auto     r   = run_demfem("calibrate " + prm.string() +
-                                  " --set \"Tests/tests=ucs\" --set \"Problem/vtk=false\""
-                                        " --set \"Tests/step limit=300\"");
+  const auto [out, r] = run_tiny("step_limit", "--set \"Tests/tests=ucs\" --set "
+                                               "\"Problem/vtk=false\" --set \"Tests/step "
+                                               "limit=300\"");
   INFO(r.out);
   CHECK(r.exit_code == 3);
   CHECK(r.out.find("Tests/step limit") != std::string::npos);
@@ -314,12 +326,10 @@ TEST_CASE("calibrate: a peak at the strain limit is said to be no strength",
   // peak lies near 1e-3 at this rate): the load is still rising, so the
   // run warns that the peak is no strength. E and nu are measured, so the
   // run stays ok.
-  const fs::path out = work_dir() / "strain_limit_out";
-  fs::remove_all(out);
-  const fs::path prm = write("strain_limit.prm", tiny_prm(out));
-  const auto     r   = run_demfem("calibrate " + prm.string() +
-                                  " --set \"Tests/tests=ucs\" --set \"Problem/vtk=false\""
-                                        " --set \"Tests/strain limit=1e-4\"");
+  const auto [out, r] =
+      run_tiny("strain_limit", "--set \"Tests/tests=ucs\" --set "
+                               "\"Problem/vtk=false\" --set \"Tests/strain "
+                               "limit=1e-4\"");
   INFO(r.out);
   CHECK(r.exit_code == 0);
   CHECK(r.out.find("with its load still rising") != std::string::npos);
