@@ -182,11 +182,32 @@ namespace demfem::dem
         r_.seating_steps = m_.step_count() - start;
       }
 
-      ServoParams servo_params(double H) const
+      // The confining servo of the seating (loading = false) or of the
+      // loading phase; docs/calibrate.md, "What the tests do".
+      ServoParams servo_params(double H, bool loading) const
       {
         ServoParams sp = p_.servo;
-        if (!(sp.v_limit > 0)) // Table 10 default: 10 eps_rate H
-          sp.v_limit = 10 * p_.strain_rate * H;
+        // The seating's target does not move: proportional control settles
+        // on it, and the integral term (for the loading's moving boundary)
+        // stays out.
+        if (!loading)
+          sp.integral_gain = 0;
+        if (sp.v_limit > 0)
+          return sp;                          // given
+        sp.v_limit = 10 * p_.strain_rate * H; // Table 10 default: 10 eps_rate H
+        if (!(wave_speed() > 0 && p_.Pc > 0))
+          return sp;
+        // A wall moving at v sends a wave of rho c v into the specimen.
+        // Seating from Pm to Pc faster than Pc / (rho c) overshoots Pc (at
+        // 1/s, 10 eps_rate H seated a 250-grain specimen at 0.6 m/s against
+        // 0.19 m/s and failed the energy check). In loading, a crack burst
+        // unloads the surface by up to Pc, which at a free surface moves it
+        // at 2 Pc / (rho c) (twice a wave's particle velocity): the walls
+        // must be able to follow (10 eps_rate H held them back for thousands
+        // of steps at 5-23 % above Pc in the 2D LdB triaxial tests).
+        const double impedance = s_.material.density * wave_speed();
+        sp.v_limit             = loading ? std::max(sp.v_limit, 2 * p_.Pc / impedance)
+                                         : std::min(sp.v_limit, p_.Pc / impedance);
         return sp;
       }
 
@@ -226,19 +247,7 @@ namespace demfem::dem
             // Seating: every wall present (unconfined: the platens only)
             // servo-controlled to Pc, an isotropic start for the confined
             // and the uniaxial-strain tests.
-            // The seating's target does not move: proportional control
-            // settles on it, and the integral term (for the loading's
-            // moving boundary) stays out.
-            ServoParams seat   = servo_params(H);
-            seat.integral_gain = 0;
-            // A wall closing at v sends a wave of rho c v into the specimen:
-            // seating from Pm to Pc faster than Pc / (rho c) overshoots Pc
-            // (at 1/s, Table 10's 10 eps_rate H seated a 250-grain specimen
-            // at 0.6 m/s against 0.19 m/s and failed the energy check).
-            if (!(p_.servo.v_limit > 0) && wave_speed() > 0 && p_.Pc > 0)
-              seat.v_limit =
-                  std::min(seat.v_limit, p_.Pc / (s_.material.density * wave_speed()));
-            servo_ = std::make_unique<Servo<dim>>(s_.vessel, seat);
+            servo_ = std::make_unique<Servo<dim>>(s_.vessel, servo_params(H, false));
             for (int a = 0; a < dim; ++a)
               if (a == ax || p_.ctype != CompressionType::unconfined)
                 servo_->set_pressure(a, p_.Pc);
@@ -253,17 +262,8 @@ namespace demfem::dem
         if (servo_holds_confinement())
           {
             // Loading: the lateral walls stay on Pc while the specimen
-            // dilates, with the integral term that removes the lag. A crack
-            // burst unloads the surface by up to Pc, which at a free surface
-            // moves it at 2 Pc / (rho c) (twice a wave's particle velocity):
-            // the automatic velocity limit lets the walls follow that
-            // (Table 10's 10 eps_rate H held them back for thousands of steps
-            // at 5-23 % above Pc in the 2D LdB triaxial tests, measured).
-            ServoParams load = servo_params(H);
-            if (!(p_.servo.v_limit > 0) && wave_speed() > 0)
-              load.v_limit = std::max(load.v_limit,
-                                      2 * p_.Pc / (s_.material.density * wave_speed()));
-            servo_ = std::make_unique<Servo<dim>>(s_.vessel, load);
+            // dilates, with the integral term that removes the lag.
+            servo_ = std::make_unique<Servo<dim>>(s_.vessel, servo_params(H, true));
             for (int a = 0; a < dim - 1; ++a)
               servo_->set_pressure(a, p_.Pc);
             servo_->set_velocity(ax, -v_);
