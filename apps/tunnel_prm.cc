@@ -140,8 +140,11 @@ namespace demfem::apps
     prm.declare_entry("memory limit", "auto", Patterns::Anything(),
                       "Refuse a region whose estimated memory exceeds this [GB]; auto: "
                       "half the machine's memory");
-    prm.declare_entry("porosity 3d", "0.42", Patterns::Double(),
-                      "3D: target porosity of the sphere packing, in [0.3, 0.6]");
+    prm.declare_entry("material pressure", "auto", Patterns::Anything(),
+                      "Without material file: material pressure Pm [Pa] of the "
+                      "genesis that packs the keys' material (fistPkg 4.2.1), > 0; "
+                      "auto: lnm emod / 800 (mean grain overlap about 0.25 % of the "
+                      "radius)");
     prm.declare_entry("lnm emod", "20e9", Patterns::Double(),
                       "E* of non-bonded contacts [Pa]");
     prm.declare_entry("lnm krat", "1.5", Patterns::Double(),
@@ -269,12 +272,15 @@ namespace demfem::apps
     r.fj_Nr                  = prm.get_integer("fj Nr");
     r.fj_Nal                 = prm.get_integer("fj Nal");
     const double slab_grains = prm.get_double("slab thickness");
-    r.porosity_3d            = prm.get_double("porosity 3d");
-    r.lnm_emod               = prm.get_double("lnm emod");
-    r.lnm_krat               = prm.get_double("lnm krat");
-    r.lnm_fric               = prm.get_double("lnm fric");
-    const auto seed_text     = prm.get("seed");
-    const bool seed_given    = seed_text != "material";
+    if (const auto pm = prm.get("material pressure"); pm != "auto")
+      r.material_pressure =
+          parse_number(key_name("DEM region/material pressure"), pm, 1e-300,
+                       std::numeric_limits<double>::max(), "Pa");
+    r.lnm_emod            = prm.get_double("lnm emod");
+    r.lnm_krat            = prm.get_double("lnm krat");
+    r.lnm_fric            = prm.get_double("lnm fric");
+    const auto seed_text  = prm.get("seed");
+    const bool seed_given = seed_text != "material";
     if (seed_given)
       r.seed = parse_integer(key_name("DEM region/seed"), seed_text, 0,
                              std::numeric_limits<long long>::max());

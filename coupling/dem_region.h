@@ -11,16 +11,15 @@
 //       vertices); build_region adds the two planar walls z = 0 and z = t,
 //       fixed and frictionless, which carry the plane-strain szz.
 //
-// Packing (fistPkg §4.2.1, grain scaling): the grain count follows from the
-// target porosity and the mean grain area (volume); grains are placed at
-// random at half their size, grown to full size while cycling with
-// frictionless linear contacts, and relaxed to equilibrium. Finalization:
-// grain-wall overlaps are removed by shrinking the touching grains (the
-// walls are the continuum's boundary and cannot move, unlike a vessel
-// wall), every grain pair within the installation gap gets a fully bonded
-// flat joint (kn = E*/L, memo Eq. 40; 3D: Nr x Nal elements, memo §1.4),
-// which carries no force when installed, and grains left without a bond
-// (rattlers) are removed.
+// Genesis (docs/tunnel.md, "The region is the calibrated material"): one
+// procedure whether the material comes from a material file or from the
+// keys below: the calibration's genesis (dem::pack_specimen, fistPkg
+// §4.2.1, and dem::finalize_specimen, §4.2.2) packs the material in a box
+// around the region; the region is carved out of it, grains touching the
+// ring are shrunk so that no grain-wall contact carries force (the walls are
+// the continuum's boundary and cannot move, unlike a vessel wall), and
+// grains left without a bond (rattlers) are removed
+// (coupling/region_genesis.cc).
 #include "dem/engine/model.h"
 #include "dem/specimen/material.h"
 
@@ -37,16 +36,16 @@ namespace demfem::coupling
   /// dem::MaterialParams for a flat-jointed material; SI units).
   struct RegionParams
   {
-    double radius   = 4.0;  ///< outer radius b of the region [m]
-    double d_lo     = 0.16; ///< smallest grain diameter [m]
-    double d_hi     = 0.24; ///< largest grain diameter [m]
-    double density  = 2650; ///< grain density [kg/m^3]
-    double porosity = 0.16; ///< target porosity of the packing (2D)
-    /// Target porosity of the 3D packing: about the jamming porosity of
-    /// frictionless spheres in a slab a few grains thick (0.36 in bulk; the
-    /// walls loosen the layers next to them; measured in
-    /// region_3d_test.cc: mean overlap 0.4 % of the radius).
-    double porosity_3d = 0.42;
+    double radius  = 4.0;  ///< outer radius b of the region [m]
+    double d_lo    = 0.16; ///< smallest grain diameter [m]
+    double d_hi    = 0.24; ///< largest grain diameter [m]
+    double density = 2650; ///< grain density [kg/m^3]
+    /// Material pressure Pm of the keys' genesis [Pa] (fistPkg §4.2.1: the
+    /// packing is scaled until the vessel walls carry Pm); 0: lnm_emod / 800,
+    /// a mean grain overlap of about 0.25 % of the radius whatever the
+    /// stiffness, and a 2D porosity of about 0.16 (docs/tunnel.md). Unused
+    /// with a material file (its Pm_Pa).
+    double material_pressure = 0;
     /// 3D: slab thickness t [m] (grains in 0 < z < t).
     double        slab_thickness = 0;
     double        damping        = 0.7;   ///< local damping alpha
@@ -97,10 +96,18 @@ namespace demfem::coupling
     /// "The region is the calibrated material"); the keys above that the
     /// material also has (sizes, moduli, strengths, density, damping) are
     /// then only what the coupling reads (sizes for the overlap width and
-    /// the facet length). Unset: the region is packed from the keys above.
+    /// the facet length). Unset: the keys above are the material
+    /// (keys_material), packed by the same genesis.
     std::optional<dem::MaterialParams> material;
-    /// Target porosity of the packing of dimension dim.
-    double target_porosity(int dim) const { return dim == 2 ? porosity : porosity_3d; }
+    /// The flat-jointed material the keys describe (one uniform size piece
+    /// d_lo..d_hi, every joint bonded, strengths without spread; unbreakable
+    /// bonds carry 1e30 Pa), packed by the same genesis as a material file.
+    dem::MaterialParams keys_material() const;
+    /// The material the region is packed from: the file's or the keys'.
+    dem::MaterialParams genesis_material() const
+    {
+      return material ? *material : keys_material();
+    }
   };
 
   /// Law groups of the built region.
@@ -126,9 +133,8 @@ namespace demfem::coupling
     /// Largest and mean grain-grain overlap over the mean radius at the end
     /// of packing (how tight the packing is).
     double max_overlap_ratio = 0, mean_overlap_ratio = 0;
-    /// Steps of the material genesis when the region was carved from it
-    /// (its own model; 0: the packing ran in the region's model, whose step
-    /// count holds it).
+    /// Steps of the material genesis the region was carved from (its own
+    /// model; the region's model starts at step 0).
     std::int64_t genesis_steps = 0;
   };
 
@@ -143,10 +149,10 @@ namespace demfem::coupling
   RegionGroups build_region(dem::Model<dim> &model, const RegionParams &p,
                             std::ostream *progress = nullptr);
 
-  /// The region carved out of the calibration genesis (RegionParams::material
-  /// set); called by build_region with the groups of the slab walls (3D)
-  /// already set and `inner` the radius of the largest circle inside the
-  /// ring (coupling/region_genesis.cc).
+  /// The region carved out of the calibration genesis of
+  /// p.genesis_material(); called by build_region with the groups of the
+  /// slab walls (3D) already set and `inner` the radius of the largest
+  /// circle inside the ring (coupling/region_genesis.cc).
   template <int dim>
   RegionGroups carve_region(dem::Model<dim> &model, const RegionParams &p, double inner,
                             RegionGroups G, std::ostream *progress);

@@ -171,7 +171,18 @@ namespace demfem::dem
         // counts active contacts only; contacts that close between passes
         // (walls moving in, grains growing) would leave it stale.
         if (steps % 50 == 0)
-          s.model.invalidate_contacts();
+          {
+            s.model.invalidate_contacts();
+            // A non-finite force is a packing that blew up (a modulus so
+            // large that the forces overflow), not a slow one: stop now,
+            // not at the step limit. (The ratio is 0 while no force acts.)
+            if (!std::isfinite(wall_pressure(s)) ||
+                !std::isfinite(s.model.unbalanced_ratio()))
+              throw PackingDiverged("material genesis: the packing diverged (non-finite "
+                                    "forces) at step " +
+                                    std::to_string(steps) +
+                                    ": the contact moduli are out of any physical range");
+          }
         s.model.step();
         if (++steps > p.step_limit)
           {

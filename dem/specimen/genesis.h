@@ -7,6 +7,7 @@
 #include "dem/specimen/vessel.h"
 
 #include <ostream>
+#include <stdexcept>
 
 namespace demfem::dem
 {
@@ -36,6 +37,13 @@ namespace demfem::dem
 
     double porosity() const { return dem::porosity(model, vessel.volume(model.walls)); }
     std::size_t n_grains() const { return model.particles.size(); }
+  };
+
+  /// Thrown when the packing's forces become non-finite (moduli out of any
+  /// physical range): a blow-up, told apart from a packing that is slow.
+  struct PackingDiverged : std::runtime_error
+  {
+    using std::runtime_error::runtime_error;
   };
 
   /// Builds the specimen: packing then finalization. Progress lines go to

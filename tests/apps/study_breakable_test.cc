@@ -188,12 +188,13 @@ TEST_CASE("study: variant, scheme, relaxation and stiffness-contrast axes, inval
   // Elastic sweep of apps/examples/study_2d.prm (b = 2.5 a, a/d = 3) over
   // the new axes. Variants and schemes not implemented by the tunnel run
   // are 'invalid' rows (with the reason) today and run once they are; a
-  // safety of 1.5 diverges for the explicit wall-facet scheme (docs/study.md).
+  // safety of 2 diverges for the explicit wall-facet scheme (measured limit
+  // 1.5-1.6 on this packing, docs/study.md).
   const std::string d = dir("axes");
   const auto        r = run_study(
              "study_2d.prm", d,
              "--set \"Study/region radius factors=2.5\" --set \"Study/grain resolutions=3\" "
-                    "--set \"Study/subcycles=1\" --set \"Study/timestep safety factors=0.8,1.5\" "
+                    "--set \"Study/subcycles=1\" --set \"Study/timestep safety factors=0.8,2\" "
                     "--set \"Study/coupling variants=wall-facets,slaved-layer\" --set "
                     "\"Study/schemes=explicit,quasi-static\" --set \"Study/relaxation factors=1\" "
                     "--set \"Study/stiffness contrasts=1,3\"");
@@ -232,7 +233,7 @@ TEST_CASE("study: variant, scheme, relaxation and stiffness-contrast axes, inval
   // The stability map per scheme.
   const auto s = json_numbers(read(d + "/summary.json"));
   CHECK(s.at("stability_explicit_timestep_safety_largest_stable") == Approx(0.8));
-  CHECK(s.at("stability_explicit_timestep_safety_smallest_unstable") == Approx(1.5));
+  CHECK(s.at("stability_explicit_timestep_safety_smallest_unstable") == Approx(2));
   CHECK(s.at("stability_explicit_stiffness_contrast_largest_stable") == Approx(3));
   CHECK(read(d + "/summary.json")
             .find("stability_quasi_static_subcycles_smallest_stable") !=

@@ -31,14 +31,8 @@ namespace
   Measured run(const std::string &variant, double E, double nu, double p,
                unsigned int subcycles = 1)
   {
-    RegionParams r;
-    r.radius    = 1.0;
-    r.d_lo      = 0.08;
-    r.d_hi      = 0.12;
-    r.emod      = 20e9;
-    r.lnm_emod  = 20e9;
-    r.breakable = false;
-    ContinuumParams c;
+    const RegionParams r = test::small_region(false, 0.5);
+    ContinuumParams    c;
     c.young_modulus = E;
     c.poisson_ratio = nu;
     c.outer_radius  = 10;
@@ -49,11 +43,11 @@ namespace
     auto &m      = *mp;
     m.build();
     m.set_insitu(-p * Eigen::Matrix2d::Identity());
-    for (int n = 0; n < 8000; ++n)
-      {
-        m.set_load_factor(std::min(1.0, n / 2000.0));
-        m.step();
-      }
+    // Installed over 2 ms of model time, then relaxed until the grains and
+    // the continuum are in equilibrium (ratios below 1e-4).
+    const bool settled = test::install_insitu(m, 2e-3, 0.1);
+    INFO("equilibrium reached at t = " << m.dem.time() << " s");
+    CHECK(settled);
     Measured out;
     out.centre = region_stress(m.dem, dem::Vec<2>::Zero(), 0.6);
     {
@@ -143,9 +137,15 @@ TEST_CASE("coupling: embedded elastic patch test, hydrostatic far field",
                                  << m1.whole << " / " << m2.whole);
   INFO("run 2: centre mean stress " << sm << " (applied " << -p << "), deviator " << dev
                                     << ", rim mean stress " << rim);
-  CHECK(std::abs(sm + p) < 0.02 * p);   // region stress = applied (within 2 %)
-  CHECK(dev < 0.02 * p);                // isotropic
-  CHECK(std::abs(rim - sm) < 0.04 * p); // uniform: rim annulus vs centre disk
+  CHECK(std::abs(sm + p) < 0.02 * p); // region stress = applied (within 2 %)
+  CHECK(dev < 0.02 * p);              // isotropic
+  // Uniform: rim annulus vs centre disk. The difference is the fabric of a
+  // random packing, not a trend: over packing seeds 10000, 1, 2, 3 and
+  // grains of 3.5-5.3, 4-6 and 4.5-6.8 cm it measured -4.2 % to +4.1 % of
+  // p, its sign changing with the seed (the slaved layer's annulus, 0.6 <
+  // r < 0.7, holds about 200 grains). A rim the ring does not load, or a
+  // looser carved layer, differs by tens of %.
+  CHECK(std::abs(rim - sm) < 0.05 * p);
   // The VTK's averaged_stress reads as the continuum stress: it differs from
   // the Love-Weber disk stress only by the local porosity against the
   // interior's (dem_region.h, interior_porosity: the looser layer at the

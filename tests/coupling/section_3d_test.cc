@@ -35,12 +35,7 @@ namespace
 {
   RegionParams section_region(double b, double d_lo, double d_hi, double t)
   {
-    RegionParams r = test::slab_region(b, d_lo, d_hi, t);
-    // A section 6 grains long has less of its volume in the loose layers
-    // along the walls z = 0, t than the thin slabs (porosity_3d 0.42 at 3-4
-    // grains): 0.42 left it unjammed (packing ratio 0.27 after 200000 steps).
-    r.porosity_3d = 0.39;
-    return r;
+    return test::slab_region(b, d_lo, d_hi, t);
   }
 
   ContinuumParams section_continuum(double E, double nu, double R, double L, double a)
@@ -382,7 +377,6 @@ TEST_CASE("3D section: demfem tunnel runs a tunnel section in a 3D continuum",
               "--set \"DEM region/radius=0.9\" --set \"Tunnel/radius=0.3\" "
                       "--set \"DEM region/breakable=false\" --set \"Continuum/outer radius=8\" "
                       "--set \"Continuum/axial extension=1.2\" --set \"DEM region/slab thickness=6\" "
-                      "--set \"DEM region/porosity 3d=0.39\" "
                       "--set \"Coupling/ramp steps=500\" --set \"Coupling/step limit=1000\" "
                       "--set \"Output/interval=500\" --accept not_equilibrated");
   INFO(read_file(dir + ".log"));
