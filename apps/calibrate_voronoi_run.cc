@@ -273,9 +273,8 @@ namespace demfem::apps
     Json                                                       tests_json;
     for (const auto &t : s.tests)
       {
-        const bool  brazilian = t.test == vor::VoronoiTest::brazilian;
-        const auto &specimen  = brazilian ? sp.disk : sp.rectangle;
-        const auto  name      = file_name(t.label);
+        const bool brazilian = t.test == vor::VoronoiTest::brazilian;
+        const auto name      = file_name(t.label);
         std::cerr << "demfem calibrate: " << t.label << " (" << kind << ")\n";
         const auto                  t_test = Clock::now();
         const vor::VoronoiLabResult r =

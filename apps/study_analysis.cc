@@ -181,7 +181,7 @@ namespace demfem::apps::study
          "cracks_total,cracks_excavation,cracks_tensile,cracks_shear,"
          "damage_zone_depth_m,reference_depth_m,cracks_rel_diff,agrees,"
          "region_too_small,damaged_area_m2,notch_depth_m,notch_angle_deg,genesis_steps,"
-         "diagnosis\n";
+         "genesis_reused,genesis_wall_time_s,diagnosis\n";
     for (const auto &r : rows)
       {
         const bool ok  = r.status == "stable";
@@ -205,9 +205,11 @@ namespace demfem::apps::study
           return dmg ? std::to_string(n) : std::string();
         };
         const bool cmp = dmg && std::isfinite(r.error);
-        // genesis_steps: a material-file region is packed in a model of its
-        // own before the run (coupling/region_genesis.cc), a cost that
-        // `steps` does not hold.
+        // genesis_steps: the region is packed in a model of its own before
+        // the run (coupling/region_genesis.cc), a cost that `steps` does not
+        // hold; reused from an earlier run of the sweep when the packing is
+        // the same (coupling/genesis_cache.h; wall_time_s counts it either
+        // way).
         o << count(r.result.cracks_total) << "," << count(r.cracks_excavation) << ","
           << count(r.result.cracks_tensile) << "," << count(r.result.cracks_shear) << ","
           << num(r.result.damage_zone_depth, dmg) << "," << num(r.reference_depth, cmp)
@@ -218,7 +220,8 @@ namespace demfem::apps::study
           << num(r.result.damage.notch_depth, dmg) << ","
           << num(r.result.damage.notch_angle, dmg) << ","
           << (ran ? std::to_string(r.result.genesis_steps) : "") << ","
-          << quoted(r.diagnosis) << "\n";
+          << (ran ? (r.result.genesis_reused ? "yes" : "no") : "") << ","
+          << num(r.result.genesis_wall_time_s, ran) << "," << quoted(r.diagnosis) << "\n";
       }
     write_file_atomically(file, o.str());
   }

@@ -136,6 +136,10 @@ namespace demfem::coupling
     /// Steps of the material genesis the region was carved from (its own
     /// model; the region's model starts at step 0).
     std::int64_t genesis_steps = 0;
+    /// The genesis packing was an earlier run's in this process, reused
+    /// (coupling/genesis_cache.h); its wall time, paid then or now.
+    bool   genesis_reused      = false;
+    double genesis_wall_time_s = 0;
   };
 
   /// Fills `model` with the packed and bonded region. 2D: the model must

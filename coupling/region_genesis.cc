@@ -13,6 +13,7 @@
 // disk by two of the largest grains on every side puts that layer outside
 // the region, so the rim has the packing's density.
 #include "coupling/dem_region.h"
+#include "coupling/genesis_cache.h"
 #include "dem/laws/linear_law.h"
 #include "dem/measure/measurement.h"
 #include "dem/specimen/genesis.h"
@@ -36,30 +37,6 @@ namespace demfem::coupling
     // over four packing seeds (tests/coupling/patch_test.cc). Two radii
     // moved no more grains.
     constexpr double rim_reach = 1.5;
-
-    // Largest grain-grain overlap over the mean radius, and the mean over
-    // the overlapping pairs (how tight the packing is).
-    template <int dim>
-    std::pair<double, double> overlap_ratios(const dem::Model<dim> &m)
-    {
-      double      sum = 0, mx = 0, rsum = 0;
-      std::size_t n = 0;
-      for (double r : m.particles.radius)
-        rsum += r;
-      const double rmean = rsum / std::max<std::size_t>(1, m.particles.size());
-      for (int g = 0; g < m.n_groups(); ++g)
-        {
-          const auto &grp = m.group(g);
-          for (std::size_t k = 0; k < grp.size(); ++k)
-            if (!grp.is_wall[k] && grp.gap[k] < 0)
-              {
-                sum += -grp.gap[k];
-                mx = std::max(mx, -grp.gap[k]);
-                ++n;
-              }
-        }
-      return {mx / rmean, n > 0 ? sum / n / rmean : 0.0};
-    }
 
     // The carved grains before they enter the region's model.
     template <int dim>
@@ -268,24 +245,28 @@ namespace demfem::coupling
         v.D = v.W;
         v.H = t;
       }
-    dem::Random        rng(mat.seed);
-    dem::Specimen<dim> packed = [&] {
+    bool       reused = false;
+    const auto box    = [&] {
       try
         {
-          return dem::pack_specimen<dim>(mat, v, rng, progress,
-                                         "DEM region (material genesis)");
+          return packed_box<dim>(mat, v, progress, "DEM region (material genesis)",
+                                 reused);
         }
       catch (const dem::PackingDiverged &e)
         {
           throw std::runtime_error(
-              std::string("DEM region: the packing diverged (non-finite forces): the "
-                          "contact moduli (DEM region/emod, lnm emod, or the material "
-                          "file's) are out of any physical range (") +
-              e.what() + ")");
+                 std::string("DEM region: the packing diverged (non-finite forces): the "
+                                "contact moduli (DEM region/emod, lnm emod, or the material "
+                                "file's) are out of any physical range (") +
+                 e.what() + ")");
         }
     }();
-    std::tie(G.max_overlap_ratio, G.mean_overlap_ratio) = overlap_ratios(packed.model);
-    G.genesis_steps                                     = packed.packing_steps;
+    dem::Random rng       = box->rng; // the genesis stream, continued by the finalization
+    G.max_overlap_ratio   = box->max_overlap_ratio;
+    G.mean_overlap_ratio  = box->mean_overlap_ratio;
+    G.genesis_steps       = box->steps;
+    G.genesis_reused      = reused;
+    G.genesis_wall_time_s = box->wall_time_s;
 
     // Carve: the grains whose centres lie inside the ring, each shrunk by
     // its largest overlap with the region's walls (the ring; 3D also the
@@ -293,11 +274,11 @@ namespace demfem::coupling
     // (fistPkg §4.2.2 moves a vessel's walls instead; the ring is the
     // continuum's boundary and cannot move). A grain more than half outside
     // would shrink below half its size: it is left out instead.
-    const auto    &Q     = packed.model.particles;
+    const auto    &Q     = *box;
     auto          &W     = m.walls;
     std::size_t    n_cut = 0, n_shrunk = 0;
     RimGrains<dim> rim; // the carved grains, before they enter the model
-    for (std::size_t i = 0; i < Q.size(); ++i)
+    for (std::size_t i = 0; i < Q.x.size(); ++i)
       {
         dem::Vec<dim> x = Q.x[i];
         if constexpr (dim == 3)
@@ -328,13 +309,13 @@ namespace demfem::coupling
       }
     double r_mean = 0;
     for (double r : Q.radius)
-      r_mean += r / Q.size();
+      r_mean += r / Q.radius.size();
     const auto [n_moved, n_blocked] =
         close_rim(rim, W, G, inner, G.mean_overlap_ratio * r_mean);
     for (std::size_t i = 0; i < rim.x.size(); ++i)
       m.particles.add(rim.x[i], rim.r[i], rim.density[i]);
     if (progress)
-      *progress << "DEM region: " << m.particles.size() << " of " << Q.size()
+      *progress << "DEM region: " << m.particles.size() << " of " << Q.x.size()
                 << " packed grains carved (" << n_shrunk << " shrunk onto the ring, "
                 << n_cut << " more than half outside left out, " << n_moved
                 << " moved onto the ring, " << n_blocked << " blocked)\n";
@@ -414,7 +395,7 @@ namespace demfem::coupling
       solid += dem::ball_volume<dim>(r);
     const double volume = M_PI * inner * inner * t;
     G.porosity          = 1 - solid / volume;
-    G.packed_porosity   = packed.porosity();
+    G.packed_porosity   = box->porosity;
     // The interior's porosity: the column two of the largest grains inside
     // the ring, where the carving and the rim's moves did not reach (a
     // region too small for that uses its whole porosity).

@@ -172,6 +172,8 @@ namespace demfem::coupling
     j["steps"]                           = r.steps - r.packing_steps;
     j["packing_steps"]                   = r.packing_steps;
     j["genesis_steps"]                   = r.genesis_steps;
+    j["genesis_reused"]                  = r.genesis_reused;
+    j["genesis_wall_time_s"]             = json_number(r.genesis_wall_time_s);
     j["grain_resolution_a_over_d"]       = json_number(r.grain_resolution_a_over_d);
     j["timestep_s"]                      = json_number(r.timestep);
     j["dem_critical_timestep_s"]         = json_number(r.critical_timestep);

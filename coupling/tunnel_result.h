@@ -115,6 +115,13 @@ namespace demfem::coupling
     /// Steps of the material genesis the region was carved from (not in
     /// `steps` or `packing_steps`: its own model; coupling/region_genesis.cc).
     std::int64_t genesis_steps = 0;
+    /// The genesis packing was reused from an earlier run in this process
+    /// (coupling/genesis_cache.h); genesis_wall_time_s is its wall time,
+    /// paid by this run or by the earlier one. wall_time_s is the run's
+    /// cost on its own: a reused packing's wall time is counted in it, so
+    /// that runs of a sweep compare on the same basis.
+    bool   genesis_reused      = false;
+    double genesis_wall_time_s = 0;
     /// Stopped on request (signal): a checkpoint was written, no summary.
     bool                     interrupted = false;
     std::string              checkpoint;   ///< latest checkpoint written ("" none)

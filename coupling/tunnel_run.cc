@@ -462,10 +462,13 @@ namespace demfem::coupling
         r.mean_grain_diameter           = p.region.mean_diameter();
         r.grain_resolution_a_over_d     = p.tunnel_radius / p.region.mean_diameter();
         r.genesis_steps                 = m.groups.genesis_steps;
+        r.genesis_reused                = m.groups.genesis_reused;
+        r.genesis_wall_time_s           = m.groups.genesis_wall_time_s;
         r.interface_force_imbalance_max = m.imbalance_max();
         measures.fill(r);
         r.wall_time_s =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() +
+            (r.genesis_reused ? r.genesis_wall_time_s : 0.0);
       }
     };
   } // namespace

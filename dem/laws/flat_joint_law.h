@@ -755,7 +755,7 @@ namespace demfem::dem
     {
       double A, rs, rt;
       element_geometry(p, st[h_R], e, A, rs, rt);
-      return {rs, rt};
+      return {{rs, rt}};
     }
     /// Gap at the element centroid g^(e) (memo Eq. 21).
     static double element_gap(const Params &p, const double *st, int e)

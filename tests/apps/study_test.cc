@@ -79,11 +79,19 @@ TEST_CASE("study: time-step safety beyond the limit is detected as unstable, no 
   REQUIRE(rows.size() == 5); // header + 2 x 2 runs
   // The region is packed by the calibration's genesis in a model of its
   // own: its steps are counted beside `steps`, not in them.
-  REQUIRE(rows[0].size() > 36);
+  // The four runs share one packing (docs/study.md, "Packing reuse"): the
+  // first packs it, the others reuse it, and every run's wall time counts
+  // the packing's.
+  REQUIRE(rows[0].size() > 38);
   CHECK(rows[0][36] == "genesis_steps");
+  CHECK(rows[0][37] == "genesis_reused");
+  CHECK(rows[0][38] == "genesis_wall_time_s");
   for (std::size_t i = 1; i < rows.size(); ++i)
     {
       CHECK(std::stod(rows[i][36]) > 0);
+      CHECK(rows[i][36] == rows[1][36]);
+      CHECK(rows[i][37] == (i == 1 ? "no" : "yes"));
+      CHECK(std::stod(rows[i][11]) >= std::stod(rows[i][38]));
       const bool beyond = std::stod(rows[i][7]) > 1;
       CHECK(rows[i][8] == (beyond ? "unstable" : "stable"));
       // a stable run is flagged equilibrated exactly when its final

@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include "coupling/dem_region.h"
+#include "coupling/genesis_cache.h"
 #include "dem/laws/flat_joint_law.h"
 #include "dem/measure/measurement.h"
 #include "dem/specimen/genesis.h"
@@ -394,4 +395,58 @@ TEST_CASE("region genesis: the 3D slab carved from the material genesis lies in 
   CHECK(std::abs(c.fj_gapped - 0.2 * c.fj) <= 0.5);
   CHECK(G.genesis_steps > 0);
   CHECK(G.n_bonds == std::size_t(c.fj));
+}
+
+TEST_CASE("region genesis: a sweep reuses the packing, bit for bit",
+          "[coupling][genesis]")
+{
+  // The genesis is deterministic, so a run with the same packing inputs
+  // carves its region out of the kept box (coupling/genesis_cache.h) and
+  // gets the region a fresh packing gives, exactly: the same grains, the
+  // same bonds, the same genesis random stream for the finalization.
+  clear_packed_boxes();
+  const RegionParams p = region_params(rich_material(), 0.8);
+  Region2D           a, b;
+  build(a, p);
+  build(b, p);
+  CHECK_FALSE(a.groups.genesis_reused);
+  CHECK(b.groups.genesis_reused);
+  CHECK(b.log.str().find("is reused") != std::string::npos);
+  CHECK(b.groups.genesis_steps == a.groups.genesis_steps);
+  CHECK(b.groups.genesis_wall_time_s == a.groups.genesis_wall_time_s);
+  const auto &Pa = a.model.particles, &Pb = b.model.particles;
+  REQUIRE(Pb.size() == Pa.size());
+  bool same = true;
+  for (std::size_t i = 0; i < Pa.size(); ++i)
+    same = same && Pa.x[i] == Pb.x[i] && Pa.radius[i] == Pb.radius[i] &&
+           Pa.id[i] == Pb.id[i];
+  CHECK(same);
+  CHECK(b.groups.n_bonds == a.groups.n_bonds);
+  CHECK(b.groups.porosity == a.groups.porosity);
+  const auto &Ja = joints(a.model), &Jb = joints(b.model);
+  REQUIRE(Jb.size() == Ja.size());
+  CHECK(Ja.props_data() == Jb.props_data()); // strengths, gaps, multipliers
+
+  // Strengths are the finalization's: another tensile strength reuses the
+  // box, and its bonds differ.
+  RegionParams q     = p;
+  q.material->fj_ten = {6e6, 1e6};
+  Region2D c;
+  build(c, q);
+  CHECK(c.groups.genesis_reused);
+  CHECK(c.model.particles.size() == Pa.size());
+
+  // Another seed is another packing.
+  RegionParams s = p;
+  s.seed         = p.seed + 1;
+  Region2D d;
+  build(d, s);
+  CHECK_FALSE(d.groups.genesis_reused);
+
+  // A run that would reuse a box is still refused for its own bad keys.
+  RegionParams bad     = p;
+  bad.material->fj_ten = {-1e6, 0};
+  Region2D e;
+  CHECK_THROWS_AS(build(e, bad), dem::InputError);
+  clear_packed_boxes();
 }
