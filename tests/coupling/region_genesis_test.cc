@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <sstream>
 #include <vector>
 
@@ -442,6 +443,29 @@ TEST_CASE("region genesis: a sweep reuses the packing, bit for bit",
   Region2D d;
   build(d, s);
   CHECK_FALSE(d.groups.genesis_reused);
+
+  // Every packing input is in the key: a change of any one packs anew
+  // (dem::pack_specimen reads these; genesis_cache.cc, packing_key).
+  const std::vector<std::pair<const char *, std::function<void(dem::MaterialParams &)>>>
+      inputs = {{"Pm", [](auto &m) { m.Pm *= 1.5; }},
+                {"lnm_emod", [](auto &m) { m.lnm_emod *= 1.5; }},
+                {"lnm_krat", [](auto &m) { m.lnm_krat *= 1.5; }},
+                {"emod", [](auto &m) { m.emod *= 1.5; }},
+                {"density", [](auto &m) { m.density *= 1.5; }},
+                {"local_damping", [](auto &m) { m.local_damping = 0.5; }},
+                {"diameter_multiplier", [](auto &m) { m.diameter_multiplier = 0.9; }},
+                {"sizes", [](auto &m) { m.sizes[1].d_hi = 0.11; }},
+                {"ratio_limit", [](auto &m) { m.ratio_limit = 4e-3; }},
+                {"P_tol", [](auto &m) { m.P_tol = 5e-3; }}};
+  for (const auto &[name, change] : inputs)
+    {
+      RegionParams v = p;
+      change(*v.material);
+      Region2D r;
+      build(r, v);
+      INFO("changed " << name);
+      CHECK_FALSE(r.groups.genesis_reused);
+    }
 
   // A run that would reuse a box is still refused for its own bad keys.
   RegionParams bad     = p;
