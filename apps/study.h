@@ -10,6 +10,7 @@
 #include "coupling/full_dem_reference.h"
 #include "coupling/tunnel_run.h"
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <ostream>
@@ -55,6 +56,14 @@ namespace demfem::apps::study
   /// the wall r = a: u = -a (sxx + syy) / (4 G), G = E / (2 (1 + nu)).
   double kirsch_mean_convergence(const Eigen::Matrix2d &sigma0, double a, double E,
                                  double nu);
+  /// The same, evaluated where the measured wall grains are: the mean over
+  /// `points` (reference x, y; r >= a) of Kirsch's excavation-induced inward
+  /// radial displacement, u_r = a^2/(4 G r) [(S1 + S2) + (S1 - S2)
+  /// (4 (1 - nu) - a^2/r^2) cos 2 (theta - phi)] (tension positive, plane
+  /// strain). On r = a it is kirsch_mean_convergence's integrand.
+  double kirsch_convergence_at(const Eigen::Matrix2d &sigma0, double a, double E,
+                               double                                    nu,
+                               const std::vector<std::array<double, 2>> &points);
   /// In-plane differential stress sigma1 - sigma3 of the Kirsch field at
   /// (r, theta), theta from the x axis.
   double kirsch_differential_stress(const Eigen::Matrix2d &sigma0, double a, double r,
@@ -97,7 +106,11 @@ namespace demfem::apps::study
     std::string   diagnosis;
     coupling::TunnelResult result;
     double                 kirsch = 0, error = 0; ///< error: relative, signed
-    bool                   pareto = false;
+    /// Kirsch where the wall grains are (kirsch_convergence_at) and the
+    /// error against it: free of the O(d/a) offset of the grains' centres
+    /// lying up to a diameter outside the wall (docs/study.md).
+    double kirsch_at_grains = 0, error_at_grains = 0;
+    bool   pareto       = false;
     double final_ratio  = -1;    ///< last unbalanced ratio (history.csv); -1 unknown
     bool   equilibrated = false; ///< final ratio <= Coupling/equilibrium ratio
     // Breakable mode: `error` is the relative difference of the damage-zone

@@ -43,6 +43,24 @@ namespace demfem::apps::study
     return -a * (sigma0(0, 0) + sigma0(1, 1)) / (4 * G);
   }
 
+  double kirsch_convergence_at(const Eigen::Matrix2d &sigma0, double a, double E,
+                               double                                    nu,
+                               const std::vector<std::array<double, 2>> &points)
+  {
+    double s1, s2, phi;
+    principal(sigma0, s1, s2, phi);
+    const double G = E / (2 * (1 + nu));
+    double       u = 0;
+    for (const auto &x : points)
+      {
+        const double r = std::hypot(x[0], x[1]), q = a * a / (r * r);
+        const double t = std::atan2(x[1], x[0]) - phi;
+        u += a * a / (4 * G * r) *
+             ((s1 + s2) + (s1 - s2) * (4 * (1 - nu) - q) * std::cos(2 * t));
+      }
+    return points.empty() ? 0.0 : -u / double(points.size()); // inward positive
+  }
+
   double kirsch_differential_stress(const Eigen::Matrix2d &sigma0, double a, double r,
                                     double theta)
   {
@@ -181,7 +199,8 @@ namespace demfem::apps::study
          "cracks_total,cracks_excavation,cracks_tensile,cracks_shear,"
          "damage_zone_depth_m,reference_depth_m,cracks_rel_diff,agrees,"
          "region_too_small,damaged_area_m2,notch_depth_m,notch_angle_deg,genesis_steps,"
-         "genesis_reused,genesis_wall_time_s,diagnosis\n";
+         "genesis_reused,genesis_wall_time_s,kirsch_at_grains_m,error_at_grains_rel,"
+         "diagnosis\n";
     for (const auto &r : rows)
       {
         const bool ok  = r.status == "stable";
@@ -221,7 +240,10 @@ namespace demfem::apps::study
           << num(r.result.damage.notch_angle, dmg) << ","
           << (ran ? std::to_string(r.result.genesis_steps) : "") << ","
           << (ran ? (r.result.genesis_reused ? "yes" : "no") : "") << ","
-          << num(r.result.genesis_wall_time_s, ran) << "," << quoted(r.diagnosis) << "\n";
+          << num(r.result.genesis_wall_time_s, ran) << ","
+          << num(r.kirsch_at_grains, ok && !r.breakable) << ","
+          << num(r.error_at_grains, ok && !r.breakable) << "," << quoted(r.diagnosis)
+          << "\n";
       }
     write_file_atomically(file, o.str());
   }

@@ -268,7 +268,13 @@ namespace demfem::apps
           if (row.status != "stable")
             row.error = 0;
           else if (!st.breakable)
-            row.error = (u - kirsch) / kirsch;
+            {
+              row.error            = (u - kirsch) / kirsch;
+              row.kirsch_at_grains = study::kirsch_convergence_at(
+                  base.sigma0, a, base.continuum.young_modulus,
+                  base.continuum.poisson_ratio, res.wall_points);
+              row.error_at_grains = (u - row.kirsch_at_grains) / row.kirsch_at_grains;
+            }
           else
             {
               // Agreement with the full-DEM reference on the damage-zone

@@ -130,7 +130,11 @@ namespace demfem::coupling
       r.damage                   = excavation::damage_zone(m.dem, exc.cracks_before, a);
       r.damage_zone_depth        = r.damage.depth;
       r.damage_zone_depth_max    = r.damage.depth_max;
-      r.wall_convergence_mean    = convergence(&r.n_wall_particles);
+      std::vector<std::array<double, 6>> rows;
+      r.wall_convergence_mean = convergence(&r.n_wall_particles, &rows);
+      r.wall_points.clear();
+      for (const auto &q : rows)
+        r.wall_points.push_back({{q[0], q[1]}});
     }
 
     /// Checkpoint state (one function for saving and loading).

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -98,6 +99,9 @@ namespace demfem::coupling
     double      wall_convergence_mean = 0; ///< mean inward radial displacement [m]
     double      interface_force_imbalance_max = 0;
     std::size_t n_wall_particles              = 0;
+    /// Reference (x, y) of the wall grains that wall_convergence_mean
+    /// averages (for a closed form evaluated where they are; docs/study.md).
+    std::vector<std::array<double, 2>> wall_points;
     /// sigma0 asked (in plane) and the centre-disk stress measured before the
     /// excavation; in_situ_error = max |difference| / max |sigma0 principal|.
     Eigen::Matrix2d sigma0 = Eigen::Matrix2d::Zero();

@@ -9,6 +9,7 @@
 #include <cstdlib> // setenv
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -209,6 +210,25 @@ TEST_CASE("study: the error against Kirsch stays within the packing scatter at a
       // the Kirsch column is the closed form p a / (2 G)
       CHECK(std::stod(rows[i][13]) == Approx(u_kirsch).epsilon(1e-5));
       CHECK(std::abs(std::stod(rows[i][14])) < 0.15);
+      // Kirsch where the wall grains are (hydrostatic: p a^2 / (2 G r)),
+      // averaged over the grains of the run's wall_displacement.csv
+      REQUIRE(rows[0].size() > 40);
+      CHECK(rows[0][39] == "kirsch_at_grains_m");
+      std::ostringstream run;
+      run << d << "/run_" << std::setw(3) << std::setfill('0') << rows[i][0]
+          << "/wall_displacement.csv";
+      const auto wall = csv(run.str());
+      REQUIRE(wall.size() > 10);
+      double u_at = 0;
+      for (std::size_t k = 1; k < wall.size(); ++k)
+        u_at += p * a * a /
+                (2 * G * std::hypot(std::stod(wall[k][0]), std::stod(wall[k][1])));
+      u_at /= double(wall.size() - 1);
+      // (study.csv prints 6 significant digits: 5e-6 relative per value)
+      CHECK(std::stod(rows[i][39]) == Approx(u_at).epsilon(1e-5));
+      CHECK(u_at < u_kirsch); // the grains' centres lie outside the wall
+      const double u = std::stod(rows[i][12]);
+      CHECK(std::stod(rows[i][40]) == Approx((u - u_at) / u_at).margin(3e-5));
     }
 }
 
