@@ -219,4 +219,50 @@ namespace demfem::apps
     std::cerr << "demfem calibrate: summary.json: status " << status << "; exit 3\n";
     return {3, status};
   }
+  void StrengthEnvelope::fit(const std::string &where)
+  {
+    const std::string what = where + ": Tests/confining pressures";
+    mc                     = dem::fit_mohr_coulomb(sigma_3, sigma_1, what);
+    hb                     = dem::fit_hoek_brown(sigma_3, sigma_1, what);
+  }
+
+  Json StrengthEnvelope::json() const
+  {
+    Json m, h, e;
+    m.num("cohesion_Pa", mc.cohesion)
+        .num("friction_angle_deg", mc.friction_angle * 180 / M_PI)
+        .num("sigma_c_Pa", mc.sigma_c)
+        .num("slope_q", mc.q)
+        .num("r2", mc.r2);
+    h.num("sigma_ci_Pa", hb.sigma_ci).num("mi", hb.mi).num("r2", hb.r2);
+    e.nums("confining_pressures_Pa", sigma_3)
+        .nums("peak_axial_stresses_Pa", sigma_1)
+        .obj("mohr_coulomb", m)
+        .obj("hoek_brown", h)
+        .str("hoek_brown_fit", "linear regression of (sigma_1 - sigma_3)^2 on sigma_3 "
+                               "(Hoek & Brown 1997), intact rock s = 1, a = 0.5");
+    return e;
+  }
+
+  std::string StrengthEnvelope::svg(int dim, const std::vector<PlotSeries> &extra) const
+  {
+    const double hi = *std::max_element(sigma_3.begin(), sigma_3.end());
+    PlotSeries   pts{"peaks", {}, {}, "#000", true};
+    PlotSeries   m{"Mohr-Coulomb", {}, {}, "#c00"}, h{"Hoek-Brown", {}, {}, "#06c"};
+    for (std::size_t k = 0; k < sigma_3.size(); ++k)
+      pts.x.push_back(sigma_3[k] / 1e6), pts.y.push_back(sigma_1[k] / 1e6);
+    for (int k = 0; k <= 50; ++k)
+      {
+        const double s3 = hi * k / 50;
+        m.x.push_back(s3 / 1e6), m.y.push_back(dem::mohr_coulomb_sigma_1(mc, s3) / 1e6);
+        h.x.push_back(s3 / 1e6), h.y.push_back(dem::hoek_brown_sigma_1(hb, s3) / 1e6);
+      }
+    std::vector<PlotSeries> all = extra;
+    all.insert(all.end(), {m, h, pts});
+    std::ostringstream t;
+    t.precision(3);
+    t << "Triaxial envelope (" << dim << "D): c " << mc.cohesion / 1e6 << " MPa, phi "
+      << mc.friction_angle * 180 / M_PI << " deg; m_i " << hb.mi;
+    return svg_plot(t.str(), "sigma_3 = Pc  [MPa]", "peak sigma_1  [MPa]", all);
+  }
 } // namespace demfem::apps

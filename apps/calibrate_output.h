@@ -2,6 +2,7 @@
 // Output helpers of `demfem calibrate`: JSON objects built in order
 // (nlohmann-json underneath; non-finite numbers become null), the history
 // CSV and dependency-free SVG plots (stress-strain curve, strength envelope).
+#include "dem/specimen/envelope.h"
 #include "dem/specimen/lab_tests.h"
 
 #include <nlohmann/json.hpp>
@@ -73,4 +74,21 @@ namespace demfem::apps
   std::string svg_plot(const std::string &title, const std::string &xlabel,
                        const std::string &ylabel, const std::vector<double> &x,
                        const std::vector<double> &y);
+  /// Peaks of a triaxial series and their envelopes (dem/specimen/envelope.h;
+  /// docs/calibrate.md, "Triaxial series and envelope"). Compression
+  /// positive.
+  struct StrengthEnvelope
+  {
+    std::vector<double> sigma_3, sigma_1; ///< Pc and peak axial stress [Pa]
+    dem::MohrCoulombFit mc;
+    dem::HoekBrownFit   hb;
+
+    /// Fits both envelopes; `where` names the file in an error.
+    void fit(const std::string &where);
+    /// material.json's "envelope" object.
+    Json json() const;
+    /// sigma_1 against sigma_3 in MPa: the peaks, both fitted envelopes and
+    /// `extra` series (e.g. each packing's peaks behind their means).
+    std::string svg(int dim, const std::vector<PlotSeries> &extra = {}) const;
+  };
 } // namespace demfem::apps

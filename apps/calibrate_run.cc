@@ -226,62 +226,6 @@ namespace demfem::apps
       return o.str();
     }
 
-    // Peaks of a triaxial series and their envelopes (dem/specimen/envelope.h).
-    struct Envelope
-    {
-      std::vector<double> sigma_3, sigma_1; // compression positive [Pa]
-      dem::MohrCoulombFit mc;
-      dem::HoekBrownFit   hb;
-
-      void fit(const std::string &where)
-      {
-        const std::string what = where + ": Tests/confining pressures";
-        mc                     = dem::fit_mohr_coulomb(sigma_3, sigma_1, what);
-        hb                     = dem::fit_hoek_brown(sigma_3, sigma_1, what);
-      }
-
-      Json json() const
-      {
-        Json m, h, e;
-        m.num("cohesion_Pa", mc.cohesion)
-            .num("friction_angle_deg", mc.friction_angle * 180 / M_PI)
-            .num("sigma_c_Pa", mc.sigma_c)
-            .num("slope_q", mc.q)
-            .num("r2", mc.r2);
-        h.num("sigma_ci_Pa", hb.sigma_ci).num("mi", hb.mi).num("r2", hb.r2);
-        e.nums("confining_pressures_Pa", sigma_3)
-            .nums("peak_axial_stresses_Pa", sigma_1)
-            .obj("mohr_coulomb", m)
-            .obj("hoek_brown", h)
-            .str("hoek_brown_fit",
-                 "linear regression of (sigma_1 - sigma_3)^2 on sigma_3 "
-                 "(Hoek & Brown 1997), intact rock s = 1, a = 0.5");
-        return e;
-      }
-
-      // sigma_1 against sigma_3 in MPa: the peaks and both fitted envelopes.
-      std::string svg(int dim) const
-      {
-        const double hi = *std::max_element(sigma_3.begin(), sigma_3.end());
-        PlotSeries   pts{"peaks", {}, {}, "#000", true};
-        PlotSeries   m{"Mohr-Coulomb", {}, {}, "#c00"}, h{"Hoek-Brown", {}, {}, "#06c"};
-        for (std::size_t k = 0; k < sigma_3.size(); ++k)
-          pts.x.push_back(sigma_3[k] / 1e6), pts.y.push_back(sigma_1[k] / 1e6);
-        for (int k = 0; k <= 50; ++k)
-          {
-            const double s3 = hi * k / 50;
-            m.x.push_back(s3 / 1e6),
-                m.y.push_back(dem::mohr_coulomb_sigma_1(mc, s3) / 1e6);
-            h.x.push_back(s3 / 1e6), h.y.push_back(dem::hoek_brown_sigma_1(hb, s3) / 1e6);
-          }
-        std::ostringstream t;
-        t.precision(3);
-        t << "Triaxial envelope (" << dim << "D): c " << mc.cohesion / 1e6 << " MPa, phi "
-          << mc.friction_angle * 180 / M_PI << " deg; m_i " << hb.mi;
-        return svg_plot(t.str(), "sigma_3 = Pc  [MPa]", "peak sigma_1  [MPa]",
-                        {m, h, pts});
-      }
-    };
   } // namespace
 
   // A fresh copy of the specimen right after genesis, so that every test
@@ -532,7 +476,7 @@ namespace demfem::apps
 
     Json                                      tests_json;
     std::map<std::string, dem::LabTestResult> results;
-    std::optional<Envelope>                   envelope;
+    std::optional<StrengthEnvelope>           envelope;
     for (const auto &t : s.tests)
       {
         dem::LabTestParams lp = s.lab;
@@ -542,7 +486,7 @@ namespace demfem::apps
           {
             // One test per confining pressure (Pc = 0: unconfined), then the
             // envelopes through the peaks (dem/specimen/envelope.h).
-            Envelope          e;
+            StrengthEnvelope  e;
             std::vector<Json> points;
             for (double Pc : s.confining_pressures)
               {

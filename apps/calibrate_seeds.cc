@@ -2,6 +2,7 @@
 // a material's properties are the means over packings, not one packing's
 // values (docs/calibrate.md, "Several packings").
 #include "apps/calibrate.h"
+#include "apps/calibrate_output.h"
 #include "common/statistics.h"
 #include "dem/io/vtk_output.h"
 
@@ -53,6 +54,80 @@ namespace demfem::apps
       const auto i   = statistics::mean_interval(measured);
       mean_into[key] = i.mean;
       sd_into[key]   = measured.size() > 1 ? json(i.sd) : json(nullptr);
+    }
+    // The envelope of a triaxial series over the packings: each confining
+    // pressure's peak averaged over the seeds and both envelopes fitted to
+    // these means, so that the file's envelope, like every other number in
+    // it, is the material's and not the first packing's. Each packing's own
+    // fit (m_i, sigma_ci, c, phi) goes to seed_values with its scatter.
+    void average_envelope(const std::vector<json> &files, int dim, const std::string &dir,
+                          const std::string &where, json &out, json &scatter,
+                          json &values)
+    {
+      std::vector<std::vector<double>> peaks;
+      for (const auto &f : files)
+        {
+          const auto it = f.find("envelope");
+          if (it == f.end() || !it->is_object())
+            return; // no triaxial series in this run
+          peaks.push_back((*it)["peak_axial_stresses_Pa"].get<std::vector<double>>());
+        }
+      StrengthEnvelope mean;
+      mean.sigma_3 = files.front()["envelope"]["confining_pressures_Pa"]
+                         .get<std::vector<double>>(); // the same list in every seed
+      std::vector<double> sd;
+      for (std::size_t k = 0; k < mean.sigma_3.size(); ++k)
+        {
+          std::vector<double> at;
+          for (const auto &p : peaks)
+            at.push_back(p.at(k));
+          const auto i = statistics::mean_interval(at);
+          mean.sigma_1.push_back(i.mean);
+          sd.push_back(i.sd);
+        }
+      mean.fit(where);
+      json e                         = json::parse(mean.json().text());
+      e["peak_axial_stresses_sd_Pa"] = sd;
+      e["fitted_to"] = "the seed means of the peaks at each confining pressure";
+
+      const std::vector<std::pair<const char *, std::vector<const char *>>> fits = {
+          {"mi", {"hoek_brown", "mi"}},
+          {"sigma_ci_Pa", {"hoek_brown", "sigma_ci_Pa"}},
+          {"cohesion_Pa", {"mohr_coulomb", "cohesion_Pa"}},
+          {"friction_angle_deg", {"mohr_coulomb", "friction_angle_deg"}}};
+      std::vector<json> own; // each packing's fit, flattened
+      for (const auto &f : files)
+        {
+          json o = json::object();
+          for (const auto &[key, path] : fits)
+            o[key] = f["envelope"][path[0]][path[1]];
+          own.push_back(o);
+        }
+      std::vector<const json *> objs;
+      for (const auto &o : own)
+        objs.push_back(&o);
+      json m = json::object(), es = json::object(), ev = json::object();
+      for (const auto &[key, path] : fits)
+        average(objs, key, m, es, ev);
+      ev["peak_axial_stresses_Pa"]       = peaks;
+      e["seed_mean_of_each_packing_fit"] = m;
+      out["envelope"]                    = e;
+      scatter["envelope"]                = es;
+      values["envelope"]                 = ev;
+
+      std::vector<PlotSeries> each;
+      for (std::size_t k = 0; k < peaks.size(); ++k)
+        {
+          PlotSeries p{k == 0 ? "each packing" : "", {}, {}, "#999", true};
+          for (std::size_t i = 0; i < peaks[k].size(); ++i)
+            p.x.push_back(mean.sigma_3[i] / 1e6), p.y.push_back(peaks[k][i] / 1e6);
+          each.push_back(p);
+        }
+      dem::vtkout::write_text_atomically(dir + "/envelope.svg", mean.svg(dim, each));
+      std::cerr
+          << "demfem calibrate: envelope of the seed-mean peaks: Hoek-Brown sigma_ci "
+          << mean.hb.sigma_ci / 1e6 << " MPa, m_i " << mean.hb.mi
+          << " (each packing's m_i: mean " << m["mi"] << ", sd " << es["mi"] << ")\n";
     }
   } // namespace
 
@@ -114,9 +189,10 @@ namespace demfem::apps
                               : split == 0          ? files.front()["bts_failure_mode"]
                                            : json("split in " + std::to_string(split) +
                                                   " of " + std::to_string(files.size()));
-    out["seeds"]            = seeds;
-    out["seed_scatter"]     = scatter;
-    out["seed_values"]      = values;
+    average_envelope(files, dim, s.out, s.where, out, scatter, values);
+    out["seeds"]        = seeds;
+    out["seed_scatter"] = scatter;
+    out["seed_values"]  = values;
     out["seed_means"] =
         "every measured property is the mean over the packings of 'seeds' "
         "(nulls left out); seed_scatter: sample standard deviations; "

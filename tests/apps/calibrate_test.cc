@@ -5,6 +5,8 @@
 #include "run_command.h"
 
 #include <catch2/catch.hpp>
+
+#include "dem/specimen/envelope.h"
 #include <nlohmann/json.hpp>
 
 #include <unistd.h>
@@ -274,6 +276,58 @@ TEST_CASE("calibrate: triaxial series with envelope, rate check and region tensi
   CHECK(mat["direct_tension_regions"].get<double>() > 0);
   CHECK(fs::is_regular_file(out / "envelope.svg"));
   CHECK(fs::is_regular_file(out / "history_triaxial_series_5_MPa.csv"));
+}
+
+TEST_CASE(
+    "calibrate: a triaxial series over packings fits the envelope to the seed means",
+    "[calibrate][envelope][seeds]")
+{
+  // Problem/seeds = 2: the file's envelope must be the material's, fitted
+  // to each confining pressure's mean peak, not the first packing's.
+  const auto t =
+      run_tiny("series_seeds", "--set \"Tests/tests=triaxial series\" --set "
+                               "\"Tests/confining pressures=0, 2e6, 5e6\" "
+                               "--set Problem/seeds=2 --set Problem/vtk=false");
+  INFO(t.r.out);
+  REQUIRE(t.r.exit_code == 0);
+  const auto m  = nlohmann::json::parse(read(t.out / "material.json"));
+  const auto a  = nlohmann::json::parse(read(t.out / "seed_10000" / "material.json"));
+  const auto b  = nlohmann::json::parse(read(t.out / "seed_10001" / "material.json"));
+  const auto pa = a["envelope"]["peak_axial_stresses_Pa"].get<std::vector<double>>();
+  const auto pb = b["envelope"]["peak_axial_stresses_Pa"].get<std::vector<double>>();
+  REQUIRE(pa.size() == 3);
+  REQUIRE(pb.size() == 3);
+  CHECK(pa != pb); // two packings (else the comparison below proves nothing)
+  const auto         &e  = m["envelope"];
+  std::vector<double> s3 = e["confining_pressures_Pa"], s1 = e["peak_axial_stresses_Pa"];
+  CHECK(s3 == std::vector<double>{0, 2e6, 5e6});
+  for (std::size_t k = 0; k < 3; ++k)
+    {
+      // Mean and sample standard deviation of two values, to round-off.
+      CHECK(s1[k] == Approx(0.5 * (pa[k] + pb[k])).epsilon(1e-12));
+      CHECK(e["peak_axial_stresses_sd_Pa"][k].get<double>() ==
+            Approx(std::abs(pa[k] - pb[k]) / std::sqrt(2.0)).epsilon(1e-9));
+    }
+  // Both envelopes are the fits to those means (dem/specimen/envelope.h,
+  // tested against closed forms in tests/dem/envelope_test.cc).
+  const auto hb = demfem::dem::fit_hoek_brown(s3, s1, "test");
+  const auto mc = demfem::dem::fit_mohr_coulomb(s3, s1, "test");
+  CHECK(e["hoek_brown"]["mi"].get<double>() == Approx(hb.mi).epsilon(1e-12));
+  CHECK(e["hoek_brown"]["sigma_ci_Pa"].get<double>() ==
+        Approx(hb.sigma_ci).epsilon(1e-12));
+  CHECK(e["mohr_coulomb"]["cohesion_Pa"].get<double>() ==
+        Approx(mc.cohesion).epsilon(1e-12));
+  // Each packing's own fit is kept, with its mean and scatter.
+  const double ma = a["envelope"]["hoek_brown"]["mi"],
+               mb = b["envelope"]["hoek_brown"]["mi"];
+  CHECK(m["seed_values"]["envelope"]["mi"] == nlohmann::json::array({ma, mb}));
+  CHECK(e["seed_mean_of_each_packing_fit"]["mi"].get<double>() ==
+        Approx(0.5 * (ma + mb)).epsilon(1e-12));
+  CHECK(m["seed_scatter"]["envelope"]["mi"].get<double>() ==
+        Approx(std::abs(ma - mb) / std::sqrt(2.0)).epsilon(1e-9));
+  // The series' unconfined peak is the UCS: the file's UCS is its mean.
+  CHECK(m["ucs"].get<double>() == Approx(s1[0]).epsilon(1e-12));
+  CHECK(fs::is_regular_file(t.out / "envelope.svg"));
 }
 
 TEST_CASE("calibrate: the loading-rate check reports half and quarter rate",
