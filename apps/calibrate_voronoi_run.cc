@@ -399,21 +399,14 @@ namespace demfem::apps
         s3.push_back(t.confining_pressure), s1.push_back(get(t.label)->peak_stress);
     if (s3.size() >= 2)
       {
+        StrengthEnvelope env;
+        env.sigma_3 = s3;
+        env.sigma_1 = s1;
         Json e;
-        e.nums("confining_pressures_Pa", s3).nums("peak_axial_stresses_Pa", s1);
         try
           {
-            const std::string what = s.where + ": Tests/confining pressures";
-            const auto        mc   = dem::fit_mohr_coulomb(s3, s1, what);
-            const auto        hb   = dem::fit_hoek_brown(s3, s1, what);
-            Json              m, h;
-            m.num("cohesion_Pa", mc.cohesion)
-                .num("friction_angle_deg", mc.friction_angle * 180 / M_PI)
-                .num("sigma_c_Pa", mc.sigma_c)
-                .num("slope_q", mc.q)
-                .num("r2", mc.r2);
-            h.num("sigma_ci_Pa", hb.sigma_ci).num("mi", hb.mi).num("r2", hb.r2);
-            e.obj("mohr_coulomb", m).obj("hoek_brown", h);
+            env.fit(s.where);
+            e = env.json();
           }
         catch (const std::invalid_argument &error)
           {
@@ -421,6 +414,7 @@ namespace demfem::apps
             // limit below sigma_3): the peaks are kept, the fit is not.
             std::cerr << "demfem calibrate: warning: no envelope fitted: " << error.what()
                       << "\n";
+            e.nums("confining_pressures_Pa", s3).nums("peak_axial_stresses_Pa", s1);
             e.str("fit_error", error.what());
           }
         mat.obj("envelope", e);
