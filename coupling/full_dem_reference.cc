@@ -332,10 +332,17 @@ namespace demfem::coupling
                    "held_stress_yy,held_stress_xy,servo_error,wall_convergence_mean\n";
         try
           {
+            // Installed with bond breakage suspended, then the strengths act
+            // at sigma0, as in the embedded run (coupling/tunnel_run.cc,
+            // docs/tunnel.md "In-situ stress installation").
             phase = "in-situ";
+            m.suspend_bond_breakage(true);
             cycle(p.ramp_steps, p.ramp_steps + p.phase_step_limit, [&](std::int64_t n) {
               load_factor = std::min(1.0, double(n) / p.ramp_steps);
             });
+            phase = "in-situ cracking";
+            m.suspend_bond_breakage(false);
+            cycle(0, p.phase_step_limit, [](std::int64_t) {});
             r.held_stress_insitu = servo->held_stress(m);
             r.servo_error_insitu = servo->relative_error(m, 1.0);
             r.servo_held_insitu  = r.servo_error_insitu <= p.servo.tolerance;

@@ -90,6 +90,13 @@ namespace demfem::dem
     /// does this on the steps of the energy-balance check; a separate pass
     /// over all states cost ~5 % of a 3D flat-joint run).
     void    request_strain_energy() { energy_requested_ = true; }
+    /// Bond breakage suspended: while true, `compute` hands each law its
+    /// block with infinite bond strengths (Law::unbreakable), so bonds stay
+    /// intact whatever their load; the blocks themselves are not touched.
+    /// For installing a stress state elastically before the strengths act
+    /// (docs/architecture.md, "In-situ stress installation").
+    void suspend_breakage(bool s) { breakage_suspended_ = s; }
+    bool breakage_suspended() const { return breakage_suspended_; }
     double *state(std::size_t k)
     {
       energy_fresh_ = false; // the caller may change the state
@@ -138,6 +145,7 @@ namespace demfem::dem
     std::vector<double> energy_;
     bool                energy_requested_ = false, energy_fresh_ = false;
     std::uint64_t       topology_ = 0;
+    bool                breakage_suspended_ = false;
   };
 
   template <int dim, class Law>
@@ -455,6 +463,7 @@ namespace demfem::dem
     double *const      state_block = this->state_.data();
     const Props *const props_block = props_.data();
     const int          n_state     = stride_;
+    const bool         unbreakable = this->breakage_suspended_;
     // Contacts go in blocks: first the kinematics of the whole block, whose
     // iterations are independent so the out-of-order core overlaps their
     // sqrt/division latency chains (one contact at a time, the long law
@@ -476,7 +485,10 @@ namespace demfem::dem
             sink.contact                  = k;
             ContactForce &f               = this->local_force[k];
             const Props  &q               = props_block[k];
-            Law::update(params, q, st, state, f, sink);
+            if (unbreakable) // a copy only while suspended (not the hot path)
+              Law::update(params, Law::unbreakable(q), st, state, f, sink);
+            else
+              Law::update(params, q, st, state, f, sink);
             if (want_energy)
               this->energy_[k] = Law::strain_energy(params, q, state);
             // Global force and moment on piece 2 (memo Eq. 58).

@@ -37,6 +37,9 @@
 //   static void prepare(Params &);                  group constants, once
 //   static void derive(const Params &, Props &);    per-contact constants,
 //                                                   after the block is set
+//   static Props unbreakable(const Props &);        the block with infinite
+//                                                   bond strengths (a law
+//                                                   without bond: the block)
 //   static const std::vector<PropertyField<Props>> &properties();
 //   static int  state_size(const Params &);
 //   static void install(const Params &, const Props &, const ContactGeometry<dim> &,

@@ -13,6 +13,7 @@ namespace demfem::dem
   int Model<dim>::add_group(std::unique_ptr<ContactGroupBase<dim>> g)
   {
     groups_.push_back(std::move(g));
+    groups_.back()->suspend_breakage(breakage_suspended_);
     return static_cast<int>(groups_.size()) - 1;
   }
 

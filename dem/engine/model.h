@@ -76,8 +76,22 @@ namespace demfem::dem
       p.validate(where);
       Law::prepare(p);
       groups_.push_back(std::make_unique<ContactGroup<dim, Law>>(p, std::move(rule)));
+      groups_.back()->suspend_breakage(breakage_suspended_);
       return static_cast<int>(groups_.size()) - 1;
     }
+    /// Suspends (true) or resumes (false) bond breakage in every contact
+    /// group, those added later included: while suspended, bonds carry any
+    /// load elastically (ContactGroupBase::suspend_breakage); on resuming,
+    /// a bond loaded beyond its strength breaks at the next step. Used to
+    /// install a stress state before the strengths act (docs/architecture.md,
+    /// "In-situ stress installation").
+    void suspend_bond_breakage(bool s)
+    {
+      breakage_suspended_ = s;
+      for (auto &g : groups_)
+        g->suspend_breakage(s);
+    }
+    bool bond_breakage_suspended() const { return breakage_suspended_; }
     /// Group g as its law's type; InputError if it has another law.
     template <class Law>
     ContactGroup<dim, Law> &typed_group(int g)
@@ -218,6 +232,7 @@ namespace demfem::dem
     void remap_contacts(const std::vector<std::int64_t> &map);
 
     std::vector<std::unique_ptr<ContactGroupBase<dim>>> groups_;
+    bool breakage_suspended_ = false; // suspend_bond_breakage
     std::unordered_map<std::uint64_t, ContactRef>       index_;
     NeighborGrid<dim>                                   grid_;
     std::vector<EventSink>                              sinks_;

@@ -58,6 +58,14 @@ namespace demfem::dem
     };
 
     static void prepare(Params &) {}
+    /// The block with its bond strengths infinite: what the contact loop
+    /// hands to `update` while bond breakage is suspended
+    /// (Model::suspend_bond_breakage, docs/architecture.md).
+    static Props unbreakable(Props q)
+    {
+      q.cb_tenf = q.cb_shearf = HUGE_VAL;
+      return q;
+    }
     static void derive(const Params &, Props &) {}
 
     static const std::vector<PropertyField<Props>> &properties()

@@ -103,6 +103,14 @@ namespace demfem::dem
       p.unit_table = dim == 3 ? flat_joint_unit_geometry(p.Nr, p.Nal) : nullptr;
       derive(p, p);
     }
+    /// The block with its bond strengths infinite: what the contact loop
+    /// hands to `update` while bond breakage is suspended
+    /// (Model::suspend_bond_breakage, docs/architecture.md).
+    static Props unbreakable(Props q)
+    {
+      q.ten = q.coh = HUGE_VAL;
+      return q;
+    }
     /// tan(phi), and the initial microstructural type from the install flag
     /// and g_o (memo Table 4) unless genesis designated it.
     static void derive(const Params &p, Props &q)

@@ -67,6 +67,14 @@ namespace demfem::dem
     };
 
     static void prepare(Params &p) { derive(p, p); }
+    /// The block with its bond strengths infinite: what the contact loop
+    /// hands to `update` while bond breakage is suspended
+    /// (Model::suspend_bond_breakage, docs/architecture.md).
+    static Props unbreakable(Props q)
+    {
+      q.pb_ten = q.pb_coh = HUGE_VAL;
+      return q;
+    }
     static void derive(const Params &, Props &q)
     {
       q.pb_tan_fa = std::tan(q.pb_fa * M_PI / 180.0);

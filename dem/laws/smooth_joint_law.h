@@ -73,6 +73,14 @@ namespace demfem::dem
     };
 
     static void prepare(Params &p) { derive(p, p); }
+    /// The block with its bond strengths infinite: what the contact loop
+    /// hands to `update` while bond breakage is suspended
+    /// (Model::suspend_bond_breakage, docs/architecture.md).
+    static Props unbreakable(Props q)
+    {
+      q.sj_ten = q.sj_coh = HUGE_VAL;
+      return q;
+    }
     static void derive(const Params &, Props &q)
     {
       q.sj_tan_fa = std::tan(deg(q.sj_fa));

@@ -148,7 +148,8 @@ TEST_CASE("tunnel restart: stopped and continued run equals the uninterrupted on
   CHECK(sb["status"] == sa["status"]);
   CHECK(sb["problems"] == sa["problems"]);
   CHECK(sb["phases"] == sa["phases"]);
-  CHECK(sa["phases"].size() == 4); // in-situ, two stages, equilibrium
+  // in-situ, in-situ cracking, two stages, equilibrium
+  CHECK(sa["phases"].size() == 5);
   // Every crack of the flat-jointed region is a flat-joint crack, counted by
   // type in summary.json; the restarted run's crack records keep their type.
   CHECK(sa["cracks_by_type"] == nlohmann::json{{"contact_bond", 0},

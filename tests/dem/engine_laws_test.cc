@@ -143,6 +143,76 @@ TEST_CASE("bonded flat joint pulled apart: one tensile crack per element (3D)", 
 
 namespace
 {
+  // Bond breakage suspended (Model::suspend_bond_breakage): the pair of
+  // pull_apart opened to three times its breaking gap stays bonded and
+  // elastic (Fn = kn g A, memo Eq. 32), its property block untouched; on
+  // resuming, every element breaks at the next step.
+  template <int dim>
+  void pull_apart_suspended()
+  {
+    Threads      one(1);
+    Model<dim>   m;
+    const double r  = 0.01;
+    Vec<dim>     x1 = Vec<dim>::Zero();
+    x1[0]           = 2 * r;
+    m.particles.add(Vec<dim>::Zero(), r, 2650);
+    m.particles.add(x1, r, 2650);
+    typename FlatJointLaw<dim>::Params p;
+    p.Nr     = dim == 2 ? 3 : 2;
+    p.Nal    = 6;
+    p.rmul   = 1;
+    p.kn     = 1e11;
+    p.ks     = 4e10;
+    p.ten    = 1e6;
+    p.coh    = 1e9;
+    p.fa     = 0;
+    p.bonded = true;
+    m.suspend_bond_breakage(true);
+    // A group made while suspended is suspended too.
+    const int g = m.template add_law<FlatJointLaw<dim>>(p);
+    REQUIRE(m.group(g).breakage_suspended());
+    const ContactRef c    = m.install(0, 1, g);
+    m.particles.fixity[0] = m.particles.fixity[1] = fix_all;
+    const double vp = 0.5, dt = 1e-7; // opening 5e-8 per step: ten / kn after 200
+    m.particles.v[1][0] = vp;
+    m.set_timestep(dt);
+    m.cycle(600);
+    const int nel = dim == 2 ? p.Nr : p.Nr * p.Nal;
+    CHECK(m.cracks.empty());
+    CHECK(FlatJointLaw<dim>::bonded_count(p, m.group(g).state(c.index)) == nel);
+    // The surface gap after 600 increments of vp dt, the area of the joint
+    // (2D: 2R of unit thickness; 3D: pi R^2): the elastic tension, three
+    // times the strength (round-off of the accumulated gap only).
+    const double gap  = 600 * vp * dt;
+    const double area = dim == 2 ? 2 * r : M_PI * r * r;
+    CHECK(m.group(g).local_force[c.index].Fn == Approx(p.kn * gap * area).epsilon(1e-9));
+    CHECK(p.kn * gap == Approx(3 * p.ten).epsilon(1e-9));
+    CHECK(m.group(g).property(c.index, "fj_ten") == p.ten);
+    CHECK(m.group(g).property(c.index, "fj_coh") == p.coh);
+    m.suspend_bond_breakage(false);
+    CHECK(!m.group(g).breakage_suspended());
+    m.step();
+    CHECK(m.cracks.size() == static_cast<std::size_t>(nel));
+    CHECK(FlatJointLaw<dim>::bonded_count(p, m.group(g).state(c.index)) == 0);
+  }
+} // namespace
+
+TEST_CASE("bond breakage suspended: a flat joint carries three times its strength, breaks "
+          "on resuming (2D)",
+          "[enginelaws]")
+{
+  pull_apart_suspended<2>();
+}
+
+TEST_CASE("bond breakage suspended: a flat joint carries three times its strength, breaks "
+          "on resuming (3D)",
+          "[enginelaws]")
+{
+  pull_apart_suspended<3>();
+}
+
+namespace
+{
   // ------------------------------------------------------------------------
   // Random bonded disk assembly compressed by the top row.
   struct RunResult
