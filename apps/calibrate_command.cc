@@ -78,6 +78,9 @@ namespace demfem::apps
       prm.declare_entry(name + " mean", mean, Patterns::Double(), doc + " mean (>= 0)");
       prm.declare_entry(name + " sd", "0", Patterns::Double(),
                         doc + " standard deviation (>= 0)");
+      prm.declare_entry(name + " min", "0", Patterns::Double(),
+                        doc + " truncation point: draws at or below it are redrawn "
+                              "(0: the normal truncated at zero; 0 <= min < mean)");
     }
 
     void declare_parameters(ParameterHandler &prm)
@@ -328,9 +331,12 @@ namespace demfem::apps
     dem::Distribution read_dist(ParameterHandler &prm, const std::string &where,
                                 const std::string &section, const std::string &name)
     {
-      dem::Distribution d{prm.get_double(name + " mean"), prm.get_double(name + " sd")};
+      dem::Distribution d{prm.get_double(name + " mean"), prm.get_double(name + " sd"),
+                          prm.get_double(name + " min")};
       check(where, section + name + " mean", d.mean, 0, HUGE_VAL);
       check(where, section + name + " sd", d.sd, 0, HUGE_VAL);
+      if (d.min != 0) // below the mean, so that the redrawing ends
+        check(where, section + name + " min", d.min, 0, d.mean, false, true);
       return d;
     }
 

@@ -21,6 +21,9 @@ namespace demfem::dem
       const double inf = HUGE_VAL;
       check_range(where, key + "_m", d.mean, 0, inf);
       check_range(where, key + "_sd", d.sd, 0, inf);
+      // Below the mean, so that the redrawing ends (at most ~2 draws).
+      if (d.min > 0)
+        check_range(where, key + "_min", d.min, 0, d.mean, false, true);
     }
   } // namespace
 
@@ -174,10 +177,10 @@ namespace demfem::dem
     for (int i = 0; i < 1000; ++i)
       {
         const double x = d.mean + d.sd * normal();
-        if (x > 0)
+        if (x > d.min)
           return x;
       }
-    return d.mean > 0 ? d.mean : 0.0;
+    return std::max(d.mean, d.min);
   }
 
   std::uint64_t Random::index(std::uint64_t n)

@@ -27,11 +27,14 @@ namespace demfem::dem
   };
 
   /// Mean and standard deviation of a strength or gap distribution (normal,
-  /// truncated at zero; sd = 0 gives the mean everywhere).
+  /// truncated at `min`, by default zero; sd = 0 gives the mean everywhere).
+  /// A truncation point above zero keeps the weakest bonds out of a wide
+  /// strength distribution (docs/calibrate_ldb.md, "Truncated strengths").
   struct Distribution
   {
     double mean = 0;
     double sd   = 0;
+    double min  = 0; ///< draws at or below it are redrawn (0 <= min < mean)
   };
 
   struct MaterialParams
@@ -113,6 +116,8 @@ namespace demfem::dem
     double uniform(double lo, double hi); ///< [lo, hi)
     double normal();                      ///< standard normal (Box-Muller)
     /// Normal(mean, sd) truncated to > 0 (redrawn); sd = 0 gives mean.
+    /// One draw of d: the normal redrawn until above d.min (d.sd = 0: the
+    /// mean).
     double        positive_normal(const Distribution &d);
     std::uint64_t index(std::uint64_t n); ///< uniform in [0, n)
 

@@ -67,7 +67,8 @@ namespace demfem::dem
                               const std::string &unit, const std::string &where)
     {
       return {get<double>(j, prefix + "_mean_" + unit, where),
-              get_or<double>(j, prefix + "_sd_" + unit, where, 0.0)};
+              get_or<double>(j, prefix + "_sd_" + unit, where, 0.0),
+              get_or<double>(j, prefix + "_min_" + unit, where, 0.0)};
     }
   } // namespace
 

@@ -9,7 +9,7 @@ namespace demfem::dem
   {
     if (d.sd <= 0)
       return d.mean;
-    const double a   = -d.mean / d.sd;
+    const double a   = (d.min - d.mean) / d.sd;
     const double phi = std::exp(-0.5 * a * a) / std::sqrt(2 * M_PI);
     const double Q   = 0.5 * std::erfc(a / std::sqrt(2.0)); // 1 - Phi(a)
     return d.mean + d.sd * phi / Q;
@@ -19,7 +19,7 @@ namespace demfem::dem
   {
     if (d.sd <= 0)
       return 0;
-    const double a      = -d.mean / d.sd;
+    const double a      = (d.min - d.mean) / d.sd;
     const double phi    = std::exp(-0.5 * a * a) / std::sqrt(2 * M_PI);
     const double Q      = 0.5 * std::erfc(a / std::sqrt(2.0));
     const double lambda = phi / Q;

@@ -11,8 +11,8 @@
 //  - strengths drawn per contact from the material's distributions
 //    (fistPkg §2: mean and standard deviation), a Gaussian truncated at zero
 //    by redrawing (Random::positive_normal): the truncated normal on
-//    (0, inf), so no strength is zero unless the distribution is the single
-//    value 0;
+//    (min, inf), min = 0 unless the material gives a truncation point, so
+//    no strength is zero unless the distribution is the single value 0;
 //  - the flat-joint radius-multiplier codes and the bonded / gapped / slit
 //    installation (fistPkg §2.6.2), which need all joints of the material and
 //    so run once after installation.
@@ -63,15 +63,16 @@ namespace demfem::dem
         : rng_(std::make_shared<Random>(seed))
     {
     }
-    /// One value of d, a Gaussian truncated at zero (d.sd = 0: the mean).
+    /// One value of d, a Gaussian truncated at d.min (d.sd = 0: the mean).
     double operator()(const Distribution &d) const { return rng_->positive_normal(d); }
 
   private:
     std::shared_ptr<Random> rng_; ///< shared by the copies of a rule
   };
 
-  /// Mean of a normal (mean m, sd s) truncated to (0, inf): m + s phi(a) /
-  /// (1 - Phi(a)), a = -m/s (the closed form the draws are tested against).
+  /// Mean of a normal (mean m, sd s) truncated to (min, inf): m + s phi(a) /
+  /// (1 - Phi(a)), a = (min - m)/s (the closed form the draws are tested
+  /// against).
   double truncated_normal_mean(const Distribution &d);
   /// Standard deviation of the same truncated normal.
   double truncated_normal_sd(const Distribution &d);

@@ -108,6 +108,46 @@ TEST_CASE("per-contact kn is E*/L on a polydisperse packing, one group per law",
     CHECK(wall.property(k, "kn") == Approx(2 * s.vessel.params.emod).epsilon(1e-15));
 }
 
+TEST_CASE("strength draws truncated at a point above zero: none below it, the truncated "
+          "normal's mean and sd; a point at the mean is refused",
+          "[properties]")
+{
+  // sd / mean = 0.42 (the 2D Lac du Bonnet example's spread) truncated at
+  // 0.5 mean: 12 % of the normal lies below the point, so the draws'
+  // moments differ from the untruncated ones by far more than the sampling
+  // error and must follow the closed form with a = (min - mean) / sd.
+  const Distribution ten{30e6, 12.6e6, 15e6}, coh{4e7, 0};
+  auto rule = flat_joint_rule<2>({4e10, 2.0}, ten, coh, StrengthDraws(2024));
+  ContactGeometry<2> g;
+  g.R1 = g.R2  = 1e-3;
+  const int n  = 20000;
+  double    s1 = 0, s2 = 0, smin = HUGE_VAL;
+  for (int i = 0; i < n; ++i)
+    {
+      FlatJointLaw<2>::Props q;
+      rule(g, q);
+      s1 += q.ten;
+      s2 += q.ten * q.ten;
+      smin = std::min(smin, q.ten);
+    }
+  const double mean = s1 / n, sd = std::sqrt(s2 / n - mean * mean);
+  const double m0 = truncated_normal_mean(ten), sd0 = truncated_normal_sd(ten);
+  CHECK(smin > ten.min);
+  // The truncation moves the mean by 0.21 sd and the sd by 18 %: 4
+  // standard errors (0.028 sd0 and 0.02 sd0) separate the two.
+  CHECK(m0 - ten.mean > 0.2 * ten.sd);
+  CHECK(std::abs(mean - m0) < 4 * sd0 / std::sqrt(double(n)));
+  CHECK(std::abs(sd - sd0) < 4 * sd0 / std::sqrt(2.0 * n));
+  // min = 0 is the former truncation at zero, bit for bit.
+  CHECK(truncated_normal_mean({1e7, 8e6, 0}) == truncated_normal_mean({1e7, 8e6}));
+  // A truncation point at or above the mean is refused, naming the key.
+  MaterialParams m = spread_material();
+  m.fj_ten         = {30e6, 12.6e6, 30e6};
+  CHECK_THROWS_WITH(m.validate("test"), Catch::Contains("fj_ten_min"));
+  m.fj_ten = {30e6, 12.6e6, 29e6};
+  CHECK_NOTHROW(m.validate("test"));
+}
+
 TEST_CASE("strength draws keep the truncated normal's mean and sd, none is zero",
           "[properties]")
 {
