@@ -152,6 +152,8 @@ namespace demfem::apps
           return m.fj_ten.mean;
         if (name == "tensile strength sd")
           return m.fj_ten.sd;
+        if (name == "tensile strength min")
+          return m.fj_ten.min;
         if (name == "cohesion mean")
           return m.fj_coh.mean;
         if (name == "cohesion sd")
@@ -206,7 +208,8 @@ namespace demfem::apps
         "bond: "
         "tensile strength mean|sd, cohesion mean|sd, friction angle, radius multiplier; "
         "flat "
-        "joint: bonded fraction, gapped fraction, gap mean; parallel bond: bond "
+        "joint: tensile strength min, bonded fraction, gapped fraction, gap mean; "
+        "parallel bond: bond "
         "effective "
         "modulus, bond stiffness ratio; contact bond: tensile|shear strength mean|sd)");
   }
