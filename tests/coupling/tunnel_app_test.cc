@@ -140,8 +140,8 @@ TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing",
     }
 }
 
-TEST_CASE("tunnel: the in-situ stress is installed with bond breakage suspended, then the "
-          "strengths act; the in-situ cracks do not depend on the time step",
+TEST_CASE("tunnel: the in-situ stress is installed with bond breakage suspended and then "
+          "the strengths act: the in-situ cracks do not depend on the time step",
           "[coupling][app][in-situ]")
 {
   // The committed granite (tensile strengths with a 42 % spread) at 0.2 m

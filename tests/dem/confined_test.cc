@@ -157,7 +157,7 @@ TEST_CASE("confined compression: the servo holds Pc on the 3D cylinder wall",
   CHECK(r.confining_deviation < 0.01);
 }
 
-TEST_CASE("confined compression: the servo's integral term removes the lag; the "
+TEST_CASE("confined compression: the servo's integral term removes the lag: the "
           "deviation does not depend on the history interval (2D)",
           "[labtests][confined]")
 {

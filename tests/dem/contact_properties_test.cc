@@ -108,8 +108,8 @@ TEST_CASE("per-contact kn is E*/L on a polydisperse packing, one group per law",
     CHECK(wall.property(k, "kn") == Approx(2 * s.vessel.params.emod).epsilon(1e-15));
 }
 
-TEST_CASE("strength draws truncated at a point above zero: none below it, the truncated "
-          "normal's mean and sd; a point at the mean is refused",
+TEST_CASE("strength draws truncated at a point above zero: none below it and the "
+          "truncated normal's mean and sd: a point at the mean is refused",
           "[properties]")
 {
   // sd / mean = 0.42 (the 2D Lac du Bonnet example's spread) truncated at

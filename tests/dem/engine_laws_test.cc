@@ -197,15 +197,15 @@ namespace
   }
 } // namespace
 
-TEST_CASE("bond breakage suspended: a flat joint carries three times its strength, breaks "
-          "on resuming (2D)",
+TEST_CASE("bond breakage suspended: a flat joint carries three times its strength and "
+          "breaks on resuming (2D)",
           "[enginelaws]")
 {
   pull_apart_suspended<2>();
 }
 
-TEST_CASE("bond breakage suspended: a flat joint carries three times its strength, breaks "
-          "on resuming (3D)",
+TEST_CASE("bond breakage suspended: a flat joint carries three times its strength and "
+          "breaks on resuming (3D)",
           "[enginelaws]")
 {
   pull_apart_suspended<3>();
