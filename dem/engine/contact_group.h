@@ -89,14 +89,14 @@ namespace demfem::dem
     /// after its law update, while the state block is in cache (Model::step
     /// does this on the steps of the energy-balance check; a separate pass
     /// over all states cost ~5 % of a 3D flat-joint run).
-    void    request_strain_energy() { energy_requested_ = true; }
+    void request_strain_energy() { energy_requested_ = true; }
     /// Bond breakage suspended: while true, `compute` hands each law its
     /// block with infinite bond strengths (Law::unbreakable), so bonds stay
     /// intact whatever their load; the blocks themselves are not touched.
     /// For installing a stress state elastically before the strengths act
     /// (docs/architecture.md, "In-situ stress installation").
-    void suspend_breakage(bool s) { breakage_suspended_ = s; }
-    bool breakage_suspended() const { return breakage_suspended_; }
+    void    suspend_breakage(bool s) { breakage_suspended_ = s; }
+    bool    breakage_suspended() const { return breakage_suspended_; }
     double *state(std::size_t k)
     {
       energy_fresh_ = false; // the caller may change the state
@@ -144,7 +144,7 @@ namespace demfem::dem
     /// energy_fresh_: cleared by add/remove and non-const state access).
     std::vector<double> energy_;
     bool                energy_requested_ = false, energy_fresh_ = false;
-    std::uint64_t       topology_ = 0;
+    std::uint64_t       topology_           = 0;
     bool                breakage_suspended_ = false;
   };
 

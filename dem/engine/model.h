@@ -233,16 +233,16 @@ namespace demfem::dem
 
     std::vector<std::unique_ptr<ContactGroupBase<dim>>> groups_;
     bool breakage_suspended_ = false; // suspend_bond_breakage
-    std::unordered_map<std::uint64_t, ContactRef>       index_;
-    NeighborGrid<dim>                                   grid_;
-    std::vector<EventSink>                              sinks_;
-    int                   default_ball_ = -1, default_wall_ = -1;
-    double                dt_           = 0;
-    bool                  auto_dt_      = true;
-    bool                  need_rebuild_ = true;
-    std::vector<Vec<dim>> x_at_rebuild_, wall_at_rebuild_;
-    std::int64_t          step_ = 0;
-    double                time_ = 0;
+    std::unordered_map<std::uint64_t, ContactRef> index_;
+    NeighborGrid<dim>                             grid_;
+    std::vector<EventSink>                        sinks_;
+    int                                           default_ball_ = -1, default_wall_ = -1;
+    double                                        dt_           = 0;
+    bool                                          auto_dt_      = true;
+    bool                                          need_rebuild_ = true;
+    std::vector<Vec<dim>>                         x_at_rebuild_, wall_at_rebuild_;
+    std::int64_t                                  step_ = 0;
+    double                                        time_ = 0;
     /// Kinetic-energy growth (common/growth_monitor.h); its last value and
     /// streak are checkpointed.
     instability::GrowthMonitor ke_growth_{instability::dem_kinetic_energy};

@@ -51,6 +51,7 @@ namespace demfem::dem
     static void prepare(Params &) {}
     /// No bond: the block as it is (Model::suspend_bond_breakage).
     static const Props &unbreakable(const Props &q) { return q; }
+
     static void derive(const Params &, Props &) {}
 
     static const std::vector<PropertyField<Props>> &properties()

@@ -159,13 +159,14 @@ TEST_CASE("tunnel: the in-situ stress is installed with bond breakage suspended 
   auto run_at = [&](const std::string &safety) {
     const std::string dir = tmp + "/demfem_tunnel_insitu_" + safety;
     std::filesystem::remove_all(dir);
-    const Run r = run("--set \"DEM region/material file=" + std::string(DEMFEM_SOURCE_DIR) +
-                          "/apps/examples/lac_du_bonnet_2d.material.json\" --set \"DEM "
-                          "region/grain diameter=0.2\" --set Output/interval=0 --set "
-                          "\"Tunnel/excavation stages=1\" --set \"Coupling/timestep "
-                          "safety=" +
-                          safety + "\" --set \"Problem/output directory=" + dir + "\"",
-                      dir + ".log");
+    const Run r =
+        run("--set \"DEM region/material file=" + std::string(DEMFEM_SOURCE_DIR) +
+                "/apps/examples/lac_du_bonnet_2d.material.json\" --set \"DEM "
+                "region/grain diameter=0.2\" --set Output/interval=0 --set "
+                "\"Tunnel/excavation stages=1\" --set \"Coupling/timestep "
+                "safety=" +
+                safety + "\" --set \"Problem/output directory=" + dir + "\"",
+            dir + ".log");
     INFO(r.text);
     // ok or region_too_small (cracks of the excavation at the boundary of
     // this coarse region): the in-situ phases are complete either way.

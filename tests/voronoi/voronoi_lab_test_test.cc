@@ -63,8 +63,9 @@ TEST_CASE("Voronoi specimen: packed by the genesis, tessellated, boundary sorted
   CHECK(s.domain.xmax - s.domain.xmin == Approx(0.025).epsilon(0.05));
 }
 
-TEST_CASE("Voronoi UCS, elastically uniform network: E = E_c, nu = 0 and kappa > 1: nu > 0",
-          "[voronoi][lab]")
+TEST_CASE(
+    "Voronoi UCS, elastically uniform network: E = E_c, nu = 0 and kappa > 1: nu > 0",
+    "[voronoi][lab]")
 {
   // Elastic: strengths far above the stresses reached (strain 2e-4 -> 10 MPa).
   auto       p = params(VoronoiTest::unconfined_compression, 2e-4);
