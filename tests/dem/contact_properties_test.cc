@@ -2,9 +2,9 @@
 // properties"): the deformability rule, strength draws, one group per law,
 // the run-time property API, checkpoints, crack types.
 #include "dem/io/checkpoint.h"
+#include "dem/laws/smooth_joint_law.h"
 #include "dem/specimen/genesis.h"
 #include "dem/specimen/property_rules.h"
-#include "dem/laws/smooth_joint_law.h"
 
 #include <catch2/catch.hpp>
 #include <omp.h>
@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <random>
+#include <tuple>
 
 using namespace demfem::dem;
 
@@ -44,6 +45,28 @@ namespace
     p.fj_fa    = 30;
     p.Pm       = 1e5;
     return p;
+  }
+
+  /// Mean, sd and smallest of n tensile strengths drawn by the flat-joint
+  /// rule genesis uses (2D, equal radii).
+  std::tuple<double, double, double> sample_tensile_strengths(const Distribution &ten,
+                                                              const Distribution &coh,
+                                                              std::uint64_t seed, int n)
+  {
+    auto rule = flat_joint_rule<2>({4e10, 2.0}, ten, coh, StrengthDraws(seed));
+    ContactGeometry<2> g;
+    g.R1 = g.R2 = 1e-3;
+    double s1 = 0, s2 = 0, smin = HUGE_VAL;
+    for (int i = 0; i < n; ++i)
+      {
+        FlatJointLaw<2>::Props q;
+        rule(g, q);
+        s1 += q.ten;
+        s2 += q.ten * q.ten;
+        smin = std::min(smin, q.ten);
+      }
+    const double mean = s1 / n;
+    return {mean, std::sqrt(s2 / n - mean * mean), smin};
   }
 
   VesselParams box(double W, double H)
@@ -117,20 +140,8 @@ TEST_CASE("strength draws truncated at a point above zero: none below it and the
   // moments differ from the untruncated ones by far more than the sampling
   // error and must follow the closed form with a = (min - mean) / sd.
   const Distribution ten{30e6, 12.6e6, 15e6}, coh{4e7, 0};
-  auto rule = flat_joint_rule<2>({4e10, 2.0}, ten, coh, StrengthDraws(2024));
-  ContactGeometry<2> g;
-  g.R1 = g.R2  = 1e-3;
-  const int n  = 20000;
-  double    s1 = 0, s2 = 0, smin = HUGE_VAL;
-  for (int i = 0; i < n; ++i)
-    {
-      FlatJointLaw<2>::Props q;
-      rule(g, q);
-      s1 += q.ten;
-      s2 += q.ten * q.ten;
-      smin = std::min(smin, q.ten);
-    }
-  const double mean = s1 / n, sd = std::sqrt(s2 / n - mean * mean);
+  const int          n        = 20000;
+  const auto [mean, sd, smin] = sample_tensile_strengths(ten, coh, 2024, n);
   const double m0 = truncated_normal_mean(ten), sd0 = truncated_normal_sd(ten);
   CHECK(smin > ten.min);
   // The truncation moves the mean by 0.21 sd and the sd by 18 %: 4
@@ -155,20 +166,8 @@ TEST_CASE("strength draws keep the truncated normal's mean and sd, none is zero"
   // truncation at zero matters (11 % of the normal lies below it), so the
   // draws are compared with the truncated normal's closed-form moments.
   const Distribution ten{1e7, 8e6}, coh{4e7, 1e7};
-  auto rule = flat_joint_rule<2>({4e10, 2.0}, ten, coh, StrengthDraws(12345));
-  ContactGeometry<2> g;
-  g.R1 = g.R2  = 1e-3;
-  const int n  = 20000;
-  double    s1 = 0, s2 = 0, smin = HUGE_VAL;
-  for (int i = 0; i < n; ++i)
-    {
-      FlatJointLaw<2>::Props q;
-      rule(g, q);
-      s1 += q.ten;
-      s2 += q.ten * q.ten;
-      smin = std::min(smin, q.ten);
-    }
-  const double mean = s1 / n, sd = std::sqrt(s2 / n - mean * mean);
+  const int          n        = 20000;
+  const auto [mean, sd, smin] = sample_tensile_strengths(ten, coh, 12345, n);
   const double m0 = truncated_normal_mean(ten), sd0 = truncated_normal_sd(ten);
   // Sampling error of the mean sd0 / sqrt(n) = 0.0071 sd0: 4 standard errors.
   CHECK(std::abs(mean - m0) < 4 * sd0 / std::sqrt(double(n)));

@@ -1,8 +1,8 @@
 // Engine + law integration: the contact laws driven through Model::step
 // (detection, memo §1.3 kinematics, scatter, integration, crack records).
+#include "dem/engine/model.h"
 #include "dem/laws/flat_joint_law.h"
 #include "dem/laws/linear_law.h"
-#include "dem/engine/model.h"
 #include "dem/laws/smooth_joint_law.h"
 
 #include <catch2/catch.hpp>
@@ -31,27 +31,36 @@ namespace
   }
 
   // ------------------------------------------------------------------------
+  // Bonded flat-joint pair: two grains of radius r touching along x, the
+  // law's parameters (tension governs: the shear strength is far away).
+  template <int dim>
+  typename FlatJointLaw<dim>::Params bonded_pair(Model<dim> &m, double r)
+  {
+    Vec<dim> x1 = Vec<dim>::Zero();
+    x1[0]       = 2 * r;
+    m.particles.add(Vec<dim>::Zero(), r, 2650);
+    m.particles.add(x1, r, 2650);
+    typename FlatJointLaw<dim>::Params p;
+    p.Nr     = dim == 2 ? 3 : 2;
+    p.Nal    = 6;
+    p.rmul   = 1;
+    p.kn     = 1e11;
+    p.ks     = 4e10;
+    p.ten    = 1e6;
+    p.coh    = 1e9;
+    p.fa     = 0;
+    p.bonded = true;
+    return p;
+  }
+
   // Bonded flat-joint pair pulled apart until tension breakage.
   template <int dim>
   void pull_apart()
   {
-    Threads      one(1);
-    Model<dim>   m;
-    const double r  = 0.01;
-    Vec<dim>     x1 = Vec<dim>::Zero();
-    x1[0]           = 2 * r;
-    m.particles.add(Vec<dim>::Zero(), r, 2650);
-    m.particles.add(x1, r, 2650);
-    typename FlatJointLaw<dim>::Params p;
-    p.Nr                  = dim == 2 ? 3 : 2;
-    p.Nal                 = 6;
-    p.rmul                = 1;
-    p.kn                  = 1e11;
-    p.ks                  = 4e10;
-    p.ten                 = 1e6;
-    p.coh                 = 1e9; // shear strength far away: tension governs
-    p.fa                  = 0;
-    p.bonded              = true;
+    Threads          one(1);
+    Model<dim>       m;
+    const double     r    = 0.01;
+    const auto       p    = bonded_pair(m, r);
     const int        g    = m.template add_law<FlatJointLaw<dim>>(p);
     const ContactRef c    = m.install(0, 1, g);
     m.particles.fixity[0] = m.particles.fixity[1] = fix_all;
@@ -119,8 +128,10 @@ namespace
             const double r1 = I * dr, r2 = (I + 1) * dr, a1 = J * da, a2 = (J + 1) * da;
             const double A      = 0.5 * (a2 - a1) * (r2 * r2 - r1 * r1);
             const double radial = (r2 * r2 * r2 - r1 * r1 * r1) / (r2 * r2 - r1 * r1);
-            const double s      = 2.0 / 3.0 * (std::sin(a2) - std::sin(a1)) / (a2 - a1) * radial;
-            const double t      = 2.0 / 3.0 * (std::cos(a1) - std::cos(a2)) / (a2 - a1) * radial;
+            const double s =
+                2.0 / 3.0 * (std::sin(a2) - std::sin(a1)) / (a2 - a1) * radial;
+            const double t =
+                2.0 / 3.0 * (std::cos(a1) - std::cos(a2)) / (a2 - a1) * radial;
             CHECK(rel.norm() == Approx(std::hypot(s, t)).epsilon(1e-12));
             CHECK(cr.size == Approx(2 * std::sqrt(A / M_PI)).epsilon(1e-14));
           }
@@ -131,12 +142,14 @@ namespace
   }
 } // namespace
 
-TEST_CASE("bonded flat joint pulled apart: one tensile crack per element (2D)", "[enginelaws]")
+TEST_CASE("bonded flat joint pulled apart: one tensile crack per element (2D)",
+          "[enginelaws]")
 {
   pull_apart<2>();
 }
 
-TEST_CASE("bonded flat joint pulled apart: one tensile crack per element (3D)", "[enginelaws]")
+TEST_CASE("bonded flat joint pulled apart: one tensile crack per element (3D)",
+          "[enginelaws]")
 {
   pull_apart<3>();
 }
@@ -152,21 +165,8 @@ namespace
   {
     Threads      one(1);
     Model<dim>   m;
-    const double r  = 0.01;
-    Vec<dim>     x1 = Vec<dim>::Zero();
-    x1[0]           = 2 * r;
-    m.particles.add(Vec<dim>::Zero(), r, 2650);
-    m.particles.add(x1, r, 2650);
-    typename FlatJointLaw<dim>::Params p;
-    p.Nr     = dim == 2 ? 3 : 2;
-    p.Nal    = 6;
-    p.rmul   = 1;
-    p.kn     = 1e11;
-    p.ks     = 4e10;
-    p.ten    = 1e6;
-    p.coh    = 1e9;
-    p.fa     = 0;
-    p.bonded = true;
+    const double r = 0.01;
+    const auto   p = bonded_pair(m, r);
     m.suspend_bond_breakage(true);
     // A group made while suspended is suspended too.
     const int g = m.template add_law<FlatJointLaw<dim>>(p);
@@ -223,7 +223,7 @@ namespace
 
   RunResult compress_assembly(int threads)
   {
-    Threads         th(threads);
+    Threads th(threads);
     // Force the threaded code path even for this small assembly.
     const std::size_t saved_threshold = parallel_threshold;
     parallel_threshold                = 0;
@@ -238,7 +238,8 @@ namespace
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i)
         {
-          Vec<2> x(2.0 * i + uniform(gen, -0.05, 0.05), 2.0 * j + uniform(gen, -0.05, 0.05));
+          Vec<2> x(2.0 * i + uniform(gen, -0.05, 0.05),
+                   2.0 * j + uniform(gen, -0.05, 0.05));
           m.particles.add(x, uniform(gen, 0.95, 1.05), 2650);
         }
     FlatJointLaw<2>::Params p;
@@ -296,7 +297,8 @@ TEST_CASE("results do not depend on the thread count", "[enginelaws]")
   CHECK(identical == 2 * a.x.size());
   CHECK(a.cracks == b.cracks);
   WARN("thread independence: max |dx| " << dmax << ", identical coordinates " << identical
-                                        << "/400, cracks " << a.cracks << ", max moved " << moved);
+                                        << "/400, cracks " << a.cracks << ", max moved "
+                                        << moved);
 }
 
 namespace
@@ -309,7 +311,8 @@ namespace
     const int w = m.walls.add_wall("floor");
     if constexpr (dim == 2)
       {
-        const int a = m.walls.add_vertex(Vec<2>(-L, 0)), b = m.walls.add_vertex(Vec<2>(L, 0));
+        const int a = m.walls.add_vertex(Vec<2>(-L, 0)),
+                  b = m.walls.add_vertex(Vec<2>(L, 0));
         m.walls.add_facet(w, {a, b});
       }
     else
@@ -368,7 +371,8 @@ namespace
     // the contact drags the ball back: force on the ball along -x
     CHECK(m.particles.f[0][0] == Approx(-lp.friction * fn).epsilon(1e-9));
     CHECK(m.particles.f[0][dim - 1] == Approx(fn).epsilon(1e-9));
-    WARN("dim " << dim << " slip: |Fs| " << fs << " mu|Fn| " << lp.friction * std::abs(f.Fn));
+    WARN("dim " << dim << " slip: |Fs| " << fs << " mu|Fn| "
+                << lp.friction * std::abs(f.Fn));
   }
 
   // ------------------------------------------------------------------------
@@ -459,12 +463,13 @@ namespace
     CHECK(uhat.dot(along) == Approx(1.0).margin(1e-8));
     // ... and clearly not along the contact normal: cos(30 deg) from it
     CHECK(uhat.dot(-Vec<dim>::UnitX()) == Approx(std::cos(M_PI / 6)).epsilon(1e-4));
-    WARN("dim " << dim << " smooth joint: |u| " << u.norm() << ", u.n_j/|u| " << normal_part
-                << ", u.(-x)/|u| " << uhat.dot(-Vec<dim>::UnitX()));
+    WARN("dim " << dim << " smooth joint: |u| " << u.norm() << ", u.n_j/|u| "
+                << normal_part << ", u.(-x)/|u| " << uhat.dot(-Vec<dim>::UnitX()));
   }
 } // namespace
 
-TEST_CASE("smooth joint through the engine: sliding follows the joint plane", "[enginelaws]")
+TEST_CASE("smooth joint through the engine: sliding follows the joint plane",
+          "[enginelaws]")
 {
   smooth_joint_slide<2>();
   smooth_joint_slide<3>();
@@ -496,13 +501,14 @@ TEST_CASE("ball resting on the shared edge of two coplanar facets feels one plan
   std::size_t active = 0;
   for (std::size_t k = 0; k < m.group(g).size(); ++k)
     active += m.group(g).local_force[k].Fn < 0;
-  WARN("edge rest: " << active << " loaded ball-wall contacts, overlap " << r - m.particles.x[0][2]
-                     << " vs m g / kn " << mg / lp.kn);
+  WARN("edge rest: " << active << " loaded ball-wall contacts, overlap "
+                     << r - m.particles.x[0][2] << " vs m g / kn " << mg / lp.kn);
   CHECK(active == 1);
   CHECK(r - m.particles.x[0][2] == Approx(mg / lp.kn).epsilon(1e-6));
 }
 
-TEST_CASE("3D twist: the contact plane follows the mean spin (memo Eq. 5)", "[enginelaws]")
+TEST_CASE("3D twist: the contact plane follows the mean spin (memo Eq. 5)",
+          "[enginelaws]")
 {
   // Sphere 1 spins about the contact normal n = +x with sphere 0 fixed.
   // Memo Eq. 5 rotates the s axis by the mean spin (theta / 2 in total) and
@@ -534,8 +540,8 @@ TEST_CASE("3D twist: the contact plane follows the mean spin (memo Eq. 5)", "[en
       const double r1 = I * dr, r2 = (I + 1) * dr, a1 = J * da, a2 = (J + 1) * da;
       const double A      = 0.5 * (a2 - a1) * (r2 * r2 - r1 * r1);
       const double radial = (r2 * r2 * r2 - r1 * r1 * r1) / (r2 * r2 - r1 * r1);
-      const double s      = 2.0 / 3.0 * (std::sin(a2) - std::sin(a1)) / (a2 - a1) * radial;
-      const double t      = 2.0 / 3.0 * (std::cos(a1) - std::cos(a2)) / (a2 - a1) * radial;
+      const double s = 2.0 / 3.0 * (std::sin(a2) - std::sin(a1)) / (a2 - a1) * radial;
+      const double t = 2.0 / 3.0 * (std::cos(a1) - std::cos(a2)) / (a2 - a1) * radial;
       sum += A * (s * s + t * t);
     }
   const double       Mt = -p.ks * theta * sum;
@@ -552,7 +558,8 @@ TEST_CASE("3D twist: the contact plane follows the mean spin (memo Eq. 5)", "[en
   WARN("twist: Mt " << f.Mt << " vs " << Mt << ", s axis " << s.transpose());
 }
 
-TEST_CASE("3D rigid rotation of a preloaded bonded pair rotates its force", "[enginelaws]")
+TEST_CASE("3D rigid rotation of a preloaded bonded pair rotates its force",
+          "[enginelaws]")
 {
   // Objectivity of the engine kinematics: a pair moving as a rigid body has
   // zero relative surface velocity at x_c (memo Eq. 7-8), so the contact-
@@ -604,7 +611,8 @@ TEST_CASE("3D rigid rotation of a preloaded bonded pair rotates its force", "[en
   const Vec<3> nn  = m.group(g).n_prev[c.index];
   const double phi = std::atan2(nn[1], nn[0]); // ~ pi/2 (Euler drift O(n (w dt)^3))
   const Vec<3> Fe  = Eigen::AngleAxisd(phi, Vec<3>::UnitZ()) * F0;
-  INFO("phi " << phi << " F0 " << F0.transpose() << " F " << m.group(g).force[c.index].transpose());
+  INFO("phi " << phi << " F0 " << F0.transpose() << " F "
+              << m.group(g).force[c.index].transpose());
   CHECK(phi == Approx(omega * dt * (n - 1)).epsilon(1e-5)); // n - 1 position updates
   // Contact-plane components unchanged: the relative motion is zero to
   // round-off, so the bound is round-off of the accumulated increments.
