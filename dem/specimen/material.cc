@@ -22,7 +22,7 @@ namespace demfem::dem
       check_range(where, key + "_m", d.mean, 0, inf);
       check_range(where, key + "_sd", d.sd, 0, inf);
       // Below the mean, so that the redrawing ends (at most ~2 draws).
-      if (d.min > 0)
+      if (d.min != 0)
         check_range(where, key + "_min", d.min, 0, d.mean, false, true);
     }
   } // namespace

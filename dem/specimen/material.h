@@ -115,7 +115,6 @@ namespace demfem::dem
     double uniform();                     ///< [0, 1)
     double uniform(double lo, double hi); ///< [lo, hi)
     double normal();                      ///< standard normal (Box-Muller)
-    /// Normal(mean, sd) truncated to > 0 (redrawn); sd = 0 gives mean.
     /// One draw of d: the normal redrawn until above d.min (d.sd = 0: the
     /// mean).
     double        positive_normal(const Distribution &d);

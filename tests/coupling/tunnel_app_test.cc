@@ -109,7 +109,7 @@ TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing",
     std::string args, key;
   } cases[] = {
       {"--set \"DEM region/radius=20\"", "DEM region/radius"}, // larger than the domain
-      {"--set \"Tunnel/radius=3.4\"", "Tunnel/radius"}, // tunnel larger than region
+      {"--set \"Tunnel/radius=4.9\"", "Tunnel/radius"}, // no room in the 5 m region
       {"--set \"DEM region/material file=/no/such.json\"", "DEM region/material file"},
       // 3D with the 2D material, and a slab thinner than two grains.
       {"--set \"Problem/dimension=3\" --set \"DEM region/material file=" +

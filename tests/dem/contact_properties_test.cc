@@ -155,6 +155,8 @@ TEST_CASE("strength draws truncated at a point above zero: none below it and the
   MaterialParams m = spread_material();
   m.fj_ten         = {30e6, 12.6e6, 30e6};
   CHECK_THROWS_WITH(m.validate("test"), Catch::Contains("fj_ten_min"));
+  m.fj_ten = {30e6, 12.6e6, -1e6}; // below zero
+  CHECK_THROWS_WITH(m.validate("test"), Catch::Contains("fj_ten_min"));
   m.fj_ten = {30e6, 12.6e6, 29e6};
   CHECK_NOTHROW(m.validate("test"));
 }
