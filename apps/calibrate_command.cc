@@ -285,6 +285,10 @@ namespace demfem::apps
                         "ft_eq ratio of seating");
       prm.declare_entry("seating step limit", "20000", Patterns::Integer(0), "");
       prm.declare_entry(
+          "time step safety", "0.8", Patterns::Double(),
+          "Time step of the tests as a fraction of the critical one (0, 1]; a "
+          "quasi-static test does not depend on it");
+      prm.declare_entry(
           "loading rate check", "false", Patterns::Selection("false|true|half|quarter"),
           "Repeat each test on the same packing at half (true, half) or at half and "
           "quarter (quarter) the strain rate; a peak moving more than 2 % flags the "
@@ -571,6 +575,7 @@ namespace demfem::apps
       l.split_fraction            = prm.get_double("brazilian split fraction");
       l.ratio_limit               = prm.get_double("seating ratio limit");
       l.seat_step_limit           = prm.get_integer("seating step limit");
+      l.timestep_safety           = prm.get_double("time step safety");
       const std::string rate      = prm.get("loading rate check");
       s.rate_check                = rate == "quarter" ? 2 : (rate == "false" ? 0 : 1);
       for (const auto &p : Utilities::split_string_list(prm.get("confining pressures")))
@@ -597,6 +602,7 @@ namespace demfem::apps
             1, true, true);
       check(where, t + "brazilian split fraction", l.split_fraction, 0, 1, true);
       check(where, t + "seating ratio limit", l.ratio_limit, 0, 1, true);
+      check(where, t + "time step safety", l.timestep_safety, 0, 1, true);
       prm.leave_subsection();
 
       prm.enter_subsection("Fit");

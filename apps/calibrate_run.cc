@@ -632,7 +632,8 @@ namespace demfem::apps
         .num("seating_ratio_limit", s.lab.ratio_limit)
         .num("seating_step_limit", double(s.lab.seat_step_limit))
         .num("platen_friction", s.lab.platen_friction)
-        .num("split_fraction", s.lab.split_fraction);
+        .num("split_fraction", s.lab.split_fraction)
+        .num("time_step_safety", s.lab.timestep_safety);
     mat.obj("lab_tests", lab);
     mat.obj("microparameters", microparameters(s.mat, s.vessel));
     dem::vtkout::write_text_atomically(s.out + "/material.json", mat.text() + "\n");

@@ -31,6 +31,10 @@ namespace demfem::apps
     struct Reference
     {
       double             E = NAN, nu = NAN, ucs = NAN, bts = NAN;
+      /// The file's seed scatter of UCS and BTS and its number of packings
+      /// (`Problem/seeds`; a file of one packing has no scatter: NaN, 1).
+      double             ucs_sd = NAN, bts_sd = NAN;
+      std::size_t        packings = 1;
       double             diameter_multiplier = NAN;
       dem::VesselParams  vessel;
       dem::LabTestParams lab;
@@ -46,6 +50,13 @@ namespace demfem::apps
       r.nu            = number(j, "nu");
       r.ucs           = number(j, "ucs");
       r.bts           = number(j, "bts");
+      if (const auto it = j.find("seeds"); it != j.end() && it->is_array() && it->size() > 1)
+        if (const auto sc = j.find("seed_scatter"); sc != j.end() && sc->is_object())
+          {
+            r.packings = it->size();
+            r.ucs_sd   = number(*sc, "ucs");
+            r.bts_sd   = number(*sc, "bts");
+          }
       // The probe reads E and nu in the file's stress window (below).
       if (!(r.ucs > 0))
         throw dem::InputError("--probe: material file '" + file +
@@ -82,6 +93,7 @@ namespace demfem::apps
           set("seating_step_limit", lab.seat_step_limit);
           set("platen_friction", lab.platen_friction);
           set("split_fraction", lab.split_fraction);
+          set("time_step_safety", lab.timestep_safety); // 0 (absent): the genesis'
         }
       else if (const auto fw = j.find("fit_window"); fw != j.end() && fw->is_string())
         {
@@ -192,13 +204,17 @@ namespace demfem::apps
         << (s.dimension == 2 ? "plane-strain pair (as the material file's)" : "3D pair")
         << "; mean (sd) over " << seeds << " seed(s)\n";
     // One row: the probe's mean against the file's value, judged by a
-    // tolerance (relative) or by the probe's seed scatter.
+    // tolerance (relative) or, for the strengths, as two seed means of one
+    // material: the difference within two standard errors of it, from both
+    // scatters (the file's packings and the probe's; a file of one packing
+    // is one draw, whose scatter the probe's estimates).
     auto row = [&](const std::string &name, const std::vector<double> &x, double want,
-                   double rel_tol, bool by_scatter) {
+                   double rel_tol, bool by_scatter, double want_sd = NAN) {
       const auto   st  = statistics::mean_interval(x);
       const double rel = (st.mean - want) / std::abs(want);
       std::string  rule, verdict;
       bool         judged = true, ok = true;
+      json         se     = json();
       if (!by_scatter)
         {
           rule = "within " + std::to_string(int(std::round(100 * rel_tol))) + " %";
@@ -206,8 +222,19 @@ namespace demfem::apps
         }
       else if (x.size() > 1)
         {
-          rule = "the file's value within 2 seed sd of the probe's mean";
-          ok   = std::abs(st.mean - want) <= 2 * st.sd;
+          const bool   file_scatter = std::isfinite(want_sd);
+          const auto   c            = statistics::compare_means(
+              st.mean, st.sd, x.size(), want, file_scatter ? want_sd : st.sd,
+              file_scatter ? ref.packings : 1);
+          std::ostringstream r;
+          r << "the means within 2 standard errors of their difference ("
+            << c.standard_error << "; " << x.size() << " probe and "
+            << (file_scatter ? std::to_string(ref.packings) + " file packings"
+                             : std::string("1 file packing, its scatter the probe's"))
+            << ")";
+          rule = r.str();
+          ok   = c.agree;
+          se   = c.standard_error;
         }
       else
         {
@@ -225,14 +252,16 @@ namespace demfem::apps
                       {"probe_sd", std::isfinite(st.sd) ? json(st.sd) : json()},
                       {"probe_values", x},
                       {"material_file", want},
+                      {"material_file_sd", std::isfinite(want_sd) ? json(want_sd) : json()},
+                      {"standard_error", se},
                       {"difference", rel},
                       {"rule", rule},
                       {"verdict", verdict}});
     };
     row("E", m.E, ref.E, probe_elastic_tolerance, false);
     row("nu", m.nu, ref.nu, probe_elastic_tolerance, false);
-    row("UCS", m.ucs, ref.ucs, 0, true);
-    row("BTS", m.bts, ref.bts, 0, true);
+    row("UCS", m.ucs, ref.ucs, 0, true, ref.ucs_sd);
+    row("BTS", m.bts, ref.bts, 0, true, ref.bts_sd);
     // A Brazilian disk that did not split has no tensile strength.
     std::size_t split = 0;
     for (const auto &mode : m.modes)

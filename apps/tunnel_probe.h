@@ -19,10 +19,10 @@ namespace demfem::apps
   /// `material_file`) on `seeds` packings (region seed, +1, ...), prints the
   /// comparison table to `out` and writes probe.json into `json_dir` (when
   /// not empty). Returns true when every judged row passes: E, nu within
-  /// probe_elastic_tolerance, UCS and BTS of the file within two standard
-  /// deviations of the probe's seed mean (with >= 2 seeds; one seed: not
-  /// judged), every Brazilian disk split, and the continuum's E, nu the
-  /// file's exactly.
+  /// probe_elastic_tolerance, UCS and BTS of the probe's seed mean and the
+  /// file's within two standard errors of their difference (both seed
+  /// scatters; with >= 2 probe seeds, one seed: not judged), every
+  /// Brazilian disk split, and the continuum's E, nu the file's exactly.
   bool run_probe(const coupling::TunnelParams &s, const std::string &material_file,
                  int seeds, const std::string &json_dir, std::ostream &out);
 } // namespace demfem::apps

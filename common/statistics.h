@@ -45,4 +45,28 @@ namespace demfem::statistics
     r.half_width = boost::math::quantile(t, 0.5 * (1 + level)) * r.sd / std::sqrt(double(r.n));
     return r;
   }
+
+  /// Two seed means compared: their difference and its standard error
+  /// sqrt(s_a^2 / n_a + s_b^2 / n_b) (independent packings; Welch's), and
+  /// whether the difference lies within `z` standard errors (z = 2: about
+  /// 95 % for samples of one material).
+  struct MeanComparison
+  {
+    double difference     = std::numeric_limits<double>::quiet_NaN(); ///< a - b
+    double standard_error = std::numeric_limits<double>::quiet_NaN();
+    bool   agree          = false;
+  };
+
+  inline MeanComparison compare_means(double mean_a, double sd_a, std::size_t n_a,
+                                      double mean_b, double sd_b, std::size_t n_b,
+                                      double z = 2)
+  {
+    MeanComparison c;
+    c.difference = mean_a - mean_b;
+    if (n_a == 0 || n_b == 0 || !(sd_a >= 0) || !(sd_b >= 0))
+      return c;
+    c.standard_error = std::sqrt(sd_a * sd_a / double(n_a) + sd_b * sd_b / double(n_b));
+    c.agree          = std::abs(c.difference) <= z * c.standard_error;
+    return c;
+  }
 } // namespace demfem::statistics

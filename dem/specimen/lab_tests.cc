@@ -41,6 +41,7 @@ namespace demfem::dem
     check_range(where, "crack volumetric strain fraction", crack_volumetric_fraction, 0,
                 1, true, false);
     check_range(where, "brazilian split fraction", split_fraction, 0, 1, true, true);
+    check_range(where, "time step safety", timestep_safety, 0, 1);
   }
 
   const char *test_kind_name(TestKind k)
@@ -849,6 +850,8 @@ namespace demfem::dem
                              const LabCallbacks<dim> &cb)
   {
     p.validate("lab test", dim);
+    if (p.timestep_safety > 0)
+      s.model.safety_factor = p.timestep_safety;
     Runner<dim> r(s, p, cb);
     return r.run();
   }

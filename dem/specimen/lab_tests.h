@@ -129,6 +129,10 @@ namespace demfem::dem
     /// 0.5: most of them, between 0.28 for cracks spread over the disk and
     /// 2/3 for a straight platen-to-platen split).
     double split_fraction = 0.5;
+    /// Time step of the test as a fraction of the critical one (0: keep the
+    /// specimen's, 0.8 from its genesis). A quasi-static result does not
+    /// depend on it (docs/calibrate.md, "Loading rate and time step").
+    double timestep_safety = 0;
 
     void validate(const std::string &where, int dim) const;
   };

@@ -28,3 +28,27 @@ TEST_CASE("statistics: the 95 % confidence interval of a mean uses Student's t",
   CHECK(std::isnan(one.half_width));
   CHECK_FALSE(one.contains(7));
 }
+
+TEST_CASE("statistics: two seed means compared by the standard error of their difference",
+          "[statistics]")
+{
+  using demfem::statistics::compare_means;
+  // sd 3 and 4 over 9 and 16 packings: standard error sqrt(9/9 + 16/16) =
+  // sqrt(2); a difference of 2.8 lies within 2 of them (2.828), 2.9 not.
+  const auto c = compare_means(12.8, 3, 9, 10, 4, 16);
+  CHECK(c.difference == Approx(2.8).epsilon(1e-14));
+  CHECK(c.standard_error == Approx(std::sqrt(2.0)).epsilon(1e-15));
+  CHECK(c.agree);
+  CHECK_FALSE(compare_means(12.9, 3, 9, 10, 4, 16).agree);
+  CHECK(compare_means(10, 3, 9, 12.9, 4, 16, 2.1).agree); // z given, sign irrelevant
+  // Both scatters count: the probe's UCS of docs/tunnel.md (247 +- 21 MPa,
+  // three packings) against its material file's (201 +- 43 MPa, three):
+  // standard error 27.6 MPa, difference 46 MPa = 1.67 of them.
+  const auto ldb = compare_means(247, 21, 3, 201, 43, 3);
+  CHECK(ldb.standard_error == Approx(std::sqrt(21.0 * 21 / 3 + 43.0 * 43 / 3)).epsilon(1e-15));
+  CHECK(ldb.agree);
+  // Without scatter on either side any difference disagrees; no packings: unknown.
+  CHECK_FALSE(compare_means(1.0001, 0, 3, 1, 0, 3).agree);
+  CHECK(compare_means(1, 0, 3, 1, 0, 3).agree);
+  CHECK(std::isnan(compare_means(1, 1, 0, 1, 1, 3).standard_error));
+}
