@@ -170,7 +170,7 @@ namespace demfem::dem
     return std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
   }
 
-  double Random::positive_normal(const Distribution &d)
+  double Random::truncated_normal(const Distribution &d)
   {
     if (d.sd <= 0)
       return d.mean;

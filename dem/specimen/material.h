@@ -117,7 +117,7 @@ namespace demfem::dem
     double normal();                      ///< standard normal (Box-Muller)
     /// One draw of d: the normal redrawn until above d.min (d.sd = 0: the
     /// mean).
-    double        positive_normal(const Distribution &d);
+    double        truncated_normal(const Distribution &d);
     std::uint64_t index(std::uint64_t n); ///< uniform in [0, n)
 
   private:

@@ -208,7 +208,7 @@ namespace demfem::dem
         auto             &q = grp.properties(k);
         if (r < nB + nG)
           {
-            q.gap0  = rng.positive_normal(gap); // g_o > 0 unbonds (memo Table 5)
+            q.gap0  = rng.truncated_normal(gap); // g_o > 0 unbonds (memo Table 5)
             q.mtype = 2;
             grp.reinstall(k, m.particles, m.walls);
           }

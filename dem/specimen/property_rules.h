@@ -10,7 +10,7 @@
 //    equivalent beam of radius min(R1, R2) (2 r in 2D, pi r^2 in 3D);
 //  - strengths drawn per contact from the material's distributions
 //    (fistPkg §2: mean and standard deviation), a Gaussian truncated at zero
-//    by redrawing (Random::positive_normal): the truncated normal on
+//    by redrawing (Random::truncated_normal): the truncated normal on
 //    (min, inf), min = 0 unless the material gives a truncation point, so
 //    no strength is zero unless the distribution is the single value 0;
 //  - the flat-joint radius-multiplier codes and the bonded / gapped / slit
@@ -64,7 +64,7 @@ namespace demfem::dem
     {
     }
     /// One value of d, a Gaussian truncated at d.min (d.sd = 0: the mean).
-    double operator()(const Distribution &d) const { return rng_->positive_normal(d); }
+    double operator()(const Distribution &d) const { return rng_->truncated_normal(d); }
 
   private:
     std::shared_ptr<Random> rng_; ///< shared by the copies of a rule
