@@ -221,11 +221,6 @@ namespace demfem::apps
       return j;
     }
 
-    // Peaks deviating more than this when the loading rate is halved flag a
-    // test as not quasi-static (fistPkg §5.4 asks for a rate-independent
-    // peak; 2 % is well above the peak's own step-to-step resolution).
-    constexpr double rate_tolerance = 0.02;
-
     std::string series_label(double Pc)
     {
       std::ostringstream o;
@@ -448,7 +443,7 @@ namespace demfem::apps
       if (s.rate_check > 0)
         {
           // A quasi-static peak does not move when the rate is halved
-          // (fistPkg §5.4); more than rate_tolerance flags the test.
+          // (fistPkg §5.4); more than calibrate_rate_tolerance flags the test.
           bool   sensitive = false;
           double factor    = 1;
           for (int level = 1; level <= s.rate_check; ++level)
@@ -465,7 +460,7 @@ namespace demfem::apps
               const auto r2 = dem::run_lab_test(*sp2, l2, cb2);
               check_end(r2, label + " at " + which + " rate");
               const double d = (r2.peak - r.peak) / r.peak;
-              sensitive      = sensitive || std::abs(d) > rate_tolerance;
+              sensitive      = sensitive || std::abs(d) > calibrate_rate_tolerance;
               j.num(std::string("peak_") + which + "_rate_Pa", r2.peak)
                   .num(std::string("peak_relative_change_") + which + "_rate", d);
               std::cerr << "demfem calibrate: " << label << " at " << which
@@ -475,7 +470,7 @@ namespace demfem::apps
           j.str("quasi_static", sensitive ? "no" : "yes");
           if (sensitive)
             std::cerr << "demfem calibrate: warning: " << label
-                      << ": the peak moves by more than " << 100 * rate_tolerance
+                      << ": the peak moves by more than " << 100 * calibrate_rate_tolerance
                       << " % at a lower loading rate; lower Tests/strain rate\n";
         }
       return r;

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 
 namespace demfem::apps
 {
@@ -129,6 +130,62 @@ namespace demfem::apps
           << mean.hb.sigma_ci / 1e6 << " MPa, m_i " << mean.hb.mi
           << " (each packing's m_i: mean " << m["mi"] << ", sd " << es["mi"] << ")\n";
     }
+
+    // The loading-rate check on the seed means (docs/calibrate.md, "Loading
+    // rate and time step"): the peak of one brittle packing is chaotic, so
+    // each test's peaks at the full and at the reduced rates are compared
+    // over all packings as paired samples (statistics::paired_change).
+    json rate_check_on_means(const std::vector<json> &summaries, int levels)
+    {
+      // Each test's per-seed result objects, by name (a triaxial series:
+      // one per confining pressure).
+      std::map<std::string, std::vector<const json *>> tests;
+      for (const auto &s : summaries)
+        for (const auto &[name, t] : s.at("tests").items())
+          if (t.contains("tests") && t["tests"].is_array())
+            for (const auto &point : t["tests"])
+              tests[name + " " + std::to_string(int(std::lround(
+                                      point.value("Pc_Pa", 0.0) / 1e6))) + " MPa"]
+                  .push_back(&point);
+          else
+            tests[name].push_back(&t);
+      json out = json::object();
+      for (const auto &[name, objs] : tests)
+        {
+          if (objs.size() != summaries.size())
+            continue;
+          json entry = json::object();
+          for (int level = 1; level <= levels; ++level)
+            {
+              const std::string   which = level == 1 ? "half" : "quarter";
+              std::vector<double> full, reduced;
+              for (const json *o : objs)
+                if (o->contains("peak_Pa") && o->contains("peak_" + which + "_rate_Pa"))
+                  {
+                    full.push_back((*o)["peak_Pa"].get<double>());
+                    reduced.push_back((*o)["peak_" + which + "_rate_Pa"].get<double>());
+                  }
+              if (full.size() != objs.size())
+                continue;
+              const auto c =
+                  statistics::paired_change(full, reduced, calibrate_rate_tolerance);
+              entry[which + "_rate"] = {
+                  {"relative_change_of_the_mean", c.change},
+                  {"standard_error", std::isfinite(c.standard_error)
+                                         ? json(c.standard_error)
+                                         : json(nullptr)},
+                  {"packings", c.n},
+                  {"verdict", c.verdict}};
+              std::cerr << "demfem calibrate: " << name << " at " << which
+                        << " rate, on the seed means: " << 100 * c.change << " % +- "
+                        << 100 * c.standard_error << " % (standard error, " << c.n
+                        << " packings): " << c.verdict << "\n";
+            }
+          if (!entry.empty())
+            out[name] = entry;
+        }
+      return out;
+    }
   } // namespace
 
   template <int dim>
@@ -137,7 +194,7 @@ namespace demfem::apps
     if (s.seeds <= 1)
       return run_calibration<dim>(s);
     CalibrateOutcome  outcome;
-    std::vector<json> files;
+    std::vector<json> files, summaries;
     json              seeds = json::array();
     for (int k = 0; k < s.seeds; ++k)
       {
@@ -150,6 +207,7 @@ namespace demfem::apps
         if (o.exit_code != 0 && outcome.exit_code == 0)
           outcome = o;
         files.push_back(read_json(one.out + "/material.json"));
+        summaries.push_back(read_json(one.out + "/summary.json"));
         seeds.push_back(one.mat.seed);
       }
 
@@ -190,6 +248,8 @@ namespace demfem::apps
                                            : json("split in " + std::to_string(split) +
                                                   " of " + std::to_string(files.size()));
     average_envelope(files, dim, s.out, s.where, out, scatter, values);
+    if (s.rate_check > 0)
+      out["rate_check_on_seed_means"] = rate_check_on_means(summaries, s.rate_check);
     out["seeds"]        = seeds;
     out["seed_scatter"] = scatter;
     out["seed_values"]  = values;

@@ -69,4 +69,44 @@ namespace demfem::statistics
     c.agree          = std::abs(c.difference) <= z * c.standard_error;
     return c;
   }
+
+  /// A property measured twice on the same packings (e.g. at a loading rate
+  /// and at half of it): the relative change of its mean, b against a, with
+  /// the standard error from the per-packing differences (paired samples,
+  /// so the packings' own scatter cancels), and whether the change is
+  /// within `tolerance`:
+  ///   "moves"          |change| - z se > tolerance,
+  ///   "does not move"  |change| + z se <= tolerance,
+  ///   "undecided"      otherwise (too few packings for the tolerance).
+  struct PairedChange
+  {
+    double      change         = std::numeric_limits<double>::quiet_NaN();
+    double      standard_error = std::numeric_limits<double>::quiet_NaN();
+    std::size_t n              = 0;
+    const char *verdict        = "undecided";
+  };
+
+  inline PairedChange paired_change(const std::vector<double> &a,
+                                    const std::vector<double> &b, double tolerance,
+                                    double z = 2)
+  {
+    PairedChange c;
+    if (a.size() != b.size() || a.empty())
+      return c;
+    c.n = a.size();
+    std::vector<double> d;
+    for (std::size_t k = 0; k < a.size(); ++k)
+      d.push_back(b[k] - a[k]);
+    const double mean_a = mean_interval(a).mean;
+    const auto   di     = mean_interval(d);
+    c.change            = di.mean / mean_a;
+    if (c.n < 2)
+      return c;
+    c.standard_error = di.sd / std::sqrt(double(c.n)) / std::abs(mean_a);
+    if (std::abs(c.change) - z * c.standard_error > tolerance)
+      c.verdict = "moves";
+    else if (std::abs(c.change) + z * c.standard_error <= tolerance)
+      c.verdict = "does not move";
+    return c;
+  }
 } // namespace demfem::statistics

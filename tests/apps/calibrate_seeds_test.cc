@@ -23,11 +23,13 @@ namespace
   }
 
   // The Lac du Bonnet example in a 12.5 x 25 mm vessel (about 250 grains),
-  // UCS only: about 10 s per packing.
+  // UCS only, at 0.25 /s (twice the example's rate: the test is about the
+  // seed statistics, not the rate): about 10 s per packing.
   std::string small(const std::string &dir)
   {
     return "calibrate " + std::string(DEMFEM_SOURCE_DIR) +
            "/apps/examples/lac_du_bonnet_2d.prm --set Tests/tests=ucs --set "
+           "\"Tests/strain rate=0.25\" --set "
            "\"Tests/loading "
            "rate check=false\" --set Problem/vtk=false --set \"Material/number of "
            "grains=250\" --set Vessel/height=0.025 --set Vessel/width=0.0125 --set "
@@ -42,7 +44,9 @@ TEST_CASE("calibrate: Problem/seeds = 2 writes the seed means, their scatter and
   const std::string dir =
       (std::filesystem::temp_directory_path() / "demfem_calibrate_seeds").string();
   std::filesystem::remove_all(dir);
-  const auto r = run_demfem(small(dir) + " --set Problem/seeds=2");
+  // With the loading-rate check at half rate (the later --set wins).
+  const auto r = run_demfem(small(dir) +
+                            " --set Problem/seeds=2 --set \"Tests/loading rate check=half\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   const json m  = read_json(dir + "/material.json");
@@ -72,6 +76,24 @@ TEST_CASE("calibrate: Problem/seeds = 2 writes the seed means, their scatter and
   CHECK(m["microparameters"] == s0["microparameters"]);
   CHECK(m["lab_tests"] == s0["lab_tests"]);
   CHECK(m["bts"].is_null()); // no Brazilian test run: null in every seed
+
+  // The rate check on the seed means: the relative change of the mean peak
+  // from the two packings' peaks at the full and at half rate (their
+  // summary.json), with its standard error and a verdict.
+  const json   u0 = read_json(dir + "/seed_10000/summary.json")["tests"]["ucs"];
+  const json   u1 = read_json(dir + "/seed_10001/summary.json")["tests"]["ucs"];
+  const double full = u0["peak_Pa"].get<double>() + u1["peak_Pa"].get<double>();
+  const double half =
+      u0["peak_half_rate_Pa"].get<double>() + u1["peak_half_rate_Pa"].get<double>();
+  const json &rc = m["rate_check_on_seed_means"]["ucs"]["half_rate"];
+  INFO(rc.dump());
+  CHECK(rc["packings"] == 2);
+  CHECK(rc["relative_change_of_the_mean"].get<double>() ==
+        Approx((half - full) / full).epsilon(1e-12));
+  CHECK(rc["standard_error"].get<double>() >= 0);
+  const std::string verdict = rc["verdict"];
+  CHECK((verdict == "moves" || verdict == "does not move" || verdict == "undecided"));
+  CHECK_THAT(r.out, Catch::Contains("ucs at half rate, on the seed means"));
 }
 
 TEST_CASE("calibrate: Problem/seeds with --fit or out of range is refused naming the key",

@@ -27,7 +27,7 @@ namespace
   }
 
   // A small calibrated material (the Lac du Bonnet example in a 12.5 x 25 mm
-  // vessel, about 250 grains; UCS and Brazilian, about 10 s): its
+  // vessel, about 250 grains; UCS and Brazilian at 0.25 /s, about 10 s): its
   // material.json in a directory of the test's own (ctest runs the test
   // cases in parallel processes).
   std::string small_material(const std::string &tag, const std::string &extra = "")
@@ -38,7 +38,8 @@ namespace
       std::filesystem::remove_all(dir);
       const auto r = run_demfem(
           "calibrate " + examples +
-          "lac_du_bonnet_2d.prm --set Tests/tests=ucs,brazilian --set \"Tests/loading "
+          "lac_du_bonnet_2d.prm --set Tests/tests=ucs,brazilian --set \"Tests/strain "
+          "rate=0.25\" --set \"Tests/loading "
           "rate check=false\" --set Problem/vtk=false --set \"Material/number of "
           "grains=250\" --set Vessel/height=0.025 --set Vessel/width=0.0125 --set "
           "\"Problem/output directory=" +

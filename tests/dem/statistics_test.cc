@@ -52,3 +52,35 @@ TEST_CASE("statistics: two seed means compared by the standard error of their di
   CHECK(compare_means(1, 0, 3, 1, 0, 3).agree);
   CHECK(std::isnan(compare_means(1, 1, 0, 1, 1, 3).standard_error));
 }
+
+TEST_CASE("statistics: a change measured on the same packings, judged against a tolerance",
+          "[statistics]")
+{
+  using demfem::statistics::paired_change;
+  // The 2D Lac du Bonnet UCS per packing at 0.25 /s and at 0.125 /s
+  // (docs/calibrate_ldb.md): differences -18.7, -29.6, -20.7 MPa, mean
+  // -23.0 MPa on a mean of 201.3 MPa: -11.4 %; sd of the differences 5.80
+  // MPa, standard error 5.80 / sqrt(3) / 201.3 = 1.66 %. -11.4 % lies more
+  // than two of them beyond 2 %: the peak moves.
+  const auto slow = paired_change({151.3, 228.4, 224.2}, {132.6, 198.8, 203.5}, 0.02);
+  CHECK(slow.n == 3);
+  CHECK(slow.change == Approx(-23.0 / 201.3).epsilon(1e-3));
+  CHECK(slow.standard_error == Approx(5.8026 / std::sqrt(3.0) / 201.3).epsilon(1e-3));
+  CHECK(std::string(slow.verdict) == "moves");
+  // 0.125 /s against 0.0625 /s: +22 % and -18 % on two packings, the mean
+  // +0.6 %, standard error 13 %: three packings cannot tell 2 % apart.
+  const auto chaotic = paired_change({132.6, 198.8, 203.5}, {128.8, 242.9, 166.6}, 0.02);
+  CHECK(chaotic.change == Approx((538.3 - 534.9) / 534.9).epsilon(1e-6));
+  CHECK(std::string(chaotic.verdict) == "undecided");
+  // +0.1 % on every packing: differences 0.1, 0.2, 0.3 (sd 0.1) on a mean
+  // of 200, standard error 0.1 / sqrt(3) / 200: within 2 % for sure.
+  const auto quiet = paired_change({100, 200, 300}, {100.1, 200.2, 300.3}, 0.02);
+  CHECK(quiet.change == Approx(0.001).epsilon(1e-9));
+  CHECK(quiet.standard_error == Approx(0.1 / std::sqrt(3.0) / 200).epsilon(1e-9));
+  CHECK(std::string(quiet.verdict) == "does not move");
+  // One packing: the change, but no standard error and no verdict.
+  const auto one = paired_change({100}, {90}, 0.02);
+  CHECK(one.change == Approx(-0.1).epsilon(1e-15));
+  CHECK(std::isnan(one.standard_error));
+  CHECK(std::string(one.verdict) == "undecided");
+}
