@@ -411,7 +411,7 @@ namespace demfem::apps
       s.where       = where;
       s.fit.enabled = fit;
       prm.enter_subsection("Problem");
-      s.dim = prm.get_integer("dimension");
+      s.dim   = prm.get_integer("dimension");
       s.out   = prm.get("output directory");
       s.vtk   = prm.get_bool("vtk");
       s.seeds = prm.get_integer("seeds");

@@ -470,7 +470,8 @@ namespace demfem::apps
           j.str("quasi_static", sensitive ? "no" : "yes");
           if (sensitive)
             std::cerr << "demfem calibrate: warning: " << label
-                      << ": the peak moves by more than " << 100 * calibrate_rate_tolerance
+                      << ": the peak moves by more than "
+                      << 100 * calibrate_rate_tolerance
                       << " % at a lower loading rate; lower Tests/strain rate\n";
         }
       return r;

@@ -144,8 +144,9 @@ namespace demfem::apps
         for (const auto &[name, t] : s.at("tests").items())
           if (t.contains("tests") && t["tests"].is_array())
             for (const auto &point : t["tests"])
-              tests[name + " " + std::to_string(int(std::lround(
-                                      point.value("Pc_Pa", 0.0) / 1e6))) + " MPa"]
+              tests[name + " " +
+                    std::to_string(int(std::lround(point.value("Pc_Pa", 0.0) / 1e6))) +
+                    " MPa"]
                   .push_back(&point);
           else
             tests[name].push_back(&t);
@@ -169,13 +170,12 @@ namespace demfem::apps
                 continue;
               const auto c =
                   statistics::paired_change(full, reduced, calibrate_rate_tolerance);
-              entry[which + "_rate"] = {
-                  {"relative_change_of_the_mean", c.change},
-                  {"standard_error", std::isfinite(c.standard_error)
-                                         ? json(c.standard_error)
-                                         : json(nullptr)},
-                  {"packings", c.n},
-                  {"verdict", c.verdict}};
+              entry[which + "_rate"] = {{"relative_change_of_the_mean", c.change},
+                                        {"standard_error", std::isfinite(c.standard_error)
+                                                               ? json(c.standard_error)
+                                                               : json(nullptr)},
+                                        {"packings", c.n},
+                                        {"verdict", c.verdict}};
               std::cerr << "demfem calibrate: " << name << " at " << which
                         << " rate, on the seed means: " << 100 * c.change << " % +- "
                         << 100 * c.standard_error << " % (standard error, " << c.n

@@ -30,11 +30,11 @@ namespace demfem::apps
     /// specimen's grain scale and vessel, and the test settings.
     struct Reference
     {
-      double             E = NAN, nu = NAN, ucs = NAN, bts = NAN;
+      double E = NAN, nu = NAN, ucs = NAN, bts = NAN;
       /// The file's seed scatter of UCS and BTS and its number of packings
       /// (`Problem/seeds`; a file of one packing has no scatter: NaN, 1).
       double             ucs_sd = NAN, bts_sd = NAN;
-      std::size_t        packings = 1;
+      std::size_t        packings            = 1;
       double             diameter_multiplier = NAN;
       dem::VesselParams  vessel;
       dem::LabTestParams lab;
@@ -50,7 +50,8 @@ namespace demfem::apps
       r.nu            = number(j, "nu");
       r.ucs           = number(j, "ucs");
       r.bts           = number(j, "bts");
-      if (const auto it = j.find("seeds"); it != j.end() && it->is_array() && it->size() > 1)
+      if (const auto it = j.find("seeds");
+          it != j.end() && it->is_array() && it->size() > 1)
         if (const auto sc = j.find("seed_scatter"); sc != j.end() && sc->is_object())
           {
             r.packings = it->size();
@@ -214,7 +215,7 @@ namespace demfem::apps
       const double rel = (st.mean - want) / std::abs(want);
       std::string  rule, verdict;
       bool         judged = true, ok = true;
-      json         se     = json();
+      json         se = json();
       if (!by_scatter)
         {
           rule = "within " + std::to_string(int(std::round(100 * rel_tol))) + " %";
@@ -222,10 +223,10 @@ namespace demfem::apps
         }
       else if (x.size() > 1)
         {
-          const bool   file_scatter = std::isfinite(want_sd);
-          const auto   c            = statistics::compare_means(
-              st.mean, st.sd, x.size(), want, file_scatter ? want_sd : st.sd,
-              file_scatter ? ref.packings : 1);
+          const bool         file_scatter = std::isfinite(want_sd);
+          const auto         c = statistics::compare_means(st.mean, st.sd, x.size(), want,
+                                                   file_scatter ? want_sd : st.sd,
+                                                   file_scatter ? ref.packings : 1);
           std::ostringstream r;
           r << "the means within 2 standard errors of their difference ("
             << c.standard_error << "; " << x.size() << " probe and "
@@ -247,16 +248,17 @@ namespace demfem::apps
           << " (" << st.sd << ")  material file " << std::setw(10) << want << "  "
           << std::showpos << 100 * rel << std::noshowpos << " %  " << rule << "  "
           << verdict << "\n";
-      rows.push_back({{"property", name},
-                      {"probe_mean", st.mean},
-                      {"probe_sd", std::isfinite(st.sd) ? json(st.sd) : json()},
-                      {"probe_values", x},
-                      {"material_file", want},
-                      {"material_file_sd", std::isfinite(want_sd) ? json(want_sd) : json()},
-                      {"standard_error", se},
-                      {"difference", rel},
-                      {"rule", rule},
-                      {"verdict", verdict}});
+      rows.push_back(
+          {{"property", name},
+           {"probe_mean", st.mean},
+           {"probe_sd", std::isfinite(st.sd) ? json(st.sd) : json()},
+           {"probe_values", x},
+           {"material_file", want},
+           {"material_file_sd", std::isfinite(want_sd) ? json(want_sd) : json()},
+           {"standard_error", se},
+           {"difference", rel},
+           {"rule", rule},
+           {"verdict", verdict}});
     };
     row("E", m.E, ref.E, probe_elastic_tolerance, false);
     row("nu", m.nu, ref.nu, probe_elastic_tolerance, false);

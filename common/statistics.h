@@ -42,7 +42,8 @@ namespace demfem::statistics
       ss += (x - r.mean) * (x - r.mean);
     r.sd = std::sqrt(ss / (r.n - 1));
     const boost::math::students_t t(static_cast<double>(r.n - 1));
-    r.half_width = boost::math::quantile(t, 0.5 * (1 + level)) * r.sd / std::sqrt(double(r.n));
+    r.half_width =
+        boost::math::quantile(t, 0.5 * (1 + level)) * r.sd / std::sqrt(double(r.n));
     return r;
   }
 

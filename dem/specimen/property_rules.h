@@ -18,12 +18,12 @@
 //    so run once after installation.
 // Genesis (dem/specimen/genesis_finalize.cc), the lab tests (which cut specimens made
 // by genesis) and the tunnel region (coupling/dem_region.cc) use these.
+#include "dem/engine/model.h"
 #include "dem/laws/contact_bond_law.h"
 #include "dem/laws/flat_joint_law.h"
 #include "dem/laws/linear_law.h"
-#include "dem/specimen/material.h"
-#include "dem/engine/model.h"
 #include "dem/laws/parallel_bond_law.h"
+#include "dem/specimen/material.h"
 
 #include <cstdint>
 #include <memory>

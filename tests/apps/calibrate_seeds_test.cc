@@ -45,8 +45,8 @@ TEST_CASE("calibrate: Problem/seeds = 2 writes the seed means, their scatter and
       (std::filesystem::temp_directory_path() / "demfem_calibrate_seeds").string();
   std::filesystem::remove_all(dir);
   // With the loading-rate check at half rate (the later --set wins).
-  const auto r = run_demfem(small(dir) +
-                            " --set Problem/seeds=2 --set \"Tests/loading rate check=half\"");
+  const auto r = run_demfem(
+      small(dir) + " --set Problem/seeds=2 --set \"Tests/loading rate check=half\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   const json m  = read_json(dir + "/material.json");
@@ -80,8 +80,8 @@ TEST_CASE("calibrate: Problem/seeds = 2 writes the seed means, their scatter and
   // The rate check on the seed means: the relative change of the mean peak
   // from the two packings' peaks at the full and at half rate (their
   // summary.json), with its standard error and a verdict.
-  const json   u0 = read_json(dir + "/seed_10000/summary.json")["tests"]["ucs"];
-  const json   u1 = read_json(dir + "/seed_10001/summary.json")["tests"]["ucs"];
+  const json   u0   = read_json(dir + "/seed_10000/summary.json")["tests"]["ucs"];
+  const json   u1   = read_json(dir + "/seed_10001/summary.json")["tests"]["ucs"];
   const double full = u0["peak_Pa"].get<double>() + u1["peak_Pa"].get<double>();
   const double half =
       u0["peak_half_rate_Pa"].get<double>() + u1["peak_half_rate_Pa"].get<double>();

@@ -45,7 +45,8 @@ TEST_CASE("statistics: two seed means compared by the standard error of their di
   // three packings) against its material file's (201 +- 43 MPa, three):
   // standard error 27.6 MPa, difference 46 MPa = 1.67 of them.
   const auto ldb = compare_means(247, 21, 3, 201, 43, 3);
-  CHECK(ldb.standard_error == Approx(std::sqrt(21.0 * 21 / 3 + 43.0 * 43 / 3)).epsilon(1e-15));
+  CHECK(ldb.standard_error ==
+        Approx(std::sqrt(21.0 * 21 / 3 + 43.0 * 43 / 3)).epsilon(1e-15));
   CHECK(ldb.agree);
   // Without scatter on either side any difference disagrees; no packings: unknown.
   CHECK_FALSE(compare_means(1.0001, 0, 3, 1, 0, 3).agree);
@@ -53,8 +54,9 @@ TEST_CASE("statistics: two seed means compared by the standard error of their di
   CHECK(std::isnan(compare_means(1, 1, 0, 1, 1, 3).standard_error));
 }
 
-TEST_CASE("statistics: a change measured on the same packings, judged against a tolerance",
-          "[statistics]")
+TEST_CASE(
+    "statistics: a change measured on the same packings, judged against a tolerance",
+    "[statistics]")
 {
   using demfem::statistics::paired_change;
   // The 2D Lac du Bonnet UCS per packing at 0.25 /s and at 0.125 /s
