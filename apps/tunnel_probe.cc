@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <tuple>
 
 namespace demfem::apps
 {
@@ -31,10 +32,10 @@ namespace demfem::apps
     struct Reference
     {
       double E = NAN, nu = NAN, ucs = NAN, bts = NAN;
-      /// The file's seed scatter of UCS and BTS and its number of packings
-      /// (`Problem/seeds`; a file of one packing has no scatter: NaN, 1).
+      /// The file's seed scatter of UCS and BTS and the number of packings
+      /// that measured each (`Problem/seeds`; one packing: no scatter, NaN).
       double             ucs_sd = NAN, bts_sd = NAN;
-      std::size_t        packings            = 1;
+      std::size_t        ucs_packings = 1, bts_packings = 1;
       double             diameter_multiplier = NAN;
       dem::VesselParams  vessel;
       dem::LabTestParams lab;
@@ -50,14 +51,21 @@ namespace demfem::apps
       r.nu            = number(j, "nu");
       r.ucs           = number(j, "ucs");
       r.bts           = number(j, "bts");
-      if (const auto it = j.find("seeds");
-          it != j.end() && it->is_array() && it->size() > 1)
-        if (const auto sc = j.find("seed_scatter"); sc != j.end() && sc->is_object())
-          {
-            r.packings = it->size();
-            r.ucs_sd   = number(*sc, "ucs");
-            r.bts_sd   = number(*sc, "bts");
-          }
+      // Each strength's scatter over the packings that measured it (a
+      // Brazilian disk that did not split has a null BTS).
+      const auto sc = j.find("seed_scatter");
+      const auto sv = j.find("seed_values");
+      if (sc != j.end() && sc->is_object() && sv != j.end() && sv->is_object())
+        for (auto [key, sd, n] : {std::tuple{"ucs", &r.ucs_sd, &r.ucs_packings},
+                                  std::tuple{"bts", &r.bts_sd, &r.bts_packings}})
+          if (const auto v = sv->find(key); v != sv->end() && v->is_array())
+            {
+              std::size_t measured = 0;
+              for (const auto &x : *v)
+                measured += x.is_number();
+              if (measured > 1)
+                *sd = number(*sc, key), *n = measured;
+            }
       // The probe reads E and nu in the file's stress window (below).
       if (!(r.ucs > 0))
         throw dem::InputError("--probe: material file '" + file +
@@ -210,7 +218,8 @@ namespace demfem::apps
     // scatters (the file's packings and the probe's; a file of one packing
     // is one draw, whose scatter the probe's estimates).
     auto row = [&](const std::string &name, const std::vector<double> &x, double want,
-                   double rel_tol, bool by_scatter, double want_sd = NAN) {
+                   double rel_tol, bool by_scatter, double want_sd = NAN,
+                   std::size_t want_n = 1) {
       const auto   st  = statistics::mean_interval(x);
       const double rel = (st.mean - want) / std::abs(want);
       std::string  rule, verdict;
@@ -226,11 +235,11 @@ namespace demfem::apps
           const bool         file_scatter = std::isfinite(want_sd);
           const auto         c = statistics::compare_means(st.mean, st.sd, x.size(), want,
                                                    file_scatter ? want_sd : st.sd,
-                                                   file_scatter ? ref.packings : 1);
+                                                   file_scatter ? want_n : 1);
           std::ostringstream r;
           r << "the means within 2 standard errors of their difference ("
             << c.standard_error << "; " << x.size() << " probe and "
-            << (file_scatter ? std::to_string(ref.packings) + " file packings"
+            << (file_scatter ? std::to_string(want_n) + " file packings"
                              : std::string("1 file packing, its scatter the probe's"))
             << ")";
           rule = r.str();
@@ -262,8 +271,8 @@ namespace demfem::apps
     };
     row("E", m.E, ref.E, probe_elastic_tolerance, false);
     row("nu", m.nu, ref.nu, probe_elastic_tolerance, false);
-    row("UCS", m.ucs, ref.ucs, 0, true, ref.ucs_sd);
-    row("BTS", m.bts, ref.bts, 0, true, ref.bts_sd);
+    row("UCS", m.ucs, ref.ucs, 0, true, ref.ucs_sd, ref.ucs_packings);
+    row("BTS", m.bts, ref.bts, 0, true, ref.bts_sd, ref.bts_packings);
     // A Brazilian disk that did not split has no tensile strength.
     std::size_t split = 0;
     for (const auto &mode : m.modes)

@@ -66,14 +66,14 @@ namespace
   demfem::testing::CommandResult probe(const std::string &material,
                                        const std::string &diameter,
                                        const std::string &dir,
-                                       const std::string &extra = "")
+                                       const std::string &extra = "", int seeds = 1)
   {
     std::filesystem::remove_all(dir);
     return run_demfem("tunnel " + examples +
                       "tunnel_2d.prm --set \"DEM region/material file=" + material +
                       "\" --set \"DEM region/grain diameter=" + diameter +
                       "\" --set \"Problem/output directory=" + dir +
-                      "\" --probe --probe-seeds 1 " + extra);
+                      "\" --probe --probe-seeds " + std::to_string(seeds) + " " + extra);
   }
 } // namespace
 
@@ -133,6 +133,56 @@ TEST_CASE("probe: a material file whose E the region does not reproduce fails",
   CHECK(p["rows"][0]["verdict"] == "FAIL");
   CHECK(p["rows"][0]["difference"].get<double>() == Approx(1 / 1.1 - 1).epsilon(1e-9));
   CHECK(p["rows"][1]["verdict"] == "pass"); // nu unchanged
+}
+
+TEST_CASE("probe: the strengths are judged by the standard error of the difference of "
+          "the seed means, with the file's scatter",
+          "[probe][app]")
+{
+  // A file that says it is the mean of three packings (seed_scatter,
+  // seed_values) with its UCS tripled: the probe's two packings read the
+  // real UCS, so the UCS row fails, with the standard error
+  // sqrt(s_p^2 / 2 + s_f^2 / 3) (common/statistics.h, compare_means). The
+  // BTS was measured on two of the three packings (a null: a disk that did
+  // not split), so its file scatter counts two.
+  json         m   = read_json(small_material("scatter"));
+  const double ucs = 3 * m["ucs"].get<double>(), bts = m["bts"].get<double>();
+  m["ucs"]                 = ucs;
+  m["seeds"]               = json::array({10000, 10001, 10002});
+  m["seed_values"]["ucs"]  = json::array({0.9 * ucs, ucs, 1.1 * ucs});
+  m["seed_scatter"]["ucs"] = 0.1 * ucs;
+  m["seed_values"]["bts"]  = json::array({0.8 * bts, nullptr, 1.2 * bts});
+  m["seed_scatter"]["bts"] = 0.4 * bts / std::sqrt(2.0);
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / "demfem_probe_scatter").string();
+  std::filesystem::create_directories(dir);
+  const std::string file = dir + ".material.json";
+  {
+    std::ofstream out(file);
+    out << m.dump(2);
+  }
+  const auto r = probe(file, diameter_times_32(m), dir, "", 2);
+  INFO(r.out);
+  CHECK(r.exit_code == 3);
+  const json p = read_json(dir + "/probe.json");
+  REQUIRE(p["rows"][2]["property"] == "UCS");
+  REQUIRE(p["rows"][3]["property"] == "BTS");
+  auto sd2 = [](const json &values) { // sample variance of two values
+    const double a = values[0], b = values[1];
+    return 0.5 * (a - b) * (a - b);
+  };
+  const json &u = p["rows"][2];
+  CHECK(u["verdict"] == "FAIL");
+  CHECK(u["material_file_sd"].get<double>() == Approx(0.1 * ucs).epsilon(1e-12));
+  CHECK(u["standard_error"].get<double>() ==
+        Approx(std::sqrt(sd2(u["probe_values"]) / 2 + 0.01 * ucs * ucs / 3))
+            .epsilon(1e-12));
+  CHECK(u["rule"].get<std::string>().find("3 file packings") != std::string::npos);
+  const json  &b  = p["rows"][3];
+  const double sb = 0.4 * bts / std::sqrt(2.0);
+  CHECK(b["standard_error"].get<double>() ==
+        Approx(std::sqrt(sd2(b["probe_values"]) / 2 + sb * sb / 2)).epsilon(1e-12));
+  CHECK(b["rule"].get<std::string>().find("2 file packings") != std::string::npos);
 }
 
 TEST_CASE("probe: without a material file it is refused naming the key", "[probe][app]")
