@@ -63,6 +63,22 @@ namespace
     return buf;
   }
 
+  // The probe's output directory for a test case of its own.
+  std::string probe_dir(const std::string &tag)
+  {
+    return (std::filesystem::temp_directory_path() / ("demfem_probe_" + tag)).string();
+  }
+
+  // An edited material file written next to `dir`; returns its path.
+  std::string write_material(const json &m, const std::string &dir)
+  {
+    std::filesystem::create_directories(dir);
+    const std::string file = dir + ".material.json";
+    std::ofstream     out(file);
+    out << m.dump(2);
+    return file;
+  }
+
   demfem::testing::CommandResult probe(const std::string &material,
                                        const std::string &diameter,
                                        const std::string &dir,
@@ -113,17 +129,11 @@ TEST_CASE("probe: a material file whose E the region does not reproduce fails",
   // The same material with E raised by 10 % in the file: the region's
   // grains are unchanged, so the probe's E is 9 % below the file's; the
   // continuum takes the (raised) file value, which still passes.
-  json m = read_json(small_material("bad"));
-  m["E"] = 1.1 * m["E"].get<double>();
-  const std::string dir =
-      (std::filesystem::temp_directory_path() / "demfem_probe_bad").string();
-  std::filesystem::create_directories(dir);
-  const std::string file = dir + ".material.json";
-  {
-    std::ofstream out(file);
-    out << m.dump(2);
-  }
-  const auto r = probe(file, diameter_times_32(m), dir);
+  json m                 = read_json(small_material("bad"));
+  m["E"]                 = 1.1 * m["E"].get<double>();
+  const std::string dir  = probe_dir("bad");
+  const std::string file = write_material(m, dir);
+  const auto        r    = probe(file, diameter_times_32(m), dir);
   INFO(r.out);
   CHECK(r.exit_code == 3);
   CHECK(r.out.find("probe: FAIL") != std::string::npos);
@@ -153,15 +163,9 @@ TEST_CASE("probe: the strengths are judged by the standard error of the differen
   m["seed_scatter"]["ucs"] = 0.1 * ucs;
   m["seed_values"]["bts"]  = json::array({0.8 * bts, nullptr, 1.2 * bts});
   m["seed_scatter"]["bts"] = 0.4 * bts / std::sqrt(2.0);
-  const std::string dir =
-      (std::filesystem::temp_directory_path() / "demfem_probe_scatter").string();
-  std::filesystem::create_directories(dir);
-  const std::string file = dir + ".material.json";
-  {
-    std::ofstream out(file);
-    out << m.dump(2);
-  }
-  const auto r = probe(file, diameter_times_32(m), dir, "", 2);
+  const std::string dir    = probe_dir("scatter");
+  const std::string file   = write_material(m, dir);
+  const auto        r      = probe(file, diameter_times_32(m), dir, "", 2);
   INFO(r.out);
   CHECK(r.exit_code == 3);
   const json p = read_json(dir + "/probe.json");
