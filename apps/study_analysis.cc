@@ -198,7 +198,8 @@ namespace demfem::apps::study
          "final_ratio,variant,scheme,relaxation,stiffness_contrast,breakable,"
          "cracks_total,cracks_excavation,cracks_tensile,cracks_shear,"
          "damage_zone_depth_m,reference_depth_m,cracks_rel_diff,agrees,"
-         "region_too_small,damaged_area_m2,notch_depth_m,notch_angle_deg,genesis_steps,"
+         "region_too_small,damaged_area_m2,notch_depth_m,notch_angle_deg,"
+         "connected_cracks,damage_zone_depth_all_m,genesis_steps,"
          "genesis_reused,genesis_wall_time_s,kirsch_at_grains_m,error_at_grains_rel,"
          "diagnosis\n";
     for (const auto &r : rows)
@@ -238,6 +239,8 @@ namespace demfem::apps::study
           << num(r.result.damage.damaged_area, dmg) << ","
           << num(r.result.damage.notch_depth, dmg) << ","
           << num(r.result.damage.notch_angle, dmg) << ","
+          << count(r.result.damage.connected_cracks) << ","
+          << num(r.result.damage.depth_all, dmg) << ","
           << (ran ? std::to_string(r.result.genesis_steps) : "") << ","
           << (ran ? (r.result.genesis_reused ? "yes" : "no") : "") << ","
           << num(r.result.genesis_wall_time_s, ran) << ","
@@ -652,8 +655,9 @@ namespace demfem::apps::study
     if (!groups.empty())
       m << "\nMean over packing seeds with 95 % confidence intervals (Student's t; "
            "the embedded runs of each setting and the references of the same "
-           "seeds; chart study_seeds.svg). Depth: 90th-percentile crack distance "
-           "from the wall; area: damaged area per unit length; notch: the deepest "
+           "seeds; chart study_seeds.svg). Depth: 90th-percentile distance from "
+           "the wall of the cracks connected to it (docs/tunnel.md, \"Damage "
+           "measures\"); area: damaged area per unit length; notch: the deepest "
            "sector's angle:\n\n"
            "| b/a | a/d | variant, scheme, k, safety | seeds | depth [m] | reference "
            "depth [m] | damaged area [m2] | reference area [m2] | notch angle [deg] "

@@ -133,49 +133,22 @@ namespace demfem::coupling::excavation
     return s;
   }
 
-  /// Percentile of the crack distances that is the damage-zone depth.
-  constexpr double damage_depth_percentile = DamageZone::percentile;
-
-  /// In-plane distances from the wall r = a (tunnel along z in 3D) of the
-  /// cracks with index >= from and in-plane centre distance <= r_max.
+  /// The damage zone (coupling/damage_zone.h: the zone connected to the
+  /// wall, its percentile depth, sector depths, notch, damaged area) of the
+  /// cracks with index >= from and in-plane centre distance <= r_max, their
+  /// links DamageZone::link_grain_diameters mean grain diameters d long.
   template <int dim>
-  std::vector<double> crack_depths(const dem::Model<dim> &m, std::size_t from, double a,
-                                   double r_max = HUGE_VAL)
-  {
-    std::vector<double> d;
-    for (std::size_t k = from; k < m.cracks.size(); ++k)
-      {
-        const double r = m.cracks[k].position.template head<2>().norm();
-        if (r <= r_max)
-          d.push_back(std::max(0.0, r - a));
-      }
-    return d;
-  }
-
-  /// The damage zone (coupling/damage_zone.h: percentile depth, sector
-  /// depths, notch, damaged area) of the cracks with index >= from and
-  /// in-plane centre distance <= r_max.
-  template <int dim>
-  DamageZone damage_zone(const dem::Model<dim> &m, std::size_t from, double a,
+  DamageZone damage_zone(const dem::Model<dim> &m, std::size_t from, double a, double d,
                          double r_max = HUGE_VAL)
   {
-    std::vector<std::array<double, 2>> xy;
+    std::vector<std::array<double, 3>> x;
     for (std::size_t k = from; k < m.cracks.size(); ++k)
       {
-        const auto &x = m.cracks[k].position;
-        if (x.template head<2>().norm() <= r_max)
-          xy.push_back({{x[0], x[1]}});
+        const auto &p = m.cracks[k].position;
+        if (p.template head<2>().norm() <= r_max)
+          x.push_back({{p[0], p[1], dim == 3 ? p[dim - 1] : 0.0}});
       }
-    return measure_damage_zone(xy, a);
-  }
-
-  /// Damage-zone depth: the damage_depth_percentile of crack_depths.
-  template <int dim>
-  double damage_zone_depth(const dem::Model<dim> &m, std::size_t from, double a,
-                           double r_max = HUGE_VAL)
-  {
-    return nearest_rank_percentile(crack_depths(m, from, a, r_max),
-                                   damage_depth_percentile);
+    return measure_damage_zone(x, a, DamageZone::link_grain_diameters * d);
   }
 
   /// Cracks (all, since the start) at a distance > r from the centre: near

@@ -224,7 +224,7 @@ namespace demfem::coupling
             v[k]            = m.walls.add_vertex(R * Vec<2>(std::cos(th), std::sin(th)));
           }
         for (std::size_t k = 0; k < n; ++k)
-          m.walls.add_facet(wall, {v[k], v[(k + 1) % n]});
+          m.walls.add_facet(wall, {{v[k], v[(k + 1) % n]}});
         const RegionGroups G = build_disk_region(m, p.region, &out);
         reused_genesis_s     = G.genesis_reused ? G.genesis_wall_time_s : 0.0;
         step0                = m.step_count();
@@ -390,12 +390,12 @@ namespace demfem::coupling
         r.evaluation_radius    = 0.5 * p.region.radius;
         if (excavated)
           {
-            r.damage =
-                excavation::damage_zone(m, exc.cracks_before, a, r.evaluation_radius);
-            r.damage_zone_depth     = r.damage.depth;
+            r.damage            = excavation::damage_zone(m, exc.cracks_before, a, d(),
+                                                          r.evaluation_radius);
+            r.damage_zone_depth = r.damage.depth;
             r.damage_zone_depth_max = r.damage.depth_max;
             r.damage_zone_depth_all =
-                excavation::damage_zone_depth(m, exc.cracks_before, a);
+                excavation::damage_zone(m, exc.cracks_before, a, d()).depth_all;
             for (std::size_t k = exc.cracks_before; k < m.cracks.size(); ++k)
               r.cracks_beyond_evaluation +=
                   m.cracks[k].position.norm() > r.evaluation_radius;

@@ -110,12 +110,12 @@ namespace demfem::coupling
     std::size_t  cracks_total = 0, cracks_tensile = 0, cracks_shear = 0;
     std::size_t  cracks_before_excavation = 0, cracks_near_boundary = 0;
     /// The damage zone (coupling/damage_zone.h) of the excavation cracks
-    /// within the evaluation radius R/2; damage_zone_depth is its
-    /// 90th-percentile depth (beyond R/2, the membrane and the
-    /// in-situ cracks it causes influence the result: measured, a crack
-    /// 2.26 m from the wall at r = 0.83 R, at a spot cracked during the
-    /// in-situ ramp, broken by the excavation's unloading wave); the
-    /// unfiltered value and the count of excavation cracks beyond R/2.
+    /// within the evaluation radius R/2; damage_zone_depth is the
+    /// 90th-percentile depth of its zone connected to the wall (beyond R/2, the membrane
+    /// and the in-situ cracks it causes influence the result: measured, a crack 2.26 m
+    /// from the wall at r = 0.83 R, at a spot cracked during the in-situ ramp, broken by
+    /// the excavation's unloading wave); the 90th percentile of all excavation cracks at
+    /// any radius (damage_zone_depth_all) and the count of those beyond R/2.
     DamageZone  damage;
     double      damage_zone_depth        = 0;
     double      damage_zone_depth_max    = 0; ///< largest crack distance (r <= R/2)

@@ -96,9 +96,12 @@ namespace demfem::coupling
     }
 
     /// Damage-zone depth of the excavation cracks so far (0 before).
-    double damage_zone_depth() const
+    double damage_zone_depth() const { return excavated ? damage_zone().depth : 0.0; }
+
+    /// The excavation cracks' damage zone (coupling/damage_zone.h).
+    DamageZone damage_zone() const
     {
-      return excavated ? excavation::damage_zone_depth(m.dem, exc.cracks_before, a) : 0.0;
+      return excavation::damage_zone(m.dem, exc.cracks_before, a, d_mean);
     }
 
     /// wall_displacement.csv: the wall grains' reference position and
@@ -127,7 +130,7 @@ namespace demfem::coupling
       r.cracks_before_excavation = exc.cracks_before;
       r.cracks_near_interface    = cracks_near_interface();
       r.region_too_small         = r.cracks_near_interface > 0;
-      r.damage                   = excavation::damage_zone(m.dem, exc.cracks_before, a);
+      r.damage                   = damage_zone();
       r.damage_zone_depth        = r.damage.depth;
       r.damage_zone_depth_max    = r.damage.depth_max;
       std::vector<std::array<double, 6>> rows;

@@ -93,8 +93,9 @@ namespace demfem::coupling
     std::size_t cracks_near_interface = 0;
     bool        region_too_small      = false;
     double      dem_region_radius     = 0;
-    double      damage_zone_depth     = 0; ///< 90th-percentile crack distance [m]
-    double      damage_zone_depth_max = 0; ///< largest crack distance [m]
+    /// 90th-percentile crack distance of the zone connected to the wall [m]
+    double      damage_zone_depth     = 0;
+    double      damage_zone_depth_max = 0; ///< largest crack distance, all cracks [m]
     DamageZone  damage; ///< the excavation's damage zone (summary "damage")
     double      wall_convergence_mean = 0; ///< mean inward radial displacement [m]
     double      interface_force_imbalance_max = 0;

@@ -72,15 +72,15 @@ TEST_CASE("study: breakable mode, embedded runs against the full-DEM reference",
 {
   // apps/examples/study_breakable_2d.prm: a = 0.4 m, a/d = 4, in situ
   // (-20, -50) MPa, reference R = 8 a (about 3 300 grains). Regions b = 5 a
-  // (encloses the damage zone, about 0.4 m deep) and b = 2 a (its coupling
-  // boundary lies inside the damage zone). With the in-situ stress installed
-  // before the strengths act (docs/tunnel.md), b = 4 a of this packing puts
-  // 2 of its 14 excavation cracks at its coupling boundary
-  // (region_too_small, depth +117 %); b = 5 a and 6 a read -30 % and -34 %.
+  // (encloses the damage zone) and b = 2 a (its coupling boundary lies
+  // inside the damage zone). Measured on the zone connected to the wall
+  // (coupling/damage_zone.h): the reference 0.189 m, b = 5 a 0.119 m (-37 %,
+  // 26 excavation cracks, none at the coupling boundary), b = 2 a
+  // region_too_small.
   const std::string d = dir("breakable");
   const auto        r = run_study("study_breakable_2d.prm", d,
                                   "--set \"Study/region radius factors=5, 2\" --set "
-                                         "\"Study/agreement tolerance=0.4\"");
+                                         "\"Study/agreement tolerance=0.5\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
 
@@ -104,16 +104,15 @@ TEST_CASE("study: breakable mode, embedded runs against the full-DEM reference",
       CHECK(std::stod(row.at("reference_depth_m")) == Approx(ref_depth).epsilon(1e-5));
     }
   // The largest region agrees with the reference on the damage-zone depth
-  // (90th percentile of the excavation cracks' distances) within the scatter
-  // of one packing at a/d = 4: three seeds of this example put the b/a = 4
-  // mean 32 % below the reference's, with standard deviations of 20-35 %
-  // (docs/study.md), so a single seed is held to 40 %, not to the 25 % a
-  // seed-averaged comparison would use (measured: -30 %, 0.160 m, under two
-  // grain diameters: cracks sit at contacts).
+  // within the scatter of one packing at a/d = 4, where the zone is about
+  // two grain diameters deep and cracks sit at contacts, so the depth moves
+  // in steps of about one diameter (0.1 m): eight seeds of this example
+  // put single b = 5 a runs between -53 % and +31 % of their reference
+  // (docs/study.md). One seed is held to one grain diameter, and the
+  // agreement tolerance is 0.5 (one diameter of a 0.2 m zone).
   const auto &big = rows[0];
   REQUIRE(std::stod(big.at("region_factor")) == Approx(5));
-  CHECK(std::abs(std::stod(big.at("damage_zone_depth_m")) - ref_depth) <=
-        0.4 * ref_depth);
+  CHECK(std::abs(std::stod(big.at("damage_zone_depth_m")) - ref_depth) <= 0.1);
   CHECK(big.at("agrees") == "yes");
   CHECK(big.at("region_too_small") == "no");
   // The region much smaller than the damage zone: its coupling boundary is
