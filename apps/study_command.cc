@@ -302,8 +302,9 @@ namespace demfem::apps
               else if (row.diagnosis.empty())
                 row.diagnosis = "no usable full-DEM reference (failed or no damage)";
               if (row.region_too_small && row.diagnosis.empty())
-                row.diagnosis = "region_too_small: cracks within two grain diameters "
-                                "of the coupling boundary";
+                row.diagnosis = "region_too_small: the damage zone (cracks connected "
+                                "to the wall) within two grain diameters of the "
+                                "coupling boundary";
             }
         }
       catch (const std::exception &e)

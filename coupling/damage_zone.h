@@ -144,6 +144,23 @@ namespace demfem::coupling
     return in;
   }
 
+  /// Cracks at positions x beyond the in-plane radius r0 (a coupling
+  /// boundary's band): {all of them, those connected to the wall r = a
+  /// through links of `link`}. The zone's make a region too small.
+  inline std::array<std::size_t, 2> cracks_beyond(
+      const std::vector<std::array<double, 3>> &x, double a, double link, double r0)
+  {
+    const std::vector<bool>    in = connected_to_wall(x, a, link);
+    std::array<std::size_t, 2> n{{0, 0}};
+    for (std::size_t k = 0; k < x.size(); ++k)
+      if (std::hypot(x[k][0], x[k][1]) > r0)
+        {
+          ++n[0];
+          n[1] += in[k];
+        }
+    return n;
+  }
+
   /// The damage zone of cracks at positions x (z = 0 in 2D) around the wall
   /// r = a, its cracks linked within `link` [m] (DamageZone::
   /// link_grain_diameters mean grain diameters; <= 0: every crack).

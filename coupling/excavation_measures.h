@@ -133,13 +133,12 @@ namespace demfem::coupling::excavation
     return s;
   }
 
-  /// The damage zone (coupling/damage_zone.h: the zone connected to the
-  /// wall, its percentile depth, sector depths, notch, damaged area) of the
-  /// cracks with index >= from and in-plane centre distance <= r_max, their
-  /// links DamageZone::link_grain_diameters mean grain diameters d long.
+  /// Positions (z = 0 in 2D) of the cracks with index >= from and in-plane
+  /// centre distance <= r_max.
   template <int dim>
-  DamageZone damage_zone(const dem::Model<dim> &m, std::size_t from, double a, double d,
-                         double r_max = HUGE_VAL)
+  std::vector<std::array<double, 3>> crack_positions(const dem::Model<dim> &m,
+                                                     std::size_t            from,
+                                                     double r_max = HUGE_VAL)
   {
     std::vector<std::array<double, 3>> x;
     for (std::size_t k = from; k < m.cracks.size(); ++k)
@@ -148,7 +147,19 @@ namespace demfem::coupling::excavation
         if (p.template head<2>().norm() <= r_max)
           x.push_back({{p[0], p[1], dim == 3 ? p[dim - 1] : 0.0}});
       }
-    return measure_damage_zone(x, a, DamageZone::link_grain_diameters * d);
+    return x;
+  }
+
+  /// The damage zone (coupling/damage_zone.h: the zone connected to the
+  /// wall, its percentile depth, sector depths, notch, damaged area) of the
+  /// cracks with index >= from and in-plane centre distance <= r_max, their
+  /// links DamageZone::link_grain_diameters mean grain diameters d long.
+  template <int dim>
+  DamageZone damage_zone(const dem::Model<dim> &m, std::size_t from, double a, double d,
+                         double r_max = HUGE_VAL)
+  {
+    return measure_damage_zone(crack_positions(m, from, r_max), a,
+                               DamageZone::link_grain_diameters * d);
   }
 
   /// Cracks (all, since the start) at a distance > r from the centre: near

@@ -83,16 +83,18 @@ namespace demfem::coupling
     }
 
     /// Excavation cracks (in-situ cracks are not the excavation's) beyond
-    /// interface_band_radius (status region_too_small).
-    std::size_t cracks_near_interface() const
+    /// interface_band_radius: {all of them, those of the damage zone}. The
+    /// region is too small (status region_too_small) when the zone, the
+    /// cracks connected to the wall, reaches the band: the continuum cannot
+    /// crack, so the region cuts the zone. An isolated crack there does not
+    /// cut the zone; it is counted and warned about.
+    std::array<std::size_t, 2> cracks_near_interface() const
     {
       if (!excavated)
-        return 0;
-      std::size_t  n  = 0;
-      const double r0 = interface_band_radius();
-      for (std::size_t k = exc.cracks_before; k < m.dem.cracks.size(); ++k)
-        n += m.dem.cracks[k].position.template head<2>().norm() > r0;
-      return n;
+        return {{0, 0}};
+      return cracks_beyond(excavation::crack_positions(m.dem, exc.cracks_before), a,
+                           DamageZone::link_grain_diameters * d_mean,
+                           interface_band_radius());
     }
 
     /// Damage-zone depth of the excavation cracks so far (0 before).
@@ -121,18 +123,20 @@ namespace demfem::coupling
     /// The measured fields of the result.
     void fill(TunnelResult &r) const
     {
-      r.region_stress_before     = stress_before.template topLeftCorner<2, 2>();
-      r.region_stress_before_zz  = dim == 3 ? stress_before(dim - 1, dim - 1) : 0.0;
-      r.cracks_total             = cracks(-1);
-      r.cracks_tensile           = cracks(0);
-      r.cracks_shear             = cracks(1);
-      r.cracks_by_type           = excavation::cracks_by_type(m.dem);
-      r.cracks_before_excavation = exc.cracks_before;
-      r.cracks_near_interface    = cracks_near_interface();
-      r.region_too_small         = r.cracks_near_interface > 0;
-      r.damage                   = damage_zone();
-      r.damage_zone_depth        = r.damage.depth;
-      r.damage_zone_depth_max    = r.damage.depth_max;
+      r.region_stress_before       = stress_before.template topLeftCorner<2, 2>();
+      r.region_stress_before_zz    = dim == 3 ? stress_before(dim - 1, dim - 1) : 0.0;
+      r.cracks_total               = cracks(-1);
+      r.cracks_tensile             = cracks(0);
+      r.cracks_shear               = cracks(1);
+      r.cracks_by_type             = excavation::cracks_by_type(m.dem);
+      r.cracks_before_excavation   = exc.cracks_before;
+      const auto near              = cracks_near_interface();
+      r.cracks_near_interface      = near[0];
+      r.zone_cracks_near_interface = near[1];
+      r.region_too_small           = near[1] > 0;
+      r.damage                     = damage_zone();
+      r.damage_zone_depth          = r.damage.depth;
+      r.damage_zone_depth_max      = r.damage.depth_max;
       std::vector<std::array<double, 6>> rows;
       r.wall_convergence_mean = convergence(&r.n_wall_particles, &rows);
       r.wall_points.clear();

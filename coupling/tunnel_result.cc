@@ -130,9 +130,9 @@ namespace demfem::coupling
                      ", " + g(kinetic_energy_target) + ", " + g(r.ratio_tolerance) + ")");
         if (r.region_too_small)
           fail(RunStatus::region_too_small,
-               std::to_string(r.cracks_near_interface) +
-                   " excavation cracks within two grain diameters of the coupling "
-                   "boundary: the DEM region (radius " +
+               std::to_string(r.zone_cracks_near_interface) +
+                   " cracks of the damage zone (connected to the wall) within two "
+                   "grain diameters of the coupling boundary: the DEM region (radius " +
                    g(r.dem_region_radius) +
                    " m) is too small for this damage; enlarge DEM region/radius or use "
                    "'auto'");
@@ -187,6 +187,7 @@ namespace demfem::coupling
     j["damage"]                          = r.damage.to_json();
     j["cracks_before_excavation"]        = r.cracks_before_excavation;
     j["cracks_near_interface"]           = r.cracks_near_interface;
+    j["zone_cracks_near_interface"]      = r.zone_cracks_near_interface;
     j["region_too_small"]                = r.region_too_small;
     j["dem_region_radius"]               = json_number(r.dem_region_radius);
     j["wall_convergence_mean"]           = json_number(r.wall_convergence_mean);

@@ -62,7 +62,7 @@ namespace demfem::coupling
     time_not_advancing,  ///< dt lost in round-off of t: no physical time passed
     in_situ_not_reached, ///< region stress before excavation not sigma0
     not_equilibrated,    ///< a phase ended at its step limit
-    region_too_small,    ///< excavation cracks at the coupling boundary
+    region_too_small,    ///< the damage zone reached the coupling boundary
   };
   std::string status_name(RunStatus s);
   /// Throws std::invalid_argument for an unknown name.
@@ -88,11 +88,14 @@ namespace demfem::coupling
     std::size_t  cracks_total = 0, cracks_tensile = 0, cracks_shear = 0;
     nlohmann::ordered_json cracks_by_type;
     std::size_t            cracks_before_excavation = 0;
-    /// Excavation cracks within two mean diameters of the coupling boundary
-    /// (the continuum cannot crack: the region is too small for the damage).
-    std::size_t cracks_near_interface = 0;
-    bool        region_too_small      = false;
-    double      dem_region_radius     = 0;
+    /// Excavation cracks within two mean diameters of the coupling boundary:
+    /// all, and those of the damage zone (connected to the wall). The zone's
+    /// make the region too small (the continuum cannot crack: the region
+    /// cuts the zone).
+    std::size_t cracks_near_interface      = 0;
+    std::size_t zone_cracks_near_interface = 0;
+    bool        region_too_small           = false;
+    double      dem_region_radius          = 0;
     /// 90th-percentile crack distance of the zone connected to the wall [m]
     double      damage_zone_depth     = 0;
     double      damage_zone_depth_max = 0; ///< largest crack distance, all cracks [m]

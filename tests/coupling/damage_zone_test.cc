@@ -122,3 +122,20 @@ TEST_CASE("damage zone: cracks join the zone through chains no longer than the l
   CHECK(connected_to_wall({polar(a + 0.16, 45, 1.0)}, a, 0.15) ==
         std::vector<bool>{false});
 }
+
+TEST_CASE("damage zone: only the zone's cracks near a coupling boundary cut it",
+          "[coupling][damage]")
+{
+  // Tunnel a = 1 m, link 0.15 m, coupling band beyond r0 = 1.45 m. A chain
+  // at 0 deg from 0.1 to 0.5 m off the wall reaches the band (r = 1.5 m);
+  // an isolated crack at 90 deg, r = 1.8 m, lies in the band too.
+  const double                       a = 1.0;
+  std::vector<std::array<double, 3>> x;
+  for (double d : {0.1, 0.2, 0.3, 0.4, 0.5})
+    x.push_back(polar(a + d, 0));
+  x.push_back(polar(1.8, 90));
+  CHECK(cracks_beyond(x, a, 0.15, 1.45) == std::array<std::size_t, 2>{{2, 1}});
+  // Without the chain's last crack only the isolated one is in the band.
+  x.erase(x.begin() + 4);
+  CHECK(cracks_beyond(x, a, 0.15, 1.45) == std::array<std::size_t, 2>{{1, 0}});
+}

@@ -90,14 +90,15 @@ TEST_CASE("run status: each failed check has its status and numbers",
     assess_outcome(r);
     CHECK(r.status == RunStatus::time_not_advancing);
   }
-  SECTION("excavation cracks at the coupling boundary")
+  SECTION("the damage zone at the coupling boundary")
   {
-    TunnelResult r          = passing();
-    r.region_too_small      = true;
-    r.cracks_near_interface = 7;
+    TunnelResult r               = passing();
+    r.region_too_small           = true;
+    r.cracks_near_interface      = 9;
+    r.zone_cracks_near_interface = 7;
     assess_outcome(r);
     CHECK(r.status == RunStatus::region_too_small);
-    CHECK_THAT(r.problems[0].second, Catch::Contains("7 excavation cracks"));
+    CHECK_THAT(r.problems[0].second, Catch::Contains("7 cracks of the damage zone"));
   }
   SECTION("a diverged run is not checked further")
   {
