@@ -83,16 +83,16 @@ TEST_CASE("study: time-step safety beyond the limit is detected as unstable, no 
   // The four runs share one packing (docs/study.md, "Packing reuse"): the
   // first packs it, the others reuse it, and every run's wall time counts
   // the packing's.
-  REQUIRE(rows[0].size() > 38);
-  CHECK(rows[0][36] == "genesis_steps");
-  CHECK(rows[0][37] == "genesis_reused");
-  CHECK(rows[0][38] == "genesis_wall_time_s");
+  REQUIRE(rows[0].size() > 40);
+  CHECK(rows[0][38] == "genesis_steps");
+  CHECK(rows[0][39] == "genesis_reused");
+  CHECK(rows[0][40] == "genesis_wall_time_s");
   for (std::size_t i = 1; i < rows.size(); ++i)
     {
-      CHECK(std::stod(rows[i][36]) > 0);
-      CHECK(rows[i][36] == rows[1][36]);
-      CHECK(rows[i][37] == (i == 1 ? "no" : "yes"));
-      CHECK(std::stod(rows[i][11]) >= std::stod(rows[i][38]));
+      CHECK(std::stod(rows[i][38]) > 0);
+      CHECK(rows[i][38] == rows[1][38]);
+      CHECK(rows[i][39] == (i == 1 ? "no" : "yes"));
+      CHECK(std::stod(rows[i][11]) >= std::stod(rows[i][40]));
       const bool beyond = std::stod(rows[i][7]) > 1;
       CHECK(rows[i][8] == (beyond ? "unstable" : "stable"));
       // a stable run is flagged equilibrated exactly when its final
@@ -212,8 +212,8 @@ TEST_CASE("study: the error against Kirsch stays within the packing scatter at a
       CHECK(std::abs(std::stod(rows[i][14])) < 0.15);
       // Kirsch where the wall grains are (hydrostatic: p a^2 / (2 G r)),
       // averaged over the grains of the run's wall_displacement.csv
-      REQUIRE(rows[0].size() > 40);
-      CHECK(rows[0][39] == "kirsch_at_grains_m");
+      REQUIRE(rows[0].size() > 42);
+      CHECK(rows[0][41] == "kirsch_at_grains_m");
       std::ostringstream run;
       run << d << "/run_" << std::setw(3) << std::setfill('0') << rows[i][0]
           << "/wall_displacement.csv";
@@ -225,10 +225,10 @@ TEST_CASE("study: the error against Kirsch stays within the packing scatter at a
                 (2 * G * std::hypot(std::stod(wall[k][0]), std::stod(wall[k][1])));
       u_at /= double(wall.size() - 1);
       // (study.csv prints 6 significant digits: 5e-6 relative per value)
-      CHECK(std::stod(rows[i][39]) == Approx(u_at).epsilon(1e-5));
+      CHECK(std::stod(rows[i][41]) == Approx(u_at).epsilon(1e-5));
       CHECK(u_at < u_kirsch); // the grains' centres lie outside the wall
       const double u = std::stod(rows[i][12]);
-      CHECK(std::stod(rows[i][40]) == Approx((u - u_at) / u_at).margin(3e-5));
+      CHECK(std::stod(rows[i][42]) == Approx((u - u_at) / u_at).margin(3e-5));
     }
 }
 
