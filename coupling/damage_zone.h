@@ -148,9 +148,8 @@ namespace demfem::coupling
   /// boundary's band): {all of them, those connected to the wall r = a
   /// through links of `link`}. The zone's make a region too small.
   inline std::array<std::size_t, 2> cracks_beyond(
-      const std::vector<std::array<double, 3>> &x, double a, double link, double r0)
+      const std::vector<std::array<double, 3>> &x, const std::vector<bool> &in, double r0)
   {
-    const std::vector<bool>    in = connected_to_wall(x, a, link);
     std::array<std::size_t, 2> n{{0, 0}};
     for (std::size_t k = 0; k < x.size(); ++k)
       if (std::hypot(x[k][0], x[k][1]) > r0)
@@ -161,17 +160,26 @@ namespace demfem::coupling
     return n;
   }
 
+  /// The same, the zone found here (connected_to_wall).
+  inline std::array<std::size_t, 2> cracks_beyond(
+      const std::vector<std::array<double, 3>> &x, double a, double link, double r0)
+  {
+    return cracks_beyond(x, connected_to_wall(x, a, link), r0);
+  }
+
   /// The damage zone of cracks at positions x (z = 0 in 2D) around the wall
   /// r = a, its cracks linked within `link` [m] (DamageZone::
-  /// link_grain_diameters mean grain diameters; <= 0: every crack).
+  /// link_grain_diameters mean grain diameters; <= 0: every crack);
+  /// `connected` is connected_to_wall(x, a, link), computed once by a
+  /// caller that also needs it.
   inline DamageZone measure_damage_zone(const std::vector<std::array<double, 3>> &x,
-                                        double a, double link)
+                                        double a, double link,
+                                        const std::vector<bool> &connected)
   {
     DamageZone                       z;
     std::vector<double>              all, zone;
     std::vector<std::vector<double>> by_sector(DamageZone::sectors);
-    const double                     width     = 2 * M_PI / DamageZone::sectors;
-    const std::vector<bool>          connected = connected_to_wall(x, a, link);
+    const double                     width = 2 * M_PI / DamageZone::sectors;
     for (std::size_t i = 0; i < x.size(); ++i)
       {
         const double d = std::max(0.0, std::hypot(x[i][0], x[i][1]) - a);
@@ -206,5 +214,12 @@ namespace demfem::coupling
           }
       }
     return z;
+  }
+
+  /// The same, the zone found here.
+  inline DamageZone measure_damage_zone(const std::vector<std::array<double, 3>> &x,
+                                        double a, double link)
+  {
+    return measure_damage_zone(x, a, link, connected_to_wall(x, a, link));
   }
 } // namespace demfem::coupling

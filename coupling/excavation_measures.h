@@ -162,14 +162,16 @@ namespace demfem::coupling::excavation
                                DamageZone::link_grain_diameters * d);
   }
 
-  /// Cracks (all, since the start) at a distance > r from the centre: near
+  /// Cracks (all, since the start) at an in-plane distance > r from the
+  /// centre (the axis in 3D): near
   /// an outer boundary (coupling ring or servo membrane) when r is that
   /// boundary's radius less two grain diameters.
-  inline std::size_t cracks_beyond(const dem::Model<2> &m, double r)
+  template <int dim>
+  std::size_t cracks_beyond(const dem::Model<dim> &m, double r)
   {
     std::size_t n = 0;
     for (const auto &c : m.cracks)
-      n += c.position.norm() > r;
+      n += c.position.template head<2>().norm() > r;
     return n;
   }
 

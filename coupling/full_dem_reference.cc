@@ -18,9 +18,10 @@ namespace demfem::coupling
 
   // ---------------------------------------------------------------- servo
 
-  MembraneServo::MembraneServo(const dem::Model<2> &m, int wall,
-                               const MembraneServoParams &pp, double mean_diameter,
-                               double contact_stiffness_floor)
+  template <int dim>
+  MembraneServo<dim>::MembraneServo(const dem::Model<dim> &m, int wall,
+                                    const MembraneServoParams &pp, double mean_diameter,
+                                    double contact_stiffness_floor)
       : p(pp)
       , d(mean_diameter)
       , k_floor(contact_stiffness_floor)
@@ -28,77 +29,153 @@ namespace demfem::coupling
     dem::check_range("membrane servo", "alpha", p.alpha, 0, 1, true);
     dem::check_range("membrane servo", "tolerance", p.tolerance, 0, 1, true);
     dem::check_range("membrane servo", "max step", p.max_step, 0, 1, true);
-    // Ring order: follow the facets of the wall (each vertex starts one).
-    const auto      &W = m.walls;
-    std::vector<int> next(W.vertex.size(), -1);
-    int              first = -1;
-    for (std::size_t f = 0; f < W.n_facets(); ++f)
-      if (W.facet_wall[f] == wall)
-        {
-          next[W.facet[f][0]] = W.facet[f][1];
-          if (first < 0)
-            first = W.facet[f][0];
-        }
-    for (int v = first; v >= 0 && (ring.empty() || v != first); v = next[v])
+    const auto &W = m.walls;
+    if constexpr (dim == 2)
       {
-        ring.push_back(v);
-        if (ring.size() > W.vertex.size())
-          break;
+        // Ring order: follow the facets of the wall (each vertex starts one).
+        std::vector<int> next(W.vertex.size(), -1);
+        int              first = -1;
+        for (std::size_t f = 0; f < W.n_facets(); ++f)
+          if (W.facet_wall[f] == wall)
+            {
+              next[W.facet[f][0]] = W.facet[f][1];
+              if (first < 0)
+                first = W.facet[f][0];
+            }
+        for (int v = first; v >= 0 && (ring.empty() || v != first); v = next[v])
+          {
+            ring.push_back(v);
+            if (ring.size() > W.vertex.size())
+              break;
+          }
+        if (ring.size() < 8 || next[ring.back()] != first)
+          throw std::runtime_error("membrane servo: wall " + std::to_string(wall) +
+                                   " is not a closed ring of facets");
       }
-    if (ring.size() < 8 || next[ring.back()] != first)
-      throw std::runtime_error("membrane servo: wall " + std::to_string(wall) +
-                               " is not a closed ring of facets");
+    else
+      {
+        // The lateral surface: its facets, and its vertices in id order.
+        slot.assign(W.vertex.size(), -1);
+        for (std::size_t f = 0; f < W.n_facets(); ++f)
+          if (W.facet_wall[f] == wall)
+            {
+              facets.push_back(int(f));
+              for (const int v : W.facet[f])
+                slot[v] = 0;
+            }
+        for (std::size_t v = 0; v < slot.size(); ++v)
+          if (slot[v] == 0)
+            {
+              slot[v] = int(ring.size());
+              ring.push_back(int(v));
+            }
+        if (facets.size() < 8)
+          throw std::runtime_error("membrane servo: wall " + std::to_string(wall) +
+                                   " has fewer than 8 facets");
+      }
   }
 
-  std::vector<Vec<2>> MembraneServo::target_forces(const dem::Model<2> &m,
-                                                   double               lf) const
+  namespace
   {
-    const auto         &X = m.walls.vertex;
-    const std::size_t   n = ring.size();
-    std::vector<Vec<2>> F(n, Vec<2>::Zero());
-    // Orientation of the ring: outward normal of edge a->b is (t_y, -t_x)
-    // for a counter-clockwise ring, the opposite otherwise.
-    const double sign = area(m) > 0 ? 1.0 : -1.0;
-    for (std::size_t e = 0; e < n; ++e)
+    // 3D: a facet's area vector n A, oriented away from the axis (the
+    // membrane stays star-shaped about it), and its centroid.
+    std::pair<Vec<3>, Vec<3>> outward_area(const dem::Walls<3>        &W,
+                                           const std::array<int, 3> &f)
+    {
+      const Vec<3> &x0 = W.vertex[f[0]], &x1 = W.vertex[f[1]], &x2 = W.vertex[f[2]];
+      Vec<3>        nA = 0.5 * (x1 - x0).cross(x2 - x0);
+      const Vec<3>  c  = (x0 + x1 + x2) / 3;
+      if (c.head<2>().dot(nA.head<2>()) < 0)
+        nA = -nA;
+      return {nA, c};
+    }
+  } // namespace
+
+  template <int dim>
+  std::vector<Vec<dim>> MembraneServo<dim>::target_forces(const dem::Model<dim> &m,
+                                                         double                 lf) const
+  {
+    const auto           &X = m.walls.vertex;
+    const std::size_t     n = ring.size();
+    std::vector<Vec<dim>> F(n, Vec<dim>::Zero());
+    if constexpr (dim == 2)
       {
-        const Vec<2> &xa = X[ring[e]], &xb = X[ring[(e + 1) % n]];
-        const Vec<2>  t = xb - xa;
-        // n_e L_e (outward normal times edge length)
-        const Vec<2> nL = sign * Vec<2>(t[1], -t[0]);
-        // traction on the body sigma0 n; the grains push the wall with its
-        // negative, half to each end of the edge
-        const Vec<2> f = -0.5 * lf * (target * nL);
-        F[e] += f;
-        F[(e + 1) % n] += f;
+        // Orientation of the ring: outward normal of edge a->b is (t_y, -t_x)
+        // for a counter-clockwise ring, the opposite otherwise.
+        const double sign = enclosed(m) > 0 ? 1.0 : -1.0;
+        for (std::size_t e = 0; e < n; ++e)
+          {
+            const Vec<2> &xa = X[ring[e]], &xb = X[ring[(e + 1) % n]];
+            const Vec<2>  t = xb - xa;
+            // n_e L_e (outward normal times edge length)
+            const Vec<2> nL = sign * Vec<2>(t[1], -t[0]);
+            // traction on the body sigma0 n; the grains push the wall with
+            // its negative, half to each end of the edge
+            const Vec<2> f = -0.5 * lf * (target * nL);
+            F[e] += f;
+            F[(e + 1) % n] += f;
+          }
       }
+    else
+      for (const int f : facets)
+        {
+          // a third of the facet's traction force to each of its vertices
+          // (the xy traction: the lateral normal has no z component on a
+          // straight membrane, and the vertices move in xy only)
+          const auto   nA = outward_area(m.walls, m.walls.facet[f]).first;
+          const Vec<3> t(-lf / 3 * (target(0, 0) * nA[0] + target(0, 1) * nA[1]),
+                         -lf / 3 * (target(1, 0) * nA[0] + target(1, 1) * nA[1]), 0);
+          for (const int v : m.walls.facet[f])
+            F[slot[v]] += t;
+        }
+    (void)X;
     return F;
   }
 
-  double MembraneServo::area(const dem::Model<2> &m) const
+  template <int dim>
+  double MembraneServo<dim>::enclosed(const dem::Model<dim> &m) const
   {
-    // signed shoelace area (> 0: counter-clockwise)
     const auto &X = m.walls.vertex;
     double      A = 0;
-    for (std::size_t e = 0; e < ring.size(); ++e)
-      A += dem::cross2(X[ring[e]], X[ring[(e + 1) % ring.size()]]);
-    return 0.5 * A;
+    if constexpr (dim == 2)
+      {
+        // signed shoelace area (> 0: counter-clockwise)
+        for (std::size_t e = 0; e < ring.size(); ++e)
+          A += dem::cross2(X[ring[e]], X[ring[(e + 1) % ring.size()]]);
+        return 0.5 * A;
+      }
+    else
+      {
+        // V = (1/2) sum over the lateral facets of c_xy . (n A)_xy (the
+        // divergence of (x, y) is 2; the planes z = 0, t add nothing)
+        for (const int f : facets)
+          {
+            const auto [nA, c] = outward_area(m.walls, m.walls.facet[f]);
+            A += c.template head<2>().dot(nA.template head<2>());
+          }
+        return 0.5 * A;
+      }
   }
 
-  Eigen::Matrix2d MembraneServo::held_stress(const dem::Model<2> &m) const
+  template <int dim>
+  Eigen::Matrix2d MembraneServo<dim>::held_stress(const dem::Model<dim> &m) const
   {
     Eigen::Matrix2d s = Eigen::Matrix2d::Zero();
     for (const int v : ring)
-      s -= m.walls.vertex_force[v] * m.walls.vertex[v].transpose();
-    s /= std::abs(area(m));
+      s -= m.walls.vertex_force[v].template head<2>() *
+           m.walls.vertex[v].template head<2>().transpose();
+    s /= std::abs(enclosed(m));
     return 0.5 * (s + s.transpose());
   }
 
-  double MembraneServo::relative_error(const dem::Model<2> &m, double lf) const
+  template <int dim>
+  double MembraneServo<dim>::relative_error(const dem::Model<dim> &m, double lf) const
   {
     return (held_stress(m) - lf * target).norm() / target.norm();
   }
 
-  void MembraneServo::update(dem::Model<2> &m, double lf) const
+  template <int dim>
+  void MembraneServo<dim>::update(dem::Model<dim> &m, double lf) const
   {
     auto &W = m.walls;
     // Normal stiffness on each vertex: contacts on its facets, split by the
@@ -112,7 +189,7 @@ namespace demfem::coupling
             {
               const auto  &f  = W.facet[grp.end2[c]];
               const double kn = grp.stiffness(c, m.particles).kn;
-              for (int a = 0; a < 2; ++a)
+              for (int a = 0; a < dim; ++a)
                 k[f[a]] += grp.facet_weights[c][a] * kn;
             }
       }
@@ -124,21 +201,30 @@ namespace demfem::coupling
     for (std::size_t j = 0; j < ring.size(); ++j)
       {
         const int v = ring[j];
-        // error > 0 along the outward push: too much force, open the membrane
-        const Vec<2> err = W.vertex_force[v] - F[j];
-        Vec<2>       vel = p.alpha * err / (std::max(k[v], k_floor) * dt);
+        // error > 0 along the outward push: too much force, open the
+        // membrane (3D: in the xy plane; the slab walls hold z)
+        Vec<dim> err = W.vertex_force[v] - F[j];
+        if constexpr (dim == 3)
+          err[2] = 0;
+        Vec<dim> vel = p.alpha * err / (std::max(k[v], k_floor) * dt);
         if (vel.norm() > vmax)
           vel *= vmax / vel.norm();
         W.vertex_velocity[v] = vel;
       }
   }
 
+  template class MembraneServo<2>;
+  template class MembraneServo<3>;
+
   // ------------------------------------------------------------ parameters
 
   void FullDemReferenceParams::validate(const std::string &w) const
   {
     const double inf = HUGE_VAL;
-    region.validate(w);
+    if (dimension != 2 && dimension != 3)
+      throw dem::InputError(w + ": Problem/dimension must be 2 or 3 (got " +
+                            std::to_string(dimension) + ")");
+    region.validate(w, dimension); // 3D: the slab thickness too
     dem::check_range(w, "Tunnel/radius", tunnel_radius, 0, inf, true);
     dem::check_range(w, "reference radius factor", min_radius_factor, 1, inf);
     if (region.radius < min_radius_factor * tunnel_radius * (1 - 1e-12))
@@ -183,17 +269,18 @@ namespace demfem::coupling
       return s.str();
     }
 
+    template <int dim>
     struct Reference
     {
-      const FullDemReferenceParams  &p;
-      std::ostream                  &out;
-      dem::Model<2>                  m;
-      int                            wall = -1;
-      std::unique_ptr<MembraneServo> servo;
-      double                         load_factor = 0;
-      std::string                    phase       = "build";
-      std::ostringstream             history; // written whole, atomically
-      excavation::Record<2>          exc;
+      const FullDemReferenceParams       &p;
+      std::ostream                       &out;
+      dem::Model<dim>                     m;
+      int                                 wall = -1;
+      std::unique_ptr<MembraneServo<dim>> servo;
+      double                              load_factor = 0;
+      std::string                         phase       = "build";
+      std::ostringstream                  history; // written whole, atomically
+      excavation::Record<dim>             exc;
       bool                           excavated    = false;
       bool                           equilibrated = true;
       std::int64_t                   step0        = 0;
@@ -213,32 +300,48 @@ namespace demfem::coupling
       {
         // Ring of facets about two mean grain diameters long (the rule of
         // the coupling interface, coupling/wall_facet_model.cc), multiple of 8.
+        // 3D: the same around, and layers of facets about as high along
+        // the slab (plane strain: the slab walls z = 0, t are added by
+        // build_region).
         const double R = p.region.radius;
         const auto   n = std::max<std::size_t>(
             32, 8 * static_cast<std::size_t>(std::ceil(2 * M_PI * R / (2 * d()) / 8)));
-        wall = m.walls.add_wall("membrane");
-        std::vector<int> v(n);
-        for (std::size_t k = 0; k < n; ++k)
+        if constexpr (dim == 2)
           {
-            const double th = 2 * M_PI * k / n;
-            v[k]            = m.walls.add_vertex(R * Vec<2>(std::cos(th), std::sin(th)));
+            wall = m.walls.add_wall("membrane");
+            std::vector<int> v(n);
+            for (std::size_t k = 0; k < n; ++k)
+              {
+                const double th = 2 * M_PI * k / n;
+                v[k] = m.walls.add_vertex(R * Vec<2>(std::cos(th), std::sin(th)));
+              }
+            for (std::size_t k = 0; k < n; ++k)
+              m.walls.add_facet(wall, {{v[k], v[(k + 1) % n]}});
           }
-        for (std::size_t k = 0; k < n; ++k)
-          m.walls.add_facet(wall, {{v[k], v[(k + 1) % n]}});
-        const RegionGroups G = build_disk_region(m, p.region, &out);
+        else
+          {
+            const double t      = p.region.slab_thickness;
+            const auto   layers = std::max(1u, unsigned(std::lround(t / (2 * d()))));
+            wall = add_cylinder_ring(m.walls, R, t, unsigned(n), layers, "membrane");
+          }
+        const RegionGroups G = build_region<dim>(m, p.region, &out);
         reused_genesis_s     = G.genesis_reused ? G.genesis_wall_time_s : 0.0;
         step0                = m.step_count();
         // Fixed step as the embedded model (safety x DEM critical).
         m.check_timestep = true;
         m.set_timestep(p.safety * m.critical_timestep());
         m.reset_energy_baseline();
-        // Floor of the vertex stiffness: one grain-ring contact (kn = 2 E*,
-        // the ring law of build_disk_region).
-        servo = std::make_unique<MembraneServo>(m, wall, p.servo, d(), 2 * p.region.emod);
+        // Floor of the vertex stiffness: one grain-ring contact of the ring
+        // law of build_region (kn = E* A / L: 2 E* in 2D, pi r E* for a
+        // sphere of the mean size in 3D).
+        const double k_floor =
+            dim == 2 ? 2 * p.region.emod : M_PI * 0.5 * d() * p.region.emod;
+        servo = std::make_unique<MembraneServo<dim>>(m, wall, p.servo, d(), k_floor);
         servo->set_target(p.sigma0);
-        out << "full-DEM reference: R = " << R << " m, " << m.particles.size()
-            << " grains, " << n << " membrane facets, dt = " << m.timestep() << " s"
-            << std::endl;
+        out << "full-DEM reference (" << dim << "D): R = " << R << " m, "
+            << m.particles.size() << " grains, " << m.walls.n_facets() << " wall facets ("
+            << servo->vertices().size() << " membrane vertices), dt = " << m.timestep()
+            << " s" << std::endl;
       }
 
       void record()
@@ -346,8 +449,14 @@ namespace demfem::coupling
             r.held_stress_insitu = servo->held_stress(m);
             r.servo_error_insitu = servo->relative_error(m, 1.0);
             r.servo_held_insitu  = r.servo_error_insitu <= p.servo.tolerance;
-            r.region_stress_insitu =
-                region_stress(m, Vec<2>::Zero(), 0.5 * p.region.radius);
+            if constexpr (dim == 2)
+              r.region_stress_insitu =
+                  region_stress(m, Vec<2>::Zero(), 0.5 * p.region.radius);
+            else
+              r.region_stress_insitu =
+                  region_stress(m, Vec<3>::Zero(), 0.5 * p.region.radius,
+                                p.region.slab_thickness)
+                      .template topLeftCorner<2, 2>();
             out << "full-DEM reference: in-situ stress held by the membrane ["
                 << r.held_stress_insitu(0, 0) << ", " << r.held_stress_insitu(1, 1)
                 << ", " << r.held_stress_insitu(0, 1) << "] Pa (error "
@@ -387,18 +496,24 @@ namespace demfem::coupling
         r.cracks_shear             = excavation::count_cracks(m, 1);
         r.cracks_before_excavation = excavated ? exc.cracks_before : m.cracks.size();
         r.cracks_near_boundary = excavation::cracks_beyond(m, p.region.radius - 2 * d());
+        r.slab_thickness       = dim == 3 ? p.region.slab_thickness : 0.0;
         r.evaluation_radius    = 0.5 * p.region.radius;
         if (excavated)
           {
-            r.damage            = excavation::damage_zone(m, exc.cracks_before, a, d(),
-                                                          r.evaluation_radius);
-            r.damage_zone_depth = r.damage.depth;
+            // The zone within R/2; the percentile of all excavation cracks'
+            // distances, wherever they are, on its own (no zone needed).
+            r.damage = excavation::damage_zone(m, exc.cracks_before, a, d(),
+                                               r.evaluation_radius);
+            r.damage_zone_depth     = r.damage.depth;
             r.damage_zone_depth_max = r.damage.depth_max;
+            std::vector<double> all;
+            for (const auto &x : excavation::crack_positions(m, exc.cracks_before))
+              all.push_back(std::max(0.0, std::hypot(x[0], x[1]) - a));
             r.damage_zone_depth_all =
-                excavation::damage_zone(m, exc.cracks_before, a, d()).depth_all;
-            for (std::size_t k = exc.cracks_before; k < m.cracks.size(); ++k)
-              r.cracks_beyond_evaluation +=
-                  m.cracks[k].position.norm() > r.evaluation_radius;
+                nearest_rank_percentile(all, DamageZone::percentile);
+            r.cracks_beyond_evaluation = r.damage.cracks < all.size()
+                                             ? all.size() - r.damage.cracks
+                                             : 0;
             if (r.cracks_beyond_evaluation > 0)
               out << "full-DEM reference: warning: " << r.cracks_beyond_evaluation
                   << " excavation crack(s) beyond the evaluation radius R/2 = "
@@ -431,11 +546,16 @@ namespace demfem::coupling
           // every crack: position at breakage, distance from the wall, mode,
           // step, and whether it formed from the excavation on
           std::ostringstream c;
-          c << "x,y,distance_from_wall,mode,step,excavation\n" << std::setprecision(8);
+          // (3D: z after y).
+          c << (dim == 2 ? "x,y," : "x,y,z,") << "distance_from_wall,mode,step,excavation\n"
+            << std::setprecision(8);
           for (std::size_t k = 0; k < m.cracks.size(); ++k)
             {
               const auto &q = m.cracks[k];
-              c << q.position[0] << "," << q.position[1] << "," << q.position.norm() - a
+              c << q.position[0] << "," << q.position[1] << ",";
+              if constexpr (dim == 3)
+                c << q.position[2] << ",";
+              c << q.position.template head<2>().norm() - a
                 << "," << (q.mode == 0 ? "tensile" : "shear") << "," << q.step - step0
                 << "," << (excavated && k >= exc.cracks_before ? "yes" : "no") << "\n";
             }
@@ -450,6 +570,9 @@ namespace demfem::coupling
         j["status"]                   = r.diverged ? "diverged" : "ok";
         j["model"]                    = "full-DEM reference (servo-controlled membrane)";
         j["diagnosis"]                = r.diagnosis;
+        j["dimension"]                = dim;
+        if (dim == 3)
+          j["slab_thickness_m"] = json_number(p.region.slab_thickness);
         j["reference_radius_m"]       = json_number(p.region.radius);
         j["tunnel_radius_m"]          = json_number(a);
         j["n_particles"]              = r.n_particles;
@@ -496,7 +619,8 @@ namespace demfem::coupling
                                                 std::ostream                 &progress)
   {
     p.validate("full-DEM reference");
-    Reference ref(p, progress);
-    return ref.run();
+    if (p.dimension == 3)
+      return Reference<3>(p, progress).run();
+    return Reference<2>(p, progress).run();
   }
 } // namespace demfem::coupling

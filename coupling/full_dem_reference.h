@@ -48,32 +48,44 @@ namespace demfem::coupling
   };
 
   /// The servo-controlled membrane: a closed ring of facets (one wall) whose
-  /// vertices follow the servo law above.
+  /// vertices follow the servo law above. 3D (the plane-strain slab
+  /// 0 < z < t between the region's fixed frictionless walls): the wall is
+  /// the lateral cylinder of triangles (add_cylinder_ring); each triangle
+  /// lumps a third of its traction force (sigma0 n) A on each vertex, the
+  /// vertices move in the xy plane only, and the held stress is
+  /// sigma_b = -(1/V) sum_j sym(f_j (x) x_j) over the xy components, V the
+  /// enclosed volume. The lumping is exact there too: over the lateral
+  /// surface, sum_e n_e A_e (x) c_e = V I in the xy block (divergence
+  /// theorem; the planes z = 0, t contribute only to the z row).
+  template <int dim>
   class MembraneServo
   {
   public:
-    /// `wall`: the ring's wall id in m.walls (vertices in ring order).
-    MembraneServo(const dem::Model<2> &m, int wall, const MembraneServoParams &p,
+    /// `wall`: the membrane's wall id in m.walls (2D: vertices in ring order).
+    MembraneServo(const dem::Model<dim> &m, int wall, const MembraneServoParams &p,
                   double mean_diameter, double contact_stiffness_floor);
-    /// Target stress (tension positive); the load factor scales it.
+    /// Target stress (in-plane, tension positive); the load factor scales it.
     void set_target(const Eigen::Matrix2d &sigma0) { target = sigma0; }
     /// Sets the vertex velocities from the forces of the last step; call
     /// after every Model::step (and once before the first).
-    void update(dem::Model<2> &m, double load_factor) const;
-    /// Target vertex forces (force the grains exert on each vertex) for the
-    /// current geometry, scaled by the load factor.
-    std::vector<dem::Vec<2>> target_forces(const dem::Model<2> &m,
-                                           double               load_factor) const;
-    /// Held stress sigma_b = -(1/A) sum_j sym(f_j (x) x_j) (tension positive).
-    Eigen::Matrix2d held_stress(const dem::Model<2> &m) const;
+    void update(dem::Model<dim> &m, double load_factor) const;
+    /// Target vertex forces (force the grains exert on each vertex, in the
+    /// order of vertices()) for the current geometry, scaled by the load
+    /// factor.
+    std::vector<dem::Vec<dim>> target_forces(const dem::Model<dim> &m,
+                                             double                 load_factor) const;
+    /// Held in-plane stress sigma_b (tension positive).
+    Eigen::Matrix2d held_stress(const dem::Model<dim> &m) const;
     /// |sigma_b - lambda sigma0|_F / |sigma0|_F.
-    double relative_error(const dem::Model<2> &m, double load_factor) const;
-    /// Enclosed polygon area.
-    double                  area(const dem::Model<2> &m) const;
+    double relative_error(const dem::Model<dim> &m, double load_factor) const;
+    /// Enclosed polygon area (2D, signed: > 0 counter-clockwise) or volume (3D).
+    double                  enclosed(const dem::Model<dim> &m) const;
     const std::vector<int> &vertices() const { return ring; }
 
   private:
-    std::vector<int>    ring; // vertex indices in ring order
+    std::vector<int>    ring;   // vertex indices (2D: in ring order)
+    std::vector<int>    facets; // 3D: the wall's facets
+    std::vector<int>    slot;   // 3D: position in `ring` of each vertex id (-1: not on it)
     MembraneServoParams p;
     double              d = 0, k_floor = 0;
     Eigen::Matrix2d     target = Eigen::Matrix2d::Zero();
@@ -81,6 +93,11 @@ namespace demfem::coupling
 
   struct FullDemReferenceParams
   {
+    /// 2: the disk r <= R of disks. 3: the slab 0 < z < t of the cylinder
+    /// r <= R of spheres (t = region.slab_thickness), between fixed
+    /// frictionless walls (plane strain, as the embedded slab and the
+    /// section's far field), the membrane on its lateral surface.
+    int             dimension        = 2;
     std::string     output_directory = "out/reference";
     double          tunnel_radius    = 1.0;
     Eigen::Matrix2d sigma0 = (Eigen::Matrix2d() << -30e6, 0, 0, -60e6).finished();
@@ -121,13 +138,15 @@ namespace demfem::coupling
     double      damage_zone_depth_max    = 0; ///< largest crack distance (r <= R/2)
     double      damage_zone_depth_all    = 0;
     std::size_t cracks_beyond_evaluation = 0;
+    double      slab_thickness           = 0; ///< 3D: t [m]
     double      evaluation_radius        = 0;
     double      wall_convergence_mean    = 0; ///< mean inward radial displacement [m]
     std::size_t n_wall_particles         = 0;
     /// In-situ state before excavation: stress held by the membrane, its
     /// relative error, whether within the servo tolerance, and the
-    /// Love-Weber stress of the grains in the disk r < R/2 (an independent
-    /// check of the servo).
+    /// Love-Weber stress of the grains in the disk r < R/2 (3D: the
+    /// cylinder r < R/2 through the slab; its in-plane block): an
+    /// independent check of the servo.
     Eigen::Matrix2d held_stress_insitu   = Eigen::Matrix2d::Zero();
     double          servo_error_insitu   = -1;
     bool            servo_held_insitu    = false;

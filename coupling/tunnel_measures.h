@@ -130,11 +130,17 @@ namespace demfem::coupling
       r.cracks_shear               = cracks(1);
       r.cracks_by_type             = excavation::cracks_by_type(m.dem);
       r.cracks_before_excavation   = exc.cracks_before;
-      const auto near              = cracks_near_interface();
+      // The zone is found once for both measures (damage_zone() and
+      // cracks_near_interface() each find it on their own).
+      const auto   x    = excavation::crack_positions(m.dem, exc.cracks_before);
+      const double link = DamageZone::link_grain_diameters * d_mean;
+      const auto   zone = connected_to_wall(x, a, link);
+      const auto   near = excavated ? cracks_beyond(x, zone, interface_band_radius())
+                                    : std::array<std::size_t, 2>{{0, 0}};
       r.cracks_near_interface      = near[0];
       r.zone_cracks_near_interface = near[1];
       r.region_too_small           = near[1] > 0;
-      r.damage                     = damage_zone();
+      r.damage                     = measure_damage_zone(x, a, link, zone);
       r.damage_zone_depth          = r.damage.depth;
       r.damage_zone_depth_max      = r.damage.depth_max;
       std::vector<std::array<double, 6>> rows;
