@@ -54,7 +54,8 @@ namespace demfem::apps
         "(2D, and the 3D slab and section: Problem/dimension = 3).\n"
         "Study/breakable = true: breakable bonds, damage-zone depth and crack counts\n"
         "against a full-DEM reference (radius Study/reference radius factor x a,\n"
-        "in-situ stress held by a servo-controlled membrane), speed-up table (2D).\n"
+        "in-situ stress held by a servo-controlled membrane; 3D: the plane-strain\n"
+        "slab of the region's thickness), speed-up table.\n"
         "'DEM region/radius = auto' sizes the region from a Kirsch pre-analysis\n"
         "(sigma1 - sigma3 >= Study/damage threshold x UCS, plus Study/margin grains).\n"
         "Writes study.csv, study_pareto.svg, summary.json (stability map per scheme),\n"
@@ -355,16 +356,11 @@ namespace demfem::apps
         const std::string material = resolve_input_file(prm.get("material file"));
         prm.leave_subsection();
         const study::Settings st = study::read_study_settings(prm, material);
-        // The full-DEM reference is a 2D disk held by a 2D membrane
-        // (coupling/full_dem_reference.h): the 3D slab and section are swept
-        // in the elastic mode, against plane-strain Kirsch (exact for both:
-        // the slab is plane strain through its walls, the section's tunnel
-        // runs through the whole continuum between rollers).
-        AssertThrow(!(st.breakable && base.dimension == 3),
-                    ExcMessage("Study/breakable = true with Problem/dimension = 3: the "
-                               "full-DEM reference is 2D only; sweep the 3D slab or "
-                               "section with Study/breakable = false (elastic, against "
-                               "Kirsch)"));
+        // Breakable 3D: the full-DEM reference is the plane-strain slab of
+        // the embedded region's thickness, r <= R, in a cylindrical membrane
+        // (coupling/full_dem_reference.h); the embedded slab is plane
+        // strain through the same walls, the section's far field through
+        // the continuum's rollers.
         // Elastic mode: unbreakable bonds, compared with Kirsch. Breakable
         // mode: compared with the full-DEM reference.
         base.region.breakable = st.breakable;
@@ -455,6 +451,7 @@ namespace demfem::apps
                     << refs.size();
                 f.directory = dir.str();
                 coupling::FullDemReferenceParams q;
+                q.dimension         = base.dimension;
                 q.output_directory  = f.directory;
                 q.tunnel_radius     = a;
                 q.sigma0            = base.sigma0;

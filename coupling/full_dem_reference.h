@@ -86,6 +86,7 @@ namespace demfem::coupling
     std::vector<int>    ring;   // vertex indices (2D: in ring order)
     std::vector<int>    facets; // 3D: the wall's facets
     std::vector<int>    slot;   // 3D: position in `ring` of each vertex id (-1: not on it)
+    std::vector<std::vector<int>> columns; // 3D: positions in `ring` above one another
     MembraneServoParams p;
     double              d = 0, k_floor = 0;
     Eigen::Matrix2d     target = Eigen::Matrix2d::Zero();
@@ -106,6 +107,12 @@ namespace demfem::coupling
     /// the outer radius R of the DEM domain.
     RegionParams region;
     double       min_radius_factor = 8;   ///< R >= this x a (boundary far from damage)
+    /// Bonds whose contact point lies within this many mean grain diameters
+    /// of the membrane (in-plane radius > R - band d) are unbreakable: the
+    /// membrane is the loading frame, not rock (measured in 3D: 783 bonds
+    /// there broke at the in-situ stress, all within two grains of it, none
+    /// inside; 2D: 3-10). 0: breakable to the membrane. At most R / (4 d).
+    double boundary_band = 3;
     double       safety            = 0.8; ///< dt = safety x DEM critical
     double       ratio_tolerance   = 1e-3;
     std::int64_t ramp_steps        = 2000;
@@ -138,6 +145,7 @@ namespace demfem::coupling
     double      damage_zone_depth_max    = 0; ///< largest crack distance (r <= R/2)
     double      damage_zone_depth_all    = 0;
     std::size_t cracks_beyond_evaluation = 0;
+    std::size_t unbreakable_band_bonds   = 0; ///< bonds made unbreakable (boundary_band)
     double      slab_thickness           = 0; ///< 3D: t [m]
     double      evaluation_radius        = 0;
     double      wall_convergence_mean    = 0; ///< mean inward radial displacement [m]

@@ -49,6 +49,10 @@ namespace demfem::dem
     /// InputError naming the keyword for an unknown or non-modifiable name
     /// or a value outside its range.
     virtual void set_property(std::size_t k, const std::string &name, double value) = 0;
+    /// Makes contact k's bond unbreakable for good (its strengths infinite,
+    /// Law::unbreakable): a loading frame's neighbourhood, e.g. the outer
+    /// band of the full-DEM tunnel reference. Set-up only, not per step.
+    virtual void make_unbreakable(std::size_t k) = 0;
     /// Doubles per contact of the property block.
     virtual int props_stride() const = 0;
     /// All property blocks (size() * props_stride() doubles), for
@@ -207,6 +211,11 @@ namespace demfem::dem
       check_range(std::string(Law::name) + " contact property", name, value, f.lo, f.hi);
       f.set(props_.at(k), value);
       Law::derive(params, props_[k]);
+      this->energy_fresh_ = false;
+    }
+    void make_unbreakable(std::size_t k) override
+    {
+      props_.at(k) = Law::unbreakable(props_[k]);
       this->energy_fresh_ = false;
     }
     int                 props_stride() const override { return props_doubles<Props>(); }
