@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 using namespace demfem;
@@ -213,6 +214,60 @@ TEST_CASE("full-DEM reference 3D: the servo holds the in-situ stress in a plane-
   CHECK(std::filesystem::exists(p.output_directory + "/cracks.csv"));
 }
 
+TEST_CASE("full-DEM reference 3D: breakable slab, the membrane's band stays intact, "
+          "the excavation cracks the wall",
+          "[reference]")
+{
+  // The elastic test's slab (R = 5 a, a/d = 3, three grains thick) with
+  // breakable flat joints (tension 8 MPa, cohesion 40 MPa, as
+  // apps/examples/tunnel_3d.prm) at -10/-20 MPa. Measured before the band
+  // existed: 524 bonds broke at the in-situ stress, 535 cracks within two
+  // grains of the membrane; with the band (3 grain diameters) 9 in-situ
+  // cracks, none there, and 74 excavation cracks, zone depth 0.18 m.
+  coupling::FullDemReferenceParams p;
+  p.dimension = 3;
+  p.output_directory =
+      (std::filesystem::temp_directory_path() / "demfem_reference_3d_breakable").string();
+  std::filesystem::remove_all(p.output_directory);
+  p.tunnel_radius         = 0.4;
+  p.sigma0                = (Eigen::Matrix2d() << -10e6, 0, 0, -20e6).finished();
+  p.min_radius_factor     = 5;
+  p.region.radius         = 2.0;
+  const double d          = 0.4 / 3;
+  p.region.d_lo           = 0.8 * d;
+  p.region.d_hi           = 1.2 * d;
+  p.region.slab_thickness = 3 * d;
+  p.region.emod           = 20e9;
+  p.region.lnm_emod       = 20e9;
+  p.region.fj_ten         = 8e6;
+  p.region.fj_coh         = 40e6;
+  p.phase_step_limit      = 8000;
+  std::ostringstream log;
+  const auto         r = coupling::run_full_dem_reference(p, log);
+  INFO(log.str());
+  REQUIRE(!r.diverged);
+  CHECK(r.equilibrated);
+  CHECK(r.servo_held_insitu);
+  // The band: its bonds counted, and no crack within two grains of the
+  // membrane (all of that ring lies inside the unbreakable band of three).
+  CHECK(r.unbreakable_band_bonds > 0);
+  CHECK(r.cracks_near_boundary == 0);
+  // The in-situ stress breaks a few weak bonds at most (measured 9 of
+  // about 6 000); the excavation breaks many, near the wall: the zone
+  // holds most of them and is between half a grain and R/2 deep.
+  CHECK(r.cracks_before_excavation < 30);
+  const std::size_t exc = r.cracks_total - r.cracks_before_excavation;
+  CHECK(exc >= 20);
+  CHECK(r.damage.connected_cracks >= exc / 2);
+  CHECK(r.damage_zone_depth >= 0.5 * d);
+  CHECK(r.damage_zone_depth <= 0.5 * p.region.radius - p.tunnel_radius);
+  // cracks.csv has the z column in 3D
+  std::ifstream in(p.output_directory + "/cracks.csv");
+  std::string   header;
+  std::getline(in, header);
+  CHECK(header.rfind("x,y,z,distance_from_wall,", 0) == 0);
+}
+
 TEST_CASE("full-DEM reference: bad parameters are refused before any output",
           "[reference]")
 {
@@ -233,6 +288,11 @@ TEST_CASE("full-DEM reference: bad parameters are refused before any output",
   p.dimension = 4;
   CHECK_THROWS_WITH(coupling::run_full_dem_reference(p, log),
                     Catch::Contains("Problem/dimension must be 2 or 3"));
+  p.dimension     = 2;
+  p.boundary_band = 1e3; // wider than R / 4
+  CHECK_THROWS_WITH(coupling::run_full_dem_reference(p, log),
+                    Catch::Contains("reference boundary band"));
+  p.boundary_band         = 3;
   p.dimension             = 3; // a slab needs its thickness
   p.region.slab_thickness = 0;
   CHECK_THROWS_WITH(coupling::run_full_dem_reference(p, log),
