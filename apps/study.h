@@ -121,7 +121,13 @@ namespace demfem::apps::study
     bool        region_too_small  = false; ///< cracks near the coupling boundary
     double      reference_depth   = 0;     ///< damage-zone depth of the reference [m]
     double      cracks_diff       = 0; ///< relative difference of the excavation cracks
-    bool        agrees            = false; ///< |error| <= Study/agreement tolerance
+    double      reference_area    = 0; ///< damaged area of the reference [m^2]
+    /// Relative difference of the damaged area from the reference's (NaN
+    /// when the reference has no damaged area).
+    double area_diff = 0;
+    /// |error| and |area_diff| <= Study/agreement tolerance, and not
+    /// region_too_small: the same depth and the same damaged area.
+    bool agrees = false;
   };
 
   /// One full-DEM reference run (per grain resolution and seed).

@@ -201,7 +201,7 @@ namespace demfem::apps::study
          "region_too_small,damaged_area_m2,notch_depth_m,notch_angle_deg,"
          "connected_cracks,damage_zone_depth_all_m,genesis_steps,"
          "genesis_reused,genesis_wall_time_s,kirsch_at_grains_m,error_at_grains_rel,"
-         "diagnosis\n";
+         "reference_area_m2,area_rel_diff,diagnosis\n";
     for (const auto &r : rows)
       {
         const bool ok  = r.status == "stable";
@@ -245,7 +245,10 @@ namespace demfem::apps::study
           << (ran ? (r.result.genesis_reused ? "yes" : "no") : "") << ","
           << num(r.result.genesis_wall_time_s, ran) << ","
           << num(r.kirsch_at_grains, ok && !r.breakable) << ","
-          << num(r.error_at_grains, ok && !r.breakable) << "," << quoted(r.diagnosis)
+          << num(r.error_at_grains, ok && !r.breakable) << ","
+          << num(r.reference_area, cmp) << ","
+          << num(r.area_diff, cmp && std::isfinite(r.area_diff)) << ","
+          << quoted(r.diagnosis)
           << "\n";
       }
     write_file_atomically(file, o.str());
@@ -600,18 +603,19 @@ namespace demfem::apps::study
          "reference_cracks_excavation,region_too_small\n";
     m << "# demfem study: breakable tunnel versus the full-DEM reference\n\n"
       << "Full-DEM references (servo-controlled membrane at the in-situ stress):\n\n"
-      << "| a/d | seed | status | grains | steps (+ packing) | wall time [s] | "
+      << "| a/d | seed | status | grains | steps (+ genesis packing) | wall time [s] | "
          "damage-zone depth [m] "
          "| excavation cracks (tensile/shear) | servo error in situ |\n"
       << "|---|---|---|---|---|---|---|---|---|\n";
     for (const auto &f : refs)
       m << "| " << num(f.resolution) << " | " << f.seed << " | " << f.status << " | "
         << f.result.n_particles << " | " << f.result.steps << " (+ "
-        << f.result.packing_steps << ") | " << num(f.result.wall_time_s) << " | "
+        << f.result.genesis_steps << ") | " << num(f.result.wall_time_s) << " | "
         << num(f.result.damage_zone_depth) << " | " << f.cracks_excavation() << " ("
         << f.result.cracks_tensile << "/" << f.result.cracks_shear << " in all) | "
         << num(f.result.servo_error_insitu) << " |\n";
-    m << "\nSpeed-up of the embedded model at equal damage-zone depth (within +-"
+    m << "\nSpeed-up of the embedded model at equal damage-zone depth and damaged area "
+         "(both within +-"
       << num(100 * tolerance) << " % of the reference):\n\n"
       << "| run | b/a | a/d | variant, scheme, k, safety | grains (reference) | wall "
          "time "

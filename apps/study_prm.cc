@@ -69,8 +69,8 @@ namespace demfem::apps::study
                       "Breakable mode: the reference's membrane holds the in-situ "
                       "stress within this relative error, in (0, 0.5]");
     prm.declare_entry("agreement tolerance", "0.1", Patterns::Double(),
-                      "Breakable mode: equal damage-zone depth within +- this "
-                      "fraction of the reference's, in (0, 1]");
+                      "Breakable mode: equal damage-zone depth and damaged area, "
+                      "each within +- this fraction of the reference's, in (0, 1]");
     prm.leave_subsection();
   }
 

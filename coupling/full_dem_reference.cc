@@ -321,6 +321,7 @@ namespace demfem::coupling
       std::int64_t                   step0        = 0;
       double reused_genesis_s = 0; // a reused packing's wall time (genesis_cache.h)
       std::size_t band_bonds = 0; // bonds made unbreakable near the membrane
+      std::int64_t genesis_steps = 0; // steps of the genesis packing (its own model)
       std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
 
       Reference(const FullDemReferenceParams &pp, std::ostream &o)
@@ -376,6 +377,7 @@ namespace demfem::coupling
                 }
           }
         reused_genesis_s     = G.genesis_reused ? G.genesis_wall_time_s : 0.0;
+        genesis_steps        = G.genesis_steps;
         step0                = m.step_count();
         // Fixed step as the embedded model (safety x DEM critical).
         m.check_timestep = true;
@@ -479,6 +481,7 @@ namespace demfem::coupling
         std::filesystem::create_directories(dir);
         build();
         r.packing_steps       = step0;
+        r.genesis_steps       = genesis_steps;
         r.timestep            = m.timestep();
         r.n_membrane_vertices = servo->vertices().size();
         history << "step,time,phase,load_factor,unbalanced_ratio,kinetic_energy,"
@@ -632,6 +635,7 @@ namespace demfem::coupling
         j["membrane_vertices"]        = r.n_membrane_vertices;
         j["steps"]                    = r.steps;
         j["packing_steps"]            = r.packing_steps;
+        j["genesis_steps"]            = r.genesis_steps;
         j["timestep_s"]               = json_number(r.timestep);
         j["wall_time_s"]              = json_number(r.wall_time_s);
         j["cracks_total"]             = r.cracks_total;

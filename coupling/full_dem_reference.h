@@ -130,6 +130,11 @@ namespace demfem::coupling
     std::string  diagnosis;
     std::size_t  n_particles = 0, n_contacts = 0, n_membrane_vertices = 0;
     std::int64_t steps = 0, packing_steps = 0;
+    /// Steps of the material genesis the disk (slab) was carved from, in its
+    /// own model (coupling/region_genesis.cc); packing_steps are the
+    /// region model's steps before the in-situ phase (none: the carved
+    /// region is finalized without cycling).
+    std::int64_t genesis_steps = 0;
     double       wall_time_s = 0, timestep = 0;
     std::size_t  cracks_total = 0, cracks_tensile = 0, cracks_shear = 0;
     std::size_t  cracks_before_excavation = 0, cracks_near_boundary = 0;

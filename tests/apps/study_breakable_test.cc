@@ -145,6 +145,43 @@ TEST_CASE("study: breakable mode, embedded runs against the full-DEM reference",
     CHECK(read(d + "/study.csv").find(bad) == std::string::npos);
 }
 
+TEST_CASE("study: breakable mode in 3D, the slab against the plane-strain slab reference",
+          "[study][breakable]")
+{
+  // apps/examples/tunnel_3d.prm (a = 0.6 m, -10/-20 MPa, slab three grains
+  // thick) coarsened to a/d = 2 to keep the test cheap (b = 4 a: a region
+  // of 3 a leaves too few grains between the tunnel and the slaved layer):
+  // the reference is the 3D slab r <= 8 a of the same thickness in a
+  // cylindrical membrane.
+  const std::string d = dir("breakable_3d");
+  const auto        r = run_study("tunnel_3d.prm", d,
+                                  "--set \"Study/breakable=true\" --set "
+                                         "\"Study/grain resolutions=2\" --set "
+                                         "\"Study/region radius factors=4\" --set "
+                                         "\"Coupling/step limit=15000\"");
+  INFO(r.out);
+  REQUIRE(r.exit_code == 0);
+  const std::string ref_text = read(d + "/reference_00/summary.json");
+  const auto        ref      = json_numbers(ref_text);
+  CHECK(ref.at("dimension") == 3);
+  // the slab keeps the region's thickness in grain diameters (three)
+  CHECK(ref.at("slab_thickness_m") == Approx(3 * 0.6 / 2).epsilon(1e-9));
+  CHECK(ref_text.find("\"equilibrated\": true") != std::string::npos);
+  CHECK(ref.at("servo_error_insitu") <= 0.02);
+  CHECK(ref.at("unbreakable_band_bonds") > 0);
+  CHECK(ref.at("cracks_near_boundary") == 0);
+  CHECK(ref.at("genesis_steps") > 0);
+  const auto rows = table(d + "/study.csv");
+  REQUIRE(rows.size() == 1);
+  CHECK(rows[0].at("status") == "stable");
+  CHECK(rows[0].at("breakable") == "yes");
+  CHECK(std::stod(rows[0].at("reference_depth_m")) ==
+        Approx(ref.at("damage_zone_depth")).epsilon(1e-5));
+  const auto s = json_numbers(read(d + "/summary.json"));
+  CHECK(s.at("dimension") == 3);
+  CHECK(read(d + "/summary.json").find("\"embedding\": \"slab\"") != std::string::npos);
+}
+
 TEST_CASE("study: several seeds give means with 95 % intervals, the region answer "
           "uses them, and the seed chart",
           "[study][breakable]")
