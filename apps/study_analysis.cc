@@ -248,8 +248,7 @@ namespace demfem::apps::study
           << num(r.error_at_grains, ok && !r.breakable) << ","
           << num(r.reference_area, cmp) << ","
           << num(r.area_diff, cmp && std::isfinite(r.area_diff)) << ","
-          << quoted(r.diagnosis)
-          << "\n";
+          << quoted(r.diagnosis) << "\n";
       }
     write_file_atomically(file, o.str());
   }

@@ -5,12 +5,12 @@
 #include "dem/io/vtk_output.h"
 
 #include <algorithm>
-#include <map>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <sstream>
 
 namespace demfem::coupling
@@ -90,7 +90,7 @@ namespace demfem::coupling
   {
     // 3D: a facet's area vector n A, oriented away from the axis (the
     // membrane stays star-shaped about it), and its centroid.
-    std::pair<Vec<3>, Vec<3>> outward_area(const dem::Walls<3>        &W,
+    std::pair<Vec<3>, Vec<3>> outward_area(const dem::Walls<3>      &W,
                                            const std::array<int, 3> &f)
     {
       const Vec<3> &x0 = W.vertex[f[0]], &x1 = W.vertex[f[1]], &x2 = W.vertex[f[2]];
@@ -104,7 +104,7 @@ namespace demfem::coupling
 
   template <int dim>
   std::vector<Vec<dim>> MembraneServo<dim>::target_forces(const dem::Model<dim> &m,
-                                                         double                 lf) const
+                                                          double                 lf) const
   {
     const auto           &X = m.walls.vertex;
     const std::size_t     n = ring.size();
@@ -316,12 +316,12 @@ namespace demfem::coupling
       std::string                         phase       = "build";
       std::ostringstream                  history; // written whole, atomically
       excavation::Record<dim>             exc;
-      bool                           excavated    = false;
-      bool                           equilibrated = true;
-      std::int64_t                   step0        = 0;
-      double reused_genesis_s = 0; // a reused packing's wall time (genesis_cache.h)
-      std::size_t band_bonds = 0; // bonds made unbreakable near the membrane
-      std::int64_t genesis_steps = 0; // steps of the genesis packing (its own model)
+      bool                                excavated    = false;
+      bool                                equilibrated = true;
+      std::int64_t                        step0        = 0;
+      double       reused_genesis_s = 0; // a reused packing's wall time (genesis_cache.h)
+      std::size_t  band_bonds       = 0; // bonds made unbreakable near the membrane
+      std::int64_t genesis_steps    = 0; // steps of the genesis packing (its own model)
       std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
 
       Reference(const FullDemReferenceParams &pp, std::ostream &o)
@@ -358,7 +358,7 @@ namespace demfem::coupling
         else
           {
             const double t      = p.region.slab_thickness;
-            const auto layers = std::max(1u, unsigned(std::lround(t / (2 * d()))));
+            const auto   layers = std::max(1u, unsigned(std::lround(t / (2 * d()))));
             wall = add_cylinder_ring(m.walls, R, t, unsigned(n), layers, "membrane");
           }
         const RegionGroups G = build_region<dim>(m, p.region, &out);
@@ -376,9 +376,9 @@ namespace demfem::coupling
                   ++band_bonds;
                 }
           }
-        reused_genesis_s     = G.genesis_reused ? G.genesis_wall_time_s : 0.0;
-        genesis_steps        = G.genesis_steps;
-        step0                = m.step_count();
+        reused_genesis_s = G.genesis_reused ? G.genesis_wall_time_s : 0.0;
+        genesis_steps    = G.genesis_steps;
+        step0            = m.step_count();
         // Fixed step as the embedded model (safety x DEM critical).
         m.check_timestep = true;
         m.set_timestep(p.safety * m.critical_timestep());
@@ -552,23 +552,22 @@ namespace demfem::coupling
         r.cracks_near_boundary = excavation::cracks_beyond(m, p.region.radius - 2 * d());
         r.slab_thickness       = dim == 3 ? p.region.slab_thickness : 0.0;
         r.unbreakable_band_bonds = band_bonds;
-        r.evaluation_radius    = 0.5 * p.region.radius;
+        r.evaluation_radius      = 0.5 * p.region.radius;
         if (excavated)
           {
             // The zone within R/2; the percentile of all excavation cracks'
             // distances, wherever they are, on its own (no zone needed).
-            r.damage = excavation::damage_zone(m, exc.cracks_before, a, d(),
-                                               r.evaluation_radius);
-            r.damage_zone_depth     = r.damage.depth;
+            r.damage            = excavation::damage_zone(m, exc.cracks_before, a, d(),
+                                                          r.evaluation_radius);
+            r.damage_zone_depth = r.damage.depth;
             r.damage_zone_depth_max = r.damage.depth_max;
             std::vector<double> all;
             for (const auto &x : excavation::crack_positions(m, exc.cracks_before))
               all.push_back(std::max(0.0, std::hypot(x[0], x[1]) - a));
             r.damage_zone_depth_all =
                 nearest_rank_percentile(all, DamageZone::percentile);
-            r.cracks_beyond_evaluation = r.damage.cracks < all.size()
-                                             ? all.size() - r.damage.cracks
-                                             : 0;
+            r.cracks_beyond_evaluation =
+                r.damage.cracks < all.size() ? all.size() - r.damage.cracks : 0;
             if (r.cracks_beyond_evaluation > 0)
               out << "full-DEM reference: warning: " << r.cracks_beyond_evaluation
                   << " excavation crack(s) beyond the evaluation radius R/2 = "
@@ -602,7 +601,8 @@ namespace demfem::coupling
           // step, and whether it formed from the excavation on
           std::ostringstream c;
           // (3D: z after y).
-          c << (dim == 2 ? "x,y," : "x,y,z,") << "distance_from_wall,mode,step,excavation\n"
+          c << (dim == 2 ? "x,y," : "x,y,z,")
+            << "distance_from_wall,mode,step,excavation\n"
             << std::setprecision(8);
           for (std::size_t k = 0; k < m.cracks.size(); ++k)
             {
@@ -610,9 +610,9 @@ namespace demfem::coupling
               c << q.position[0] << "," << q.position[1] << ",";
               if constexpr (dim == 3)
                 c << q.position[2] << ",";
-              c << q.position.template head<2>().norm() - a
-                << "," << (q.mode == 0 ? "tensile" : "shear") << "," << q.step - step0
-                << "," << (excavated && k >= exc.cracks_before ? "yes" : "no") << "\n";
+              c << q.position.template head<2>().norm() - a << ","
+                << (q.mode == 0 ? "tensile" : "shear") << "," << q.step - step0 << ","
+                << (excavated && k >= exc.cracks_before ? "yes" : "no") << "\n";
             }
           dem::vtkout::write_text_atomically(dir + "/cracks.csv", c.str());
         }
@@ -622,10 +622,10 @@ namespace demfem::coupling
               {json_number(t(0, 0)), json_number(t(1, 1)), json_number(t(0, 1))});
         };
         nlohmann::ordered_json j;
-        j["status"]                   = r.diverged ? "diverged" : "ok";
-        j["model"]                    = "full-DEM reference (servo-controlled membrane)";
-        j["diagnosis"]                = r.diagnosis;
-        j["dimension"]                = dim;
+        j["status"]    = r.diverged ? "diverged" : "ok";
+        j["model"]     = "full-DEM reference (servo-controlled membrane)";
+        j["diagnosis"] = r.diagnosis;
+        j["dimension"] = dim;
         if (dim == 3)
           j["slab_thickness_m"] = json_number(p.region.slab_thickness);
         j["reference_radius_m"]       = json_number(p.region.radius);

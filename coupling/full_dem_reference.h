@@ -83,13 +83,13 @@ namespace demfem::coupling
     const std::vector<int> &vertices() const { return ring; }
 
   private:
-    std::vector<int>    ring;   // vertex indices (2D: in ring order)
-    std::vector<int>    facets; // 3D: the wall's facets
-    std::vector<int>    slot;   // 3D: position in `ring` of each vertex id (-1: not on it)
+    std::vector<int> ring;   // vertex indices (2D: in ring order)
+    std::vector<int> facets; // 3D: the wall's facets
+    std::vector<int> slot;   // 3D: position in `ring` of each vertex id (-1: not on it)
     std::vector<std::vector<int>> columns; // 3D: positions in `ring` above one another
-    MembraneServoParams p;
-    double              d = 0, k_floor = 0;
-    Eigen::Matrix2d     target = Eigen::Matrix2d::Zero();
+    MembraneServoParams           p;
+    double                        d = 0, k_floor = 0;
+    Eigen::Matrix2d               target = Eigen::Matrix2d::Zero();
   };
 
   struct FullDemReferenceParams
@@ -106,18 +106,18 @@ namespace demfem::coupling
     /// The material and packing of the embedded region; region.radius is
     /// the outer radius R of the DEM domain.
     RegionParams region;
-    double       min_radius_factor = 8;   ///< R >= this x a (boundary far from damage)
+    double       min_radius_factor = 8; ///< R >= this x a (boundary far from damage)
     /// Bonds whose contact point lies within this many mean grain diameters
     /// of the membrane (in-plane radius > R - band d) are unbreakable: the
     /// membrane is the loading frame, not rock (measured in 3D: 783 bonds
     /// there broke at the in-situ stress, all within two grains of it, none
     /// inside; 2D: 3-10). 0: breakable to the membrane. At most R / (4 d).
-    double boundary_band = 3;
-    double       safety            = 0.8; ///< dt = safety x DEM critical
-    double       ratio_tolerance   = 1e-3;
-    std::int64_t ramp_steps        = 2000;
-    std::int64_t phase_step_limit  = 20000;
-    std::int64_t history_interval  = 100;
+    double              boundary_band    = 3;
+    double              safety           = 0.8; ///< dt = safety x DEM critical
+    double              ratio_tolerance  = 1e-3;
+    std::int64_t        ramp_steps       = 2000;
+    std::int64_t        phase_step_limit = 20000;
+    std::int64_t        history_interval = 100;
     MembraneServoParams servo;
 
     /// Throws dem::InputError naming the key (prefixed by `where`).

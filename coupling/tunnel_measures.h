@@ -123,13 +123,13 @@ namespace demfem::coupling
     /// The measured fields of the result.
     void fill(TunnelResult &r) const
     {
-      r.region_stress_before       = stress_before.template topLeftCorner<2, 2>();
-      r.region_stress_before_zz    = dim == 3 ? stress_before(dim - 1, dim - 1) : 0.0;
-      r.cracks_total               = cracks(-1);
-      r.cracks_tensile             = cracks(0);
-      r.cracks_shear               = cracks(1);
-      r.cracks_by_type             = excavation::cracks_by_type(m.dem);
-      r.cracks_before_excavation   = exc.cracks_before;
+      r.region_stress_before     = stress_before.template topLeftCorner<2, 2>();
+      r.region_stress_before_zz  = dim == 3 ? stress_before(dim - 1, dim - 1) : 0.0;
+      r.cracks_total             = cracks(-1);
+      r.cracks_tensile           = cracks(0);
+      r.cracks_shear             = cracks(1);
+      r.cracks_by_type           = excavation::cracks_by_type(m.dem);
+      r.cracks_before_excavation = exc.cracks_before;
       // The zone is found once for both measures (damage_zone() and
       // cracks_near_interface() each find it on their own).
       const auto   x    = excavation::crack_positions(m.dem, exc.cracks_before);

@@ -215,7 +215,7 @@ namespace demfem::dem
     }
     void make_unbreakable(std::size_t k) override
     {
-      props_.at(k) = Law::unbreakable(props_[k]);
+      props_.at(k)        = Law::unbreakable(props_[k]);
       this->energy_fresh_ = false;
     }
     int                 props_stride() const override { return props_doubles<Props>(); }

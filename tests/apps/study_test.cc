@@ -310,8 +310,7 @@ TEST_CASE("study: the quasi-static map counts larger subcycles as the safe side"
   CHECK(s.at("stability_quasi_static_relaxation_largest_stable") == Approx(0.3));
 }
 
-TEST_CASE("study: the 3D slab in the elastic mode against plane-strain Kirsch, the "
-          "breakable mode refused in 3D",
+TEST_CASE("study: the 3D slab in the elastic mode against plane-strain Kirsch",
           "[study][3d]")
 {
   // apps/examples/study_3d_slab.prm with the condensed scheme only: b = 3 a,
@@ -336,13 +335,6 @@ TEST_CASE("study: the 3D slab in the elastic mode against plane-strain Kirsch, t
   const std::string json = read(d + "/summary.json");
   CHECK(json.find("\"dimension\": 3") != std::string::npos);
   CHECK(json.find("\"embedding\": \"slab\"") != std::string::npos);
-
-  // Breakable: the full-DEM reference is 2D; refused naming the key before
-  // anything is written.
-  const std::string d2 = dir("slab3d_breakable");
-  const auto b = run_study("study_3d_slab.prm", d2, "--set \"Study/breakable=true\"");
-  CHECK(b.exit_code == 1);
-  CHECK(b.out.find("Study/breakable") != std::string::npos);
-  CHECK(b.out.find("2D only") != std::string::npos);
-  CHECK(!std::filesystem::exists(d2));
+  // The breakable mode in 3D (against the 3D slab reference):
+  // study_breakable_test.cc.
 }

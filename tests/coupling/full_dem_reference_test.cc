@@ -31,6 +31,29 @@ namespace
       m.walls.add_facet(w, {{v[k], v[(k + 1) % n]}});
     return w;
   }
+
+  // The 3D tests' slab: a = 0.4 m, R = 5 a (the 8 a minimum lowered to keep
+  // the tests cheap: about 2 300 spheres), a/d = 3, three grains thick,
+  // -10/-20 MPa; output in the temporary directory `name`.
+  coupling::FullDemReferenceParams slab_3d(const std::string &name)
+  {
+    coupling::FullDemReferenceParams p;
+    p.dimension        = 3;
+    p.output_directory = (std::filesystem::temp_directory_path() / name).string();
+    std::filesystem::remove_all(p.output_directory);
+    p.tunnel_radius         = 0.4;
+    p.sigma0                = (Eigen::Matrix2d() << -10e6, 0, 0, -20e6).finished();
+    p.min_radius_factor     = 5;
+    p.region.radius         = 2.0;
+    const double d          = 0.4 / 3;
+    p.region.d_lo           = 0.8 * d;
+    p.region.d_hi           = 1.2 * d;
+    p.region.slab_thickness = 3 * d;
+    p.region.emod           = 20e9;
+    p.region.lnm_emod       = 20e9;
+    p.phase_step_limit      = 8000;
+    return p;
+  }
 } // namespace
 
 TEST_CASE("full-DEM reference: membrane target forces carry sigma0 exactly",
@@ -128,7 +151,7 @@ TEST_CASE("full-DEM reference 3D: membrane target forces carry sigma0 exactly",
       x[0] *= f;
       x[1] *= f;
     }
-  const Eigen::Matrix2d s0 = (Eigen::Matrix2d() << -20e6, 5e6, 5e6, -50e6).finished();
+  const Eigen::Matrix2d   s0 = (Eigen::Matrix2d() << -20e6, 5e6, 5e6, -50e6).finished();
   coupling::MembraneServo servo(m, w, coupling::MembraneServoParams(), 0.1, 4e10);
   servo.set_target(s0);
   REQUIRE(servo.vertices().size() == 40 * 4);
@@ -140,7 +163,7 @@ TEST_CASE("full-DEM reference 3D: membrane target forces carry sigma0 exactly",
     dem::Model<3> reg;
     const int     wr = coupling::add_cylinder_ring(reg.walls, R, t, 40, 3, "membrane");
     coupling::MembraneServo sr(reg, wr, coupling::MembraneServoParams(), 0.1, 4e10);
-    const double polygon = 0.5 * 40 * R * R * std::sin(2 * M_PI / 40);
+    const double            polygon = 0.5 * 40 * R * R * std::sin(2 * M_PI / 40);
     CHECK(sr.enclosed(reg) == Approx(polygon * t).epsilon(1e-12));
   }
   const auto F = servo.target_forces(m, 1.0);
@@ -159,28 +182,12 @@ TEST_CASE("full-DEM reference 3D: the servo holds the in-situ stress in a plane-
           "slab, elastic response",
           "[reference]")
 {
-  // a = 0.4 m, R = 5 a (the 8 a minimum lowered to keep the test cheap:
-  // about 2 300 spheres), a/d = 3, the slab three grains thick between
-  // fixed frictionless walls, unbreakable bonds: the membrane must hold
+  // The slab of slab_3d between fixed frictionless walls, unbreakable
+  // bonds: the membrane must hold
   // sigma0 within its 2 % tolerance, and the grains' own (Love-Weber)
   // stress in r < R/2 must match it.
-  coupling::FullDemReferenceParams p;
-  p.dimension = 3;
-  p.output_directory =
-      (std::filesystem::temp_directory_path() / "demfem_reference_3d").string();
-  std::filesystem::remove_all(p.output_directory);
-  p.tunnel_radius          = 0.4;
-  p.sigma0                 = (Eigen::Matrix2d() << -10e6, 0, 0, -20e6).finished();
-  p.min_radius_factor      = 5;
-  p.region.radius          = 2.0;
-  const double d           = 0.4 / 3;
-  p.region.d_lo            = 0.8 * d;
-  p.region.d_hi            = 1.2 * d;
-  p.region.slab_thickness  = 3 * d;
-  p.region.emod            = 20e9;
-  p.region.lnm_emod        = 20e9;
-  p.region.breakable       = false;
-  p.phase_step_limit       = 8000;
+  auto p             = slab_3d("demfem_reference_3d");
+  p.region.breakable = false;
   std::ostringstream log;
   const auto         r = coupling::run_full_dem_reference(p, log);
   INFO(log.str());
@@ -208,7 +215,8 @@ TEST_CASE("full-DEM reference 3D: the servo holds the in-situ stress in a plane-
   CHECK(r.cracks_total == 0);
   const double E = 12.5e9, nu = 0.10, a = 0.4, b = 2.0, pm = 15e6;
   const double lame =
-      pm * a / E * (2 * (1 - nu * nu) * b * b / (b * b - a * a) - (1 + nu) * (1 - 2 * nu));
+      pm * a / E *
+      (2 * (1 - nu * nu) * b * b / (b * b - a * a) - (1 + nu) * (1 - 2 * nu));
   INFO("wall convergence " << r.wall_convergence_mean << " m, Lame " << lame);
   CHECK(r.wall_convergence_mean == Approx(lame).epsilon(0.3));
   CHECK(std::filesystem::exists(p.output_directory + "/cracks.csv"));
@@ -224,24 +232,10 @@ TEST_CASE("full-DEM reference 3D: breakable slab, the membrane's band stays inta
   // existed: 524 bonds broke at the in-situ stress, 535 cracks within two
   // grains of the membrane; with the band (3 grain diameters) 9 in-situ
   // cracks, none there, and 74 excavation cracks, zone depth 0.18 m.
-  coupling::FullDemReferenceParams p;
-  p.dimension = 3;
-  p.output_directory =
-      (std::filesystem::temp_directory_path() / "demfem_reference_3d_breakable").string();
-  std::filesystem::remove_all(p.output_directory);
-  p.tunnel_radius         = 0.4;
-  p.sigma0                = (Eigen::Matrix2d() << -10e6, 0, 0, -20e6).finished();
-  p.min_radius_factor     = 5;
-  p.region.radius         = 2.0;
-  const double d          = 0.4 / 3;
-  p.region.d_lo           = 0.8 * d;
-  p.region.d_hi           = 1.2 * d;
-  p.region.slab_thickness = 3 * d;
-  p.region.emod           = 20e9;
-  p.region.lnm_emod       = 20e9;
-  p.region.fj_ten         = 8e6;
-  p.region.fj_coh         = 40e6;
-  p.phase_step_limit      = 8000;
+  auto         p  = slab_3d("demfem_reference_3d_breakable");
+  const double d  = p.region.mean_diameter();
+  p.region.fj_ten = 8e6;
+  p.region.fj_coh = 40e6;
   std::ostringstream log;
   const auto         r = coupling::run_full_dem_reference(p, log);
   INFO(log.str());
@@ -299,4 +293,3 @@ TEST_CASE("full-DEM reference: bad parameters are refused before any output",
                     Catch::Contains("slab thickness"));
   CHECK(!std::filesystem::exists(p.output_directory));
 }
-
