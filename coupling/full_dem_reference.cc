@@ -106,13 +106,13 @@ namespace demfem::coupling
   std::vector<Vec<dim>> MembraneServo<dim>::target_forces(const dem::Model<dim> &m,
                                                           double                 lf) const
   {
-    const auto           &X = m.walls.vertex;
     const std::size_t     n = ring.size();
     std::vector<Vec<dim>> F(n, Vec<dim>::Zero());
     if constexpr (dim == 2)
       {
         // Orientation of the ring: outward normal of edge a->b is (t_y, -t_x)
         // for a counter-clockwise ring, the opposite otherwise.
+        const auto  &X    = m.walls.vertex;
         const double sign = enclosed(m) > 0 ? 1.0 : -1.0;
         for (std::size_t e = 0; e < n; ++e)
           {
@@ -139,7 +139,6 @@ namespace demfem::coupling
           for (const int v : m.walls.facet[f])
             F[slot[v]] += t;
         }
-    (void)X;
     return F;
   }
 
