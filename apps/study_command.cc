@@ -483,9 +483,7 @@ namespace demfem::apps
                 try
                   {
                     f.result    = coupling::run_full_dem_reference(q, log);
-                    f.status    = f.result.diverged        ? "diverged"
-                                  : !f.result.equilibrated ? "not equilibrated"
-                                                           : "ok";
+                    f.status    = coupling::status_name(f.result.status);
                     f.diagnosis = f.result.diagnosis;
                   }
                 catch (const std::exception &e)

@@ -582,6 +582,10 @@ namespace demfem::coupling
         r.servo_error_final = servo->relative_error(m, load_factor);
         r.final_ratio       = m.unbalanced_ratio();
         r.equilibrated      = equilibrated && !r.diverged;
+        r.status            = r.diverged             ? RunStatus::diverged
+                              : !r.servo_held_insitu ? RunStatus::in_situ_not_reached
+                              : !r.equilibrated      ? RunStatus::not_equilibrated
+                                                     : RunStatus::ok;
         // the reference's cost on its own, a reused packing included
         r.wall_time_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() +
@@ -621,7 +625,7 @@ namespace demfem::coupling
               {json_number(t(0, 0)), json_number(t(1, 1)), json_number(t(0, 1))});
         };
         nlohmann::ordered_json j;
-        j["status"]    = r.diverged ? "diverged" : "ok";
+        j["status"]    = status_name(r.status);
         j["model"]     = "full-DEM reference (servo-controlled membrane)";
         j["diagnosis"] = r.diagnosis;
         j["dimension"] = dim;

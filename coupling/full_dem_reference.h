@@ -30,6 +30,7 @@
 // (floor: one grain-wall contact, 2 E*), the step limited to max_step.
 #include "coupling/damage_zone.h"
 #include "coupling/dem_region.h"
+#include "coupling/tunnel_result.h"
 
 #include <Eigen/Dense>
 
@@ -167,6 +168,10 @@ namespace demfem::coupling
     double          servo_error_final    = -1; ///< at the end of the run
     double          final_ratio          = -1;
     bool            equilibrated = false; ///< every phase ended below the tolerances
+    /// summary.json "status", most severe first: diverged, in_situ_not_reached
+    /// (the membrane did not hold sigma0 within the servo tolerance before the
+    /// excavation), not_equilibrated (a phase ended at its step limit), ok.
+    RunStatus status = RunStatus::ok;
   };
 
   /// Runs the reference; writes summary.json, history.csv and
