@@ -390,6 +390,8 @@ TEST_CASE("3D section: demfem tunnel runs a tunnel section in a 3D continuum",
   INFO(read_file(dir + ".log"));
   REQUIRE(WIFEXITED(status));
   REQUIRE(WEXITSTATUS(status) == 0);
+  // unbreakable: no damage, so no warning about the free core's length
+  CHECK(read_file(dir + ".log").find("free core") == std::string::npos);
   const std::string summary = read_file(dir + "/summary.json");
   CHECK(summary.find("\"embedding\": \"section\"") != std::string::npos);
   CHECK(summary.find("\"axial_extension\": 1.2") != std::string::npos);
@@ -444,6 +446,9 @@ TEST_CASE("3D section: a stopped and restarted run equals the uninterrupted one"
   const auto         ra = coupling::run_tunnel(small(da), log);
   INFO(ra.diagnosis);
   REQUIRE_FALSE(ra.diverged);
+  // Breakable, 0.6 m long with two free diameters between its end layers:
+  // warned that it is no plane-strain damage model.
+  CHECK_THAT(log.str(), Catch::Contains("warning: the section's free core"));
   auto pb         = small(db);
   pb.stop_at_step = 1300; // ramp 500 + in-situ equilibrium <= 600: in stage 1
   const auto rb   = coupling::run_tunnel(pb, log);
