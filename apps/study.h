@@ -174,9 +174,10 @@ namespace demfem::apps::study
   std::vector<SeedGroup> seed_groups(const std::vector<Row>       &rows,
                                      const std::vector<Reference> &refs);
   /// study_seeds.svg: per setting, mean wall time against the signed
-  /// difference of the mean damage-zone depth from the references' mean,
-  /// with the 95 % interval of the embedded mean as a bar and the
-  /// references' interval as a band around zero.
+  /// relative difference of the mean damage-zone depth (top panel) and of
+  /// the mean damaged area (bottom panel) from the references' means, with
+  /// the 95 % interval of the embedded mean as a bar and the references'
+  /// interval as a band around zero.
   void write_seed_chart(const std::string &file, const std::vector<SeedGroup> &groups);
   /// study_speedup.csv and study.md: embedded wall time over the reference
   /// wall time for the runs that agree on the damage-zone depth; returns the

@@ -429,86 +429,114 @@ namespace demfem::apps::study
 
   void write_seed_chart(const std::string &file, const std::vector<SeedGroup> &groups)
   {
-    // x: mean wall time (log, whole decades, the references' mean time
-    // included); y: (mean depth - reference mean) / reference mean [%],
-    // linear, symmetric about zero.
-    const double W = 720, H = 480, L = 80, R = 200, T = 40, B = 60;
-    double       x0 = 1e300, x1 = -1e300, ymax = 10, ref_time = 0;
-    const auto   rel = [](const SeedGroup &g, double v) {
-      return 100 * v / g.ref_depth.mean;
+    // Two panels sharing x, the mean wall time (log, whole decades, the
+    // references' mean time included): the mean damage-zone depth (top) and
+    // the mean damaged area (bottom) relative to the references' means [%],
+    // each linear and symmetric about zero. A setting agrees when both
+    // means lie in the references' intervals (RegionAnswer), so both are
+    // shown, each point coloured by its own measure.
+    struct Measure
+    {
+      const char          *name;
+      statistics::Interval SeedGroup::*own, SeedGroup::*ref;
     };
+    const Measure measures[] = {
+        {"damage-zone depth", &SeedGroup::depth, &SeedGroup::ref_depth},
+        {"damaged area", &SeedGroup::area, &SeedGroup::ref_area}};
+    const double W = 720, L = 80, R = 200, T = 40, P = 280, gap = 50, B = 60;
+    const double H  = T + 2 * P + gap + B;
+    double       x0 = 1e300, x1 = -1e300, ref_time = 0;
     for (const auto &g : groups)
       {
         x0       = std::min({x0, std::log10(g.time.mean), std::log10(g.ref_time.mean)});
         x1       = std::max({x1, std::log10(g.time.mean), std::log10(g.ref_time.mean)});
         ref_time = std::max(ref_time, g.ref_time.mean);
-        for (double v : {g.depth.mean - g.ref_depth.mean + g.depth.half_width,
-                         g.depth.mean - g.ref_depth.mean - g.depth.half_width,
-                         g.ref_depth.half_width})
-          if (std::isfinite(v))
-            ymax = std::max(ymax, std::abs(rel(g, v)));
       }
     if (groups.empty())
       x0 = x1 = 0;
     x0 = std::floor(x0), x1 = std::max(std::ceil(x1), x0 + 1);
-    ymax         = 10 * std::ceil(ymax / 10);
     const auto X = [&](double t) {
       return L + (W - L - R) * (std::log10(t) - x0) / (x1 - x0);
     };
-    const auto Y = [&](double p) { return T + (H - T - B) * (ymax - p) / (2 * ymax); };
     std::ostringstream o; // replaced atomically below
     o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
       << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
       << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
       << "<text x=\"" << L
-      << "\" y=\"24\" font-size=\"15\">mean over seeds: wall time "
-         "versus damage-zone depth difference (95 % intervals)</text>\n";
-    for (int k = int(x0); k <= int(x1); ++k)
-      o << "<line x1=\"" << X(std::pow(10, k)) << "\" y1=\"" << T << "\" x2=\""
-        << X(std::pow(10, k)) << "\" y2=\"" << H - B << "\" stroke=\"#ddd\"/>\n"
-        << "<text x=\"" << X(std::pow(10, k)) << "\" y=\"" << H - B + 16
-        << "\" text-anchor=\"middle\">1e" << k << "</text>\n";
-    for (double p = -ymax; p <= ymax + 1e-9; p += ymax / 4)
-      o << "<line x1=\"" << L << "\" y1=\"" << Y(p) << "\" x2=\"" << W - R << "\" y2=\""
-        << Y(p) << "\" stroke=\"" << (p == 0 ? "#888" : "#ddd") << "\"/>\n"
-        << "<text x=\"" << L - 6 << "\" y=\"" << Y(p) + 4 << "\" text-anchor=\"end\">"
-        << p << " %</text>\n";
-    // The references' interval, relative to their mean (per a/d: the widest).
-    double band = 0;
-    for (const auto &g : groups)
-      if (std::isfinite(g.ref_depth.half_width))
-        band = std::max(band, rel(g, g.ref_depth.half_width));
-    o << "<rect x=\"" << L << "\" y=\"" << Y(band) << "\" width=\"" << W - L - R
-      << "\" height=\"" << Y(-band) - Y(band)
-      << "\" fill=\"#090\" fill-opacity=\"0.12\"/>\n";
-    if (ref_time > 0)
-      o << "<line x1=\"" << X(ref_time) << "\" y1=\"" << T << "\" x2=\"" << X(ref_time)
-        << "\" y2=\"" << H - B << "\" stroke=\"#090\" stroke-dasharray=\"6,4\"/>\n";
-    o << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << W - L - R
-      << "\" height=\"" << H - T - B << "\" fill=\"none\" stroke=\"black\"/>\n"
-      << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 20
-      << "\" text-anchor=\"middle\">mean wall-clock time [s]</text>\n"
-      << "<text transform=\"translate(20," << (T + H - B) / 2
-      << ") rotate(-90)\" text-anchor=\"middle\">(mean depth - reference mean) / "
-         "reference mean</text>\n";
-    for (const auto &g : groups)
+      << "\" y=\"24\" font-size=\"15\">mean over seeds: wall time versus damage "
+         "difference (95 % intervals)</text>\n";
+    for (int k = 0; k < 2; ++k)
       {
-        const double x = X(g.time.mean), y = rel(g, g.depth.mean - g.ref_depth.mean);
-        const bool   in = g.ref_depth.contains(g.depth.mean);
-        if (std::isfinite(g.depth.half_width))
-          o << "<line x1=\"" << x << "\" y1=\"" << Y(y + rel(g, g.depth.half_width))
-            << "\" x2=\"" << x << "\" y2=\"" << Y(y - rel(g, g.depth.half_width))
-            << "\" stroke=\"#36c\" stroke-width=\"1.5\"/>\n";
-        const auto *r0 = g.runs.front();
-        o << "<circle cx=\"" << x << "\" cy=\"" << Y(y) << "\" r=\"5\" fill=\""
-          << (in ? "#090" : "#c00") << "\"><title>b/a=" << r0->region_factor
-          << " a/d=" << r0->resolution << " " << r0->variant << " " << r0->scheme << ", "
-          << g.runs.size() << " seeds</title></circle>\n"
-          << "<text x=\"" << x + 7 << "\" y=\"" << Y(y) - 5 << "\" font-size=\"10\">b/a "
-          << std::setprecision(3) << r0->region_factor << ", a/d " << r0->resolution
-          << "</text>\n";
+        const Measure &me  = measures[k];
+        const double   top = T + k * (P + gap), bottom = top + P;
+        const auto     rel = [&](const SeedGroup &g, double v) {
+          return 100 * v / (g.*me.ref).mean;
+        };
+        double ymax = 10;
+        for (const auto &g : groups)
+          for (double v : {(g.*me.own).mean - (g.*me.ref).mean + (g.*me.own).half_width,
+                           (g.*me.own).mean - (g.*me.ref).mean - (g.*me.own).half_width,
+                           (g.*me.ref).half_width})
+            if (std::isfinite(rel(g, v)))
+              ymax = std::max(ymax, std::abs(rel(g, v)));
+        ymax         = 10 * std::ceil(ymax / 10);
+        const auto Y = [&](double p) { return top + P * (ymax - p) / (2 * ymax); };
+        for (int e = int(x0); e <= int(x1); ++e)
+          {
+            o << "<line x1=\"" << X(std::pow(10, e)) << "\" y1=\"" << top << "\" x2=\""
+              << X(std::pow(10, e)) << "\" y2=\"" << bottom << "\" stroke=\"#ddd\"/>\n";
+            if (k == 1)
+              o << "<text x=\"" << X(std::pow(10, e)) << "\" y=\"" << bottom + 16
+                << "\" text-anchor=\"middle\">1e" << e << "</text>\n";
+          }
+        for (double p = -ymax; p <= ymax + 1e-9; p += ymax / 4)
+          o << "<line x1=\"" << L << "\" y1=\"" << Y(p) << "\" x2=\"" << W - R
+            << "\" y2=\"" << Y(p) << "\" stroke=\"" << (p == 0 ? "#888" : "#ddd")
+            << "\"/>\n"
+            << "<text x=\"" << L - 6 << "\" y=\"" << Y(p) + 4 << "\" text-anchor=\"end\">"
+            << p << " %</text>\n";
+        // The references' interval, relative to their mean (the widest).
+        double band = 0;
+        for (const auto &g : groups)
+          if (std::isfinite(rel(g, (g.*me.ref).half_width)))
+            band = std::max(band, rel(g, (g.*me.ref).half_width));
+        o << "<rect x=\"" << L << "\" y=\"" << Y(band) << "\" width=\"" << W - L - R
+          << "\" height=\"" << Y(-band) - Y(band)
+          << "\" fill=\"#090\" fill-opacity=\"0.12\"/>\n";
+        if (ref_time > 0)
+          o << "<line x1=\"" << X(ref_time) << "\" y1=\"" << top << "\" x2=\""
+            << X(ref_time) << "\" y2=\"" << bottom
+            << "\" stroke=\"#090\" stroke-dasharray=\"6,4\"/>\n";
+        o << "<rect x=\"" << L << "\" y=\"" << top << "\" width=\"" << W - L - R
+          << "\" height=\"" << P << "\" fill=\"none\" stroke=\"black\"/>\n"
+          << "<text transform=\"translate(20," << top + P / 2
+          << ") rotate(-90)\" text-anchor=\"middle\">" << me.name
+          << ": (mean - reference mean) / reference mean</text>\n";
+        for (const auto &g : groups)
+          {
+            const double x = X(g.time.mean),
+                         y = rel(g, (g.*me.own).mean - (g.*me.ref).mean),
+                         h = rel(g, (g.*me.own).half_width);
+            if (!std::isfinite(y))
+              continue;
+            const bool in = (g.*me.ref).contains((g.*me.own).mean);
+            if (std::isfinite(h))
+              o << "<line x1=\"" << x << "\" y1=\"" << Y(y + h) << "\" x2=\"" << x
+                << "\" y2=\"" << Y(y - h)
+                << "\" stroke=\"#36c\" stroke-width=\"1.5\"/>\n";
+            const auto *r0 = g.runs.front();
+            o << "<circle cx=\"" << x << "\" cy=\"" << Y(y) << "\" r=\"5\" fill=\""
+              << (in ? "#090" : "#c00") << "\"><title>b/a=" << r0->region_factor
+              << " a/d=" << r0->resolution << " " << r0->variant << " " << r0->scheme
+              << ", " << g.runs.size() << " seeds</title></circle>\n"
+              << "<text x=\"" << x + 7 << "\" y=\"" << Y(y) - 5
+              << "\" font-size=\"10\">b/a " << std::setprecision(3) << r0->region_factor
+              << ", a/d " << r0->resolution << "</text>\n";
+          }
       }
-    o << "<rect x=\"" << W - R + 14 << "\" y=\"" << T + 4
+    o << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 20
+      << "\" text-anchor=\"middle\">mean wall-clock time [s]</text>\n"
+      << "<rect x=\"" << W - R + 14 << "\" y=\"" << T + 4
       << "\" width=\"12\" height=\"12\" fill=\"#090\" fill-opacity=\"0.12\"/>"
       << "<text x=\"" << W - R + 30 << "\" y=\"" << T + 14
       << "\">references' 95 % interval</text>\n"

@@ -223,7 +223,14 @@ TEST_CASE("study: several seeds give means with 95 % intervals, the region answe
         std::string::npos);
   const std::string svg = read(d + "/study_seeds.svg");
   CHECK(svg.find("95 % interval of the mean") != std::string::npos);
-  CHECK(svg.find("b/a=4 a/d=4 wall-facets condensed, 2 seeds") != std::string::npos);
+  // Two panels, depth and damaged area (agreement needs both): the setting
+  // is drawn once in each.
+  CHECK(svg.find("damage-zone depth: (mean - reference mean)") != std::string::npos);
+  CHECK(svg.find("damaged area: (mean - reference mean)") != std::string::npos);
+  const std::string point = "b/a=4 a/d=4 wall-facets condensed, 2 seeds";
+  const auto        first = svg.find(point);
+  REQUIRE(first != std::string::npos);
+  CHECK(svg.find(point, first + 1) != std::string::npos);
   CHECK(svg.find("nan") == std::string::npos);
 }
 
