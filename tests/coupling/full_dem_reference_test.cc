@@ -32,6 +32,27 @@ namespace
     return w;
   }
 
+  // The 2D elastic disk: a = 0.4 m, R = 8 a, a/d = 3 (about 1 900
+  // grains), unbreakable bonds, -10/-20 MPa; output in the temporary
+  // directory `name`.
+  coupling::FullDemReferenceParams elastic_disk(const std::string &name)
+  {
+    coupling::FullDemReferenceParams p;
+    p.output_directory = (std::filesystem::temp_directory_path() / name).string();
+    std::filesystem::remove_all(p.output_directory);
+    p.tunnel_radius    = 0.4;
+    p.sigma0           = (Eigen::Matrix2d() << -10e6, 0, 0, -20e6).finished();
+    p.region.radius    = 3.2;
+    const double d     = 0.4 / 3;
+    p.region.d_lo      = 0.8 * d;
+    p.region.d_hi      = 1.2 * d;
+    p.region.emod      = 20e9;
+    p.region.lnm_emod  = 20e9;
+    p.region.breakable = false;
+    p.phase_step_limit = 8000;
+    return p;
+  }
+
   // The 3D tests' slab: a = 0.4 m, R = 5 a (the 8 a minimum lowered to keep
   // the tests cheap: about 2 300 spheres), a/d = 3, three grains thick,
   // -10/-20 MPa; output in the temporary directory `name`.
@@ -90,20 +111,7 @@ TEST_CASE("full-DEM reference: the servo holds the in-situ stress, elastic respo
   // a = 0.4 m, R = 8 a, a/d = 3 (about 1 900 grains), unbreakable bonds:
   // the membrane must hold sigma0 within its 2 % tolerance, and the grains'
   // own (Love-Weber) stress in r < R/2 must match it as well.
-  coupling::FullDemReferenceParams p;
-  p.output_directory =
-      (std::filesystem::temp_directory_path() / "demfem_reference").string();
-  std::filesystem::remove_all(p.output_directory);
-  p.tunnel_radius    = 0.4;
-  p.sigma0           = (Eigen::Matrix2d() << -10e6, 0, 0, -20e6).finished();
-  p.region.radius    = 3.2;
-  const double d     = 0.4 / 3;
-  p.region.d_lo      = 0.8 * d;
-  p.region.d_hi      = 1.2 * d;
-  p.region.emod      = 20e9;
-  p.region.lnm_emod  = 20e9;
-  p.region.breakable = false;
-  p.phase_step_limit = 8000;
+  const auto         p = elastic_disk("demfem_reference");
   std::ostringstream log;
   const auto         r = coupling::run_full_dem_reference(p, log);
   INFO(log.str());
@@ -148,19 +156,7 @@ TEST_CASE("full-DEM reference: summary.json says ok only when every phase ended 
     s << in.rdbuf();
     return s.str();
   };
-  coupling::FullDemReferenceParams p;
-  p.output_directory =
-      (std::filesystem::temp_directory_path() / "demfem_reference_status").string();
-  std::filesystem::remove_all(p.output_directory);
-  p.tunnel_radius    = 0.4;
-  p.sigma0           = (Eigen::Matrix2d() << -10e6, 0, 0, -20e6).finished();
-  p.region.radius    = 3.2;
-  const double d     = 0.4 / 3;
-  p.region.d_lo      = 0.8 * d;
-  p.region.d_hi      = 1.2 * d;
-  p.region.emod      = 20e9;
-  p.region.lnm_emod  = 20e9;
-  p.region.breakable = false;
+  auto p             = elastic_disk("demfem_reference_status");
   p.phase_step_limit = 300;
   p.servo.tolerance  = 0.5; // held (the ramp ends at sigma0), not equilibrated
   std::ostringstream log;
