@@ -121,6 +121,25 @@ TEST_CASE("damage zone: cracks join the zone through chains no longer than the l
   // Alone, a crack 0.16 m off the wall is beyond a 0.15 m link: no zone.
   CHECK(connected_to_wall({polar(a + 0.16, 45, 1.0)}, a, 0.15) ==
         std::vector<bool>{false});
+
+  // En echelon: link 0.2 m (2 d, d = 0.1 m), cracks 0.1, 0.35 and 0.7 m
+  // off the wall, gaps 0.25 and 0.35 m. L = 2 d keeps the first (depth
+  // 0.1 m), 3 d (0.3 m) the first two (nearest rank ceil(1.8) = 2: 0.35 m),
+  // 4 d (0.4 m) all three (rank 3: 0.7 m); all three in summary.json.
+  const DamageZone e = measure_damage_zone(
+      {polar(a + 0.1, 30), polar(a + 0.35, 30), polar(a + 0.7, 30)}, a, 0.2);
+  CHECK(e.depth == Approx(0.1));
+  CHECK(e.depth_longer_links[0] == Approx(0.35));
+  CHECK(e.depth_longer_links[1] == Approx(0.7));
+  const auto by_link = e.to_json()["depth_by_link"];
+  REQUIRE(by_link.size() == 3);
+  CHECK(by_link[0]["link_grain_diameters"].get<double>() == 2.0);
+  CHECK(by_link[2]["link_grain_diameters"].get<double>() == 4.0);
+  CHECK(by_link[2]["depth_m"].get<double>() == Approx(0.7));
+  // Every crack connected (link <= 0): the same depth at any link.
+  const DamageZone all =
+      measure_damage_zone({polar(a + 0.1, 30), polar(a + 0.7, 30)}, a, 0);
+  CHECK(all.depth_longer_links[1] == all.depth);
 }
 
 TEST_CASE("damage zone: only the zone's cracks near a coupling boundary cut it",
