@@ -80,7 +80,9 @@ namespace demfem::apps
         "                           UCS and Brazilian tests of the calibration; compare\n"
         "                           E, nu (within 5 %), UCS, BTS (seed means within 2\n"
         "                           standard errors of their difference)\n"
-        "                           with 'DEM region/material file'; writes probe.json\n"
+        "                           with 'DEM region/material file'; without one the\n"
+        "                           keys' material in a UCS test, its E, nu against\n"
+        "                           the Continuum's (within 5 %); writes probe.json\n"
         "                           into Problem/output directory; exit 0 pass, 3 fail\n"
         "  --probe-seeds N          packing seeds of the probe (default 3; 1 does not\n"
         "                           judge UCS and BTS)\n";

@@ -117,6 +117,29 @@ namespace demfem::apps
       return r;
     }
 
+    /// Without a material file: the region's material is the `DEM region`
+    /// keys', and what it must match is the pair the continuum is given.
+    /// The specimen is a box of keys_probe_width x 2 widths (3D: x width
+    /// deep) mean diameters at the region's grain size; the moduli are read
+    /// in the low-stress window of the examples' calibrations, 5-20 % of the
+    /// peak, where the bonds are intact (docs/tunnel.md, "The probe").
+    Reference keys_reference(const coupling::TunnelParams &s)
+    {
+      Reference r;
+      r.E            = s.continuum.young_modulus;
+      r.nu           = s.continuum.poisson_ratio;
+      const double d = s.region.mean_diameter();
+      const double w = (s.dimension == 2 ? keys_probe_width_2d : keys_probe_width_3d) * d;
+      r.vessel.shape = "box";
+      r.vessel.W     = w;
+      r.vessel.H     = 2 * w;
+      if (s.dimension == 3)
+        r.vessel.D = w;
+      r.lab.fit_lo = 0.05;
+      r.lab.fit_hi = 0.2;
+      return r;
+    }
+
     struct Measured
     {
       std::vector<double>      E, nu, ucs, bts;
@@ -129,14 +152,16 @@ namespace demfem::apps
     Measured measure(const coupling::TunnelParams &s, const Reference &ref, int seeds,
                      std::ostream &out)
     {
-      Measured r;
+      Measured   r;
+      const bool keys = !s.region.material;
       // The grain-size factor: the region's material is the file's with
       // every length of the microstructure multiplied by k
       // (apps/tunnel_prm.cc); the lab specimen scales with it, so it holds
-      // the calibration's number of grains.
-      dem::MaterialParams m = *s.region.material;
-      r.k                   = m.diameter_multiplier / ref.diameter_multiplier;
-      dem::VesselParams v   = ref.vessel;
+      // the calibration's number of grains. The keys' specimen is already
+      // at the region's scale (k = 1).
+      dem::MaterialParams m = keys ? s.region.keys_material() : *s.region.material;
+      r.k                 = keys ? 1.0 : m.diameter_multiplier / ref.diameter_multiplier;
+      dem::VesselParams v = ref.vessel;
       v.H *= r.k;
       v.W *= r.k;
       if (dim == 3)
@@ -152,17 +177,28 @@ namespace demfem::apps
       // window's fractions of its UCS. A packing stronger than the file's
       // would otherwise be read higher up its curve, where more bonds have
       // broken (docs/tunnel.md, "The probe").
-      lab.fit_stress_lo = ref.lab.fit_lo * ref.ucs;
-      lab.fit_stress_hi = ref.lab.fit_hi * ref.ucs;
-      lab.validate("the material file's lab_tests and ucs", dim);
-      out << "probe: lab specimen " << v.W << " x " << v.H
-          << (dim == 3 ? " x " + std::to_string(v.D) : std::string()) << " m at " << r.k
-          << " x the material file's grain size, strain rate " << lab.strain_rate
-          << " /s, modulus fit between " << lab.fit_stress_lo / 1e6 << " and "
-          << lab.fit_stress_hi / 1e6 << " MPa deviator (the file's " << ref.lab.fit_lo
-          << " .. " << ref.lab.fit_hi << " of its UCS), " << seeds
-          << " packing seed(s)\n";
-      if (!ref.lab_recorded)
+      if (!keys)
+        {
+          lab.fit_stress_lo = ref.lab.fit_lo * ref.ucs;
+          lab.fit_stress_hi = ref.lab.fit_hi * ref.ucs;
+          lab.validate("the material file's lab_tests and ucs", dim);
+          out << "probe: lab specimen " << v.W << " x " << v.H
+              << (dim == 3 ? " x " + std::to_string(v.D) : std::string()) << " m at "
+              << r.k << " x the material file's grain size, strain rate "
+              << lab.strain_rate << " /s, modulus fit between " << lab.fit_stress_lo / 1e6
+              << " and " << lab.fit_stress_hi / 1e6 << " MPa deviator (the file's "
+              << ref.lab.fit_lo << " .. " << ref.lab.fit_hi << " of its UCS), " << seeds
+              << " packing seed(s)\n";
+        }
+      else
+        out << "probe: no material file: the DEM region keys' material in a lab specimen "
+            << v.W << " x " << v.H
+            << (dim == 3 ? " x " + std::to_string(v.D) : std::string())
+            << " m at the region's grain size, UCS test at " << keys_strain_per_step
+            << " axial strain per time step, modulus fit between " << lab.fit_lo
+            << " and " << lab.fit_hi << " of its peak, against the continuum's E, nu; "
+            << seeds << " packing seed(s)\n";
+      if (!keys && !ref.lab_recorded)
         out << "probe: the material file does not record its test settings "
                "(lab_tests; written by demfem calibrate since the probe exists): "
                "the defaults of Tests are used, the comparison is weaker\n";
@@ -174,11 +210,22 @@ namespace demfem::apps
             auto specimen = dem::build_specimen<dim>(m, v, nullptr, "probe specimen");
             r.grains      = specimen.n_grains();
             lab.kind      = dem::TestKind::compression;
-            const auto u  = dem::run_lab_test(specimen, lab);
+            // The keys' loading in units of the grains' dynamics: a strain
+            // per step (the specimen's step: the lab test keeps it).
+            if (keys)
+              lab.strain_rate = keys_strain_per_step / specimen.model.timestep();
+            const auto u = dem::run_lab_test(specimen, lab);
             r.E.push_back(u.E);
             r.nu.push_back(u.nu);
             r.ucs.push_back(u.peak);
           }
+          if (keys)
+            {
+              out << "probe: seed " << m.seed << ": " << r.grains << " grains, E "
+                  << r.E.back() / 1e9 << " GPa, nu " << r.nu.back() << ", UCS "
+                  << r.ucs.back() / 1e6 << " MPa" << std::endl;
+              continue;
+            }
           auto specimen = dem::build_specimen<dim>(m, v, nullptr, "probe specimen");
           lab.kind      = dem::TestKind::brazilian;
           const auto b  = dem::run_lab_test(specimen, lab);
@@ -196,21 +243,20 @@ namespace demfem::apps
   bool run_probe(const coupling::TunnelParams &s, const std::string &material_file,
                  int seeds, const std::string &json_dir, std::ostream &out)
   {
-    if (!s.region.material)
-      throw dem::InputError("--probe: needs DEM region/material file (the probe "
-                            "compares the region with the material it was "
-                            "calibrated as)");
     if (seeds < 1 || seeds > 100)
       throw dem::InputError("--probe-seeds: " + std::to_string(seeds) +
                             " packing seeds; allowed 1 .. 100");
-    const Reference ref = read_reference(material_file);
-    const Measured  m   = s.dimension == 2 ? measure<2>(s, ref, seeds, out)
-                                           : measure<3>(s, ref, seeds, out);
+    const bool      keys = !s.region.material;
+    const Reference ref  = keys ? keys_reference(s) : read_reference(material_file);
+    const Measured  m    = s.dimension == 2 ? measure<2>(s, ref, seeds, out)
+                                            : measure<3>(s, ref, seeds, out);
 
-    bool all  = true;
-    json rows = json::array();
+    bool              all     = true;
+    json              rows    = json::array();
+    const std::string against = keys ? "continuum" : "material file";
     out << std::setprecision(4) << "probe: E, nu are the "
-        << (s.dimension == 2 ? "plane-strain pair (as the material file's)" : "3D pair")
+        << (s.dimension == 2 ? "plane-strain pair (as the " + against + "'s)"
+                             : std::string("3D pair"))
         << "; mean (sd) over " << seeds << " seed(s)\n";
     // One row: the probe's mean against the file's value, judged by a
     // tolerance (relative) or, for the strengths, as two seed means of one
@@ -225,7 +271,12 @@ namespace demfem::apps
       std::string  rule, verdict;
       bool         judged = true, ok = true;
       json         se = json();
-      if (!by_scatter)
+      if (!std::isfinite(want))
+        {
+          rule   = "no material file: reported, not judged";
+          judged = false;
+        }
+      else if (!by_scatter)
         {
           rule = "within " + std::to_string(int(std::round(100 * rel_tol))) + " %";
           ok   = std::abs(rel) <= rel_tol;
@@ -254,15 +305,17 @@ namespace demfem::apps
       verdict = !judged ? "-" : ok ? "pass" : "FAIL";
       all     = all && ok;
       out << "  " << std::setw(4) << name << "  probe " << std::setw(10) << st.mean
-          << " (" << st.sd << ")  material file " << std::setw(10) << want << "  "
-          << std::showpos << 100 * rel << std::noshowpos << " %  " << rule << "  "
-          << verdict << "\n";
+          << " (" << st.sd << ")  " << against << " " << std::setw(10) << want << "  ";
+      if (std::isfinite(rel))
+        out << std::showpos << 100 * rel << std::noshowpos << " %  ";
+      out << rule << "  " << verdict << "\n";
       rows.push_back(
           {{"property", name},
            {"probe_mean", st.mean},
            {"probe_sd", std::isfinite(st.sd) ? json(st.sd) : json()},
            {"probe_values", x},
-           {"material_file", want},
+           {keys ? "continuum" : "material_file",
+            std::isfinite(want) ? json(want) : json()},
            {"material_file_sd", std::isfinite(want_sd) ? json(want_sd) : json()},
            {"standard_error", se},
            {"difference", rel},
@@ -272,6 +325,30 @@ namespace demfem::apps
     row("E", m.E, ref.E, probe_elastic_tolerance, false);
     row("nu", m.nu, ref.nu, probe_elastic_tolerance, false);
     row("UCS", m.ucs, ref.ucs, 0, true, ref.ucs_sd, ref.ucs_packings);
+    if (keys)
+      {
+        // The keys' E, nu rows are the continuum's check; no strength to
+        // compare with, so no Brazilian test.
+        out << "probe: " << (all ? "pass" : "FAIL") << std::endl;
+        if (!json_dir.empty())
+          {
+            json j;
+            j["material_file"]      = nullptr;
+            j["compared_with"]      = "continuum";
+            j["grains"]             = m.grains;
+            j["seeds"]              = seeds;
+            j["first_seed"]         = s.region.seed;
+            j["strain_per_step"]    = keys_strain_per_step;
+            j["fit_window_of_peak"] = {ref.lab.fit_lo, ref.lab.fit_hi};
+            j["rows"]               = rows;
+            j["continuum_E"]        = s.continuum.young_modulus;
+            j["continuum_nu"]       = s.continuum.poisson_ratio;
+            j["pass"]               = all;
+            std::ofstream f(json_dir + "/probe.json");
+            f << j.dump(2) << "\n";
+          }
+        return all;
+      }
     row("BTS", m.bts, ref.bts, 0, true, ref.bts_sd, ref.bts_packings);
     // A Brazilian disk that did not split has no tensile strength.
     std::size_t split = 0;

@@ -15,8 +15,21 @@ namespace demfem::apps
   /// material file's (the 5 %).
   inline constexpr double probe_elastic_tolerance = 0.05;
 
-  /// Runs the probe for the region of `s` (which must hold the material of
-  /// `material_file`) on `seeds` packings (region seed, +1, ...), prints the
+  /// Without a material file (the `DEM region` keys' material): the lab
+  /// specimen's width in mean grain diameters (2D: about 1 900 grains in a
+  /// box twice as high; 3D: a 10 x 20 x 10 box, about 2 300 spheres), and
+  /// the UCS test's axial strain per time step. Measured on the breakable
+  /// study example at a/d = 10 (docs/tunnel.md, "The probe"): 7e-8 per step
+  /// read E 2 % below 1.8e-8 per step, nu and UCS within 0.3 %; 2e-8 reaches
+  /// the peak in about 125 000 steps.
+  inline constexpr double keys_probe_width_2d  = 30;
+  inline constexpr double keys_probe_width_3d  = 10;
+  inline constexpr double keys_strain_per_step = 2e-8;
+
+  /// Runs the probe for the region of `s` (which holds the material of
+  /// `material_file`, or, without one, the `DEM region` keys' material,
+  /// whose E, nu are then compared with the continuum's and whose UCS is
+  /// reported) on `seeds` packings (region seed, +1, ...), prints the
   /// comparison table to `out` and writes probe.json into `json_dir` (when
   /// not empty). Returns true when every judged row passes: E, nu within
   /// probe_elastic_tolerance, UCS and BTS of the probe's seed mean and the
