@@ -25,6 +25,9 @@ namespace demfem::apps
   inline constexpr double keys_probe_width_2d  = 30;
   inline constexpr double keys_probe_width_3d  = 10;
   inline constexpr double keys_strain_per_step = 2e-8;
+  /// Unbreakable keys' material: the UCS test ends at this axial strain
+  /// (no peak; about 50 000 steps at keys_strain_per_step).
+  inline constexpr double keys_elastic_strain_limit = 1e-3;
 
   /// Runs the probe for the region of `s` (which holds the material of
   /// `material_file`, or, without one, the `DEM region` keys' material,

@@ -226,6 +226,23 @@ TEST_CASE("probe: without a material file the keys' material is held to the cont
   CHECK(ucs["verdict"] == "-");
   CHECK(ucs["continuum"].is_null());
   CHECK(ucs["probe_mean"].get<double>() > 0);
+
+  // Unbreakable bonds: no peak, the test ends at 0.1 % strain and the
+  // moduli come from its linear branch: the same packing's E and nu as the
+  // breakable specimen's 5-20 % window, where its bonds are intact
+  // (measured 0.24 % and 0.4 % apart; 1 % and 2 % allowed), and no UCS.
+  const auto u = run_demfem("tunnel " + examples +
+                            "study_breakable_2d.prm --probe --probe-seeds 1 --set "
+                            "\"DEM region/breakable=false\" --set \"Problem/output "
+                            "directory=" +
+                            dir + "\"");
+  INFO(u.out);
+  REQUIRE(u.exit_code == 0);
+  const json q = read_json(dir + "/probe.json");
+  REQUIRE(q["rows"].size() == 2);
+  CHECK(q["rows"][0]["probe_mean"].get<double>() == Approx(e).epsilon(0.01));
+  CHECK(q["rows"][1]["probe_mean"].get<double>() ==
+        Approx(nu["probe_mean"].get<double>()).epsilon(0.02));
 }
 
 TEST_CASE("probe: DEM region/seed picks the packing, by default the material file's",
