@@ -193,6 +193,63 @@ namespace demfem::apps
           }
     }
 
+    /// The `demfem tunnel` command that repeats run `p` of the sweep (from
+    /// the directory the study ran in): the study's file and --set
+    /// overrides, then the run's swept values to 17 digits, so that the
+    /// region packs the same grains (a rounded diameter packs another
+    /// realization). Empty, with the reason in `why`, when keys cannot say
+    /// it: a stiffness contrast on a material file's continuum (the file
+    /// sets E).
+    std::string repeat_command(const coupling::TunnelParams &p, double contrast,
+                               std::string &why)
+    {
+      if (p.region.material && contrast != 1)
+        {
+          why = "the continuum's E is the material file's x the contrast; no key "
+                "gives it with a material file";
+          return {};
+        }
+      std::vector<std::string> sets;
+      for (const auto &o : command_line().overrides)
+        if (o.rfind("Problem/output directory=", 0) != 0)
+          sets.push_back(o);
+      auto set = [&](const std::string &key, const std::string &value) {
+        sets.push_back(key + "=" + value);
+      };
+      auto g17 = [](double v) {
+        char buf[40];
+        std::snprintf(buf, sizeof buf, "%.17g", v);
+        return std::string(buf);
+      };
+      set("DEM region/radius", g17(p.region.radius));
+      if (p.region.material) // the file's sizes scaled to this mean diameter
+        set("DEM region/grain diameter", g17(p.region.mean_diameter()));
+      else
+        {
+          set("DEM region/grain diameter", "");
+          set("DEM region/grain diameter min", g17(p.region.d_lo));
+          set("DEM region/grain diameter max", g17(p.region.d_hi));
+        }
+      set("DEM region/seed", std::to_string(p.region.seed));
+      set("DEM region/breakable", p.region.breakable ? "true" : "false");
+      set("Coupling/variant", p.coupling.variant);
+      set("Coupling/scheme", p.coupling.scheme);
+      set("Coupling/subcycles", std::to_string(p.coupling.subcycles));
+      set("Coupling/timestep safety", g17(p.coupling.safety));
+      set("Coupling/relaxation", g17(p.coupling.relaxation));
+      if (!p.region.material)
+        set("Continuum/young modulus", g17(p.continuum.young_modulus));
+      set("Problem/output directory", p.output_directory + "/repeat");
+      std::vector<std::string> args = {"demfem", "tunnel"};
+      if (command_line().defaults)
+        args.push_back("--defaults");
+      if (!command_line().file.empty())
+        args.push_back(command_line().file);
+      for (const auto &o : sets)
+        args.insert(args.end(), {"--set", o});
+      return shell_quoted(args);
+    }
+
     // One run of the sweep: the tunnel with the swept settings applied. A
     // combination the tunnel run rejects (e.g. a region too small for the
     // grains, or a variant/scheme not implemented) is an 'invalid' row, a
@@ -324,7 +381,15 @@ namespace demfem::apps
           row.diagnosis = exception_text(e);
         }
       if (std::filesystem::is_directory(p.output_directory))
-        write_file_atomically(p.output_directory + "/log.txt", log.str());
+        {
+          write_file_atomically(p.output_directory + "/log.txt", log.str());
+          std::string why;
+          const auto  cmd = repeat_command(p, c, why);
+          write_file_atomically(p.output_directory + "/command.txt",
+                                cmd.empty()
+                                    ? "# not repeatable by demfem tunnel: " + why + "\n"
+                                    : cmd + "\n");
+        }
       std::cout << "run " << row.index << ": b/a " << row.region_factor << ", a/d " << r
                 << ", " << variant << ", " << scheme << ", k " << k << ", safety " << s
                 << ", relaxation " << rx << ", contrast " << c << ", seed " << seed

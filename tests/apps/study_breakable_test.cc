@@ -232,6 +232,26 @@ TEST_CASE("study: several seeds give means with 95 % intervals, the region answe
   REQUIRE(first != std::string::npos);
   CHECK(svg.find(point, first + 1) != std::string::npos);
   CHECK(svg.find("nan") == std::string::npos);
+
+  // Each run directory says how `demfem tunnel` repeats it: the same grains
+  // (the swept diameters to 17 digits), the same steps, the same damage to
+  // the last digit (results do not depend on anything else; the study ran
+  // from the build directory with the example's absolute path).
+  std::string cmd = read(d + "/run_001/command.txt");
+  INFO(cmd);
+  REQUIRE(cmd.rfind("demfem tunnel ", 0) == 0);
+  CHECK(cmd.find("'DEM region/seed=10001'") != std::string::npos);
+  CHECK(cmd.find("'DEM region/breakable=true'") != std::string::npos);
+  cmd.erase(0, std::string("demfem ").size());
+  cmd.erase(cmd.find_last_not_of('\n') + 1);
+  const auto again = run_demfem(cmd);
+  INFO(again.out);
+  REQUIRE(again.exit_code == 0);
+  const auto run    = json_numbers(read(d + "/run_001/summary.json"));
+  const auto repeat = json_numbers(read(d + "/run_001/repeat/summary.json"));
+  for (const char *key : {"n_particles", "steps", "cracks_total", "damage_zone_depth",
+                          "wall_convergence_mean", "damaged_area_m2"})
+    CHECK(repeat.at(key) == run.at(key));
 }
 
 TEST_CASE("study: variant, scheme, relaxation and stiffness-contrast axes, invalid and "
