@@ -204,10 +204,13 @@ TEST_CASE("probe: without a material file the keys' material is held to the cont
   // region 2-3 % below the in-situ stress and read less damage.
   const std::string dir = probe_dir("keys");
   std::filesystem::remove_all(dir);
-  const auto r = run_demfem("tunnel " + examples +
-                            "study_breakable_2d.prm --probe --probe-seeds 1 --set "
-                            "\"Problem/output directory=" +
-                            dir + "\"");
+  auto probe_example = [&](const std::string &extra) {
+    return run_demfem("tunnel " + examples +
+                      "study_breakable_2d.prm --probe --probe-seeds 1 --set "
+                      "\"Problem/output directory=" +
+                      dir + "\" " + extra);
+  };
+  const auto r = probe_example("");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   const json p = read_json(dir + "/probe.json");
@@ -231,11 +234,7 @@ TEST_CASE("probe: without a material file the keys' material is held to the cont
   // moduli come from its linear branch: the same packing's E and nu as the
   // breakable specimen's 5-20 % window, where its bonds are intact
   // (measured 0.24 % and 0.4 % apart; 1 % and 2 % allowed), and no UCS.
-  const auto u = run_demfem("tunnel " + examples +
-                            "study_breakable_2d.prm --probe --probe-seeds 1 --set "
-                            "\"DEM region/breakable=false\" --set \"Problem/output "
-                            "directory=" +
-                            dir + "\"");
+  const auto u = probe_example("--set \"DEM region/breakable=false\"");
   INFO(u.out);
   REQUIRE(u.exit_code == 0);
   const json q = read_json(dir + "/probe.json");
