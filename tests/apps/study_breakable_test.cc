@@ -77,7 +77,8 @@ TEST_CASE("study: breakable mode, embedded runs against the full-DEM reference",
   // packing's zone is 0.14 m deep and stays inside b = 2 a (three isolated
   // cracks lie at its boundary: not region_too_small). Measured at -65 MPa:
   // the reference 0.345 m, b = 5 a 0.367 m (+6 %), b = 2 a region_too_small
-  // (12 of the zone's cracks at its coupling boundary), -8 %.
+  // (15 of the zone's cracks at its coupling boundary; 12 with the former
+  // 16.3 GPa continuum), -8 %.
   const std::string d = dir("breakable");
   const auto        r = run_study("study_breakable_2d.prm", d,
                                   "--set \"Study/region radius factors=5, 2\" --set "
