@@ -181,27 +181,29 @@ namespace demfem::apps
       // window's fractions of its UCS. A packing stronger than the file's
       // would otherwise be read higher up its curve, where more bonds have
       // broken (docs/tunnel.md, "The probe").
+      std::ostringstream size; // the specimen's dimensions
+      size << v.W << " x " << v.H;
+      if (dim == 3)
+        size << " x " << v.D;
       if (!keys)
         {
           lab.fit_stress_lo = ref.lab.fit_lo * ref.ucs;
           lab.fit_stress_hi = ref.lab.fit_hi * ref.ucs;
           lab.validate("the material file's lab_tests and ucs", dim);
-          out << "probe: lab specimen " << v.W << " x " << v.H
-              << (dim == 3 ? " x " + std::to_string(v.D) : std::string()) << " m at "
-              << r.k << " x the material file's grain size, strain rate "
-              << lab.strain_rate << " /s, modulus fit between " << lab.fit_stress_lo / 1e6
-              << " and " << lab.fit_stress_hi / 1e6 << " MPa deviator (the file's "
-              << ref.lab.fit_lo << " .. " << ref.lab.fit_hi << " of its UCS), " << seeds
+          out << "probe: lab specimen " << size.str() << " m at " << r.k
+              << " x the material file's grain size, strain rate " << lab.strain_rate
+              << " /s, modulus fit between " << lab.fit_stress_lo / 1e6 << " and "
+              << lab.fit_stress_hi / 1e6 << " MPa deviator (the file's " << ref.lab.fit_lo
+              << " .. " << ref.lab.fit_hi << " of its UCS), " << seeds
               << " packing seed(s)\n";
         }
       else
         out << "probe: no material file: the DEM region keys' material in a lab specimen "
-            << v.W << " x " << v.H
-            << (dim == 3 ? " x " + std::to_string(v.D) : std::string())
-            << " m at the region's grain size, UCS test at " << keys_strain_per_step
-            << " axial strain per time step, modulus fit between " << lab.fit_lo
-            << " and " << lab.fit_hi << " of its peak, against the continuum's E, nu; "
-            << seeds << " packing seed(s)\n";
+            << size.str() << " m at the region's grain size, UCS test at "
+            << keys_strain_per_step << " axial strain per time step, modulus fit between "
+            << lab.fit_lo << " and " << lab.fit_hi
+            << " of its peak, against the continuum's E, nu; " << seeds
+            << " packing seed(s)\n";
       if (!keys && !ref.lab_recorded)
         out << "probe: the material file does not record its test settings "
                "(lab_tests; written by demfem calibrate since the probe exists): "
