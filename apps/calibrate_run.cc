@@ -3,6 +3,7 @@
 // packing, fistPkg §4.2), so the tests do not see each other's damage.
 #include "apps/calibrate.h"
 #include "apps/calibrate_output.h"
+#include "apps/lab_progress.h"
 #include "dem/io/checkpoint.h"
 #include "dem/io/vtk_output.h"
 #include "dem/laws/contact_bond_law.h"
@@ -13,8 +14,6 @@
 #include "dem/measure/measurement.h"
 #include "dem/specimen/envelope.h"
 #include "dem/specimen/joint_insertion.h"
-
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -33,45 +32,6 @@ namespace demfem::apps
   {
     namespace fs = std::filesystem;
     using Clock  = std::chrono::steady_clock;
-
-    // Progress line on stderr (phase, step, stress, cracks, ETA), at most
-    // every 0.5 s on a terminal and every 5 s into a file.
-    class Progress
-    {
-    public:
-      explicit Progress(std::string test)
-          : test_(std::move(test))
-          , tty_(isatty(2))
-      {
-      }
-      void operator()(const dem::LabProgress &g)
-      {
-        const double t = seconds_since(t0_);
-        if (t - last_ < (tty_ ? 0.5 : 5.0))
-          return;
-        last_ = t;
-        std::ostringstream s;
-        s.precision(4);
-        s << "[" << test_ << "] " << g.phase << " step " << g.step << "  stress "
-          << g.stress / 1e6 << " MPa  strain " << g.strain << "  cracks " << g.cracks;
-        if (g.fraction_done > 0.01)
-          s << "  ETA " << std::lround(t * (1 - g.fraction_done) / g.fraction_done)
-            << " s";
-        std::cerr << (tty_ ? "\r" : "") << s.str() << (tty_ ? "\033[K" : "\n")
-                  << std::flush;
-      }
-      ~Progress()
-      {
-        if (tty_ && last_ > 0)
-          std::cerr << "\n";
-      }
-
-    private:
-      std::string       test_;
-      bool              tty_;
-      Clock::time_point t0_   = Clock::now();
-      double            last_ = 0;
-    };
 
     Json microparameters(const dem::MaterialParams &m, const dem::VesselParams &v)
     {
@@ -344,7 +304,7 @@ namespace demfem::apps
                         Json &j) -> dem::LabTestResult {
       const auto             name = file_name(label);
       auto                   sp   = fresh();
-      Progress               progress(label);
+      LabTestProgress        progress(label);
       dem::LabCallbacks<dim> cb;
       double                 t_peak = 0, t_end = 0;
       cb.progress = [&](const dem::LabProgress &g) { progress(g); };
@@ -454,7 +414,7 @@ namespace demfem::apps
               dem::LabTestParams l2    = lp;
               l2.strain_rate *= factor;
               l2.step_limit = std::int64_t(double(l2.step_limit) / factor);
-              Progress               progress2(label + " @ " + which + " rate");
+              LabTestProgress        progress2(label + " @ " + which + " rate");
               dem::LabCallbacks<dim> cb2;
               cb2.progress  = [&](const dem::LabProgress &g) { progress2(g); };
               const auto r2 = dem::run_lab_test(*sp2, l2, cb2);

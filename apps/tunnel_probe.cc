@@ -1,6 +1,8 @@
 // `demfem tunnel --probe` (apps/tunnel_probe.h; docs/tunnel.md, "The probe").
 #include "apps/tunnel_probe.h"
 
+#include "apps/lab_progress.h"
+
 #include "common/statistics.h"
 
 #include "dem/specimen/genesis.h"
@@ -213,14 +215,17 @@ namespace demfem::apps
           m.seed = s.region.seed + k;
           // Each test on a fresh specimen of the seed, as calibrate does.
           {
-            auto specimen = dem::build_specimen<dim>(m, v, nullptr, "probe specimen");
+            auto specimen = dem::build_specimen<dim>(m, v, &out, "probe specimen");
             r.grains      = specimen.n_grains();
             lab.kind      = dem::TestKind::compression;
             // The keys' loading in units of the grains' dynamics: a strain
             // per step (the specimen's step: the lab test keeps it).
             if (keys)
               lab.strain_rate = keys_strain_per_step / specimen.model.timestep();
-            const auto u = dem::run_lab_test(specimen, lab);
+            LabTestProgress progress("probe seed " + std::to_string(m.seed) + " ucs");
+            dem::LabCallbacks<dim> cb;
+            cb.progress  = [&](const dem::LabProgress &g) { progress(g); };
+            const auto u = dem::run_lab_test(specimen, lab, cb);
             r.E.push_back(u.E);
             r.nu.push_back(u.nu);
             r.ucs.push_back(u.peak);
@@ -234,9 +239,12 @@ namespace demfem::apps
               out << std::endl;
               continue;
             }
-          auto specimen = dem::build_specimen<dim>(m, v, nullptr, "probe specimen");
+          auto specimen = dem::build_specimen<dim>(m, v, &out, "probe specimen");
           lab.kind      = dem::TestKind::brazilian;
-          const auto b  = dem::run_lab_test(specimen, lab);
+          LabTestProgress progress("probe seed " + std::to_string(m.seed) + " brazilian");
+          dem::LabCallbacks<dim> cb;
+          cb.progress  = [&](const dem::LabProgress &g) { progress(g); };
+          const auto b = dem::run_lab_test(specimen, lab, cb);
           r.bts.push_back(b.peak);
           r.modes.push_back(b.failure_mode);
           out << "probe: seed " << m.seed << ": " << r.grains << " grains, E "

@@ -1,0 +1,54 @@
+#pragma once
+// Progress line of a laboratory test (phase, step, stress, strain, cracks,
+// ETA) on stderr, at most every 0.5 s on a terminal and every 5 s into a
+// file: `demfem calibrate` and `demfem tunnel --probe`.
+#include "apps/calibrate_output.h"
+#include "dem/specimen/lab_tests.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <utility>
+
+namespace demfem::apps
+{
+  class LabTestProgress
+  {
+  public:
+    explicit LabTestProgress(std::string test)
+        : test_(std::move(test))
+        , tty_(isatty(2))
+    {
+    }
+    void operator()(const dem::LabProgress &g)
+    {
+      const double t = seconds_since(t0_);
+      if (t - last_ < (tty_ ? 0.5 : 5.0))
+        return;
+      last_ = t;
+      std::ostringstream s;
+      s.precision(4);
+      s << "[" << test_ << "] " << g.phase << " step " << g.step << "  stress "
+        << g.stress / 1e6 << " MPa  strain " << g.strain << "  cracks " << g.cracks;
+      if (g.fraction_done > 0.01)
+        s << "  ETA " << std::lround(t * (1 - g.fraction_done) / g.fraction_done) << " s";
+      std::cerr << (tty_ ? "\r" : "") << s.str() << (tty_ ? "\033[K" : "\n")
+                << std::flush;
+    }
+    ~LabTestProgress()
+    {
+      if (tty_ && last_ > 0)
+        std::cerr << "\n";
+    }
+
+  private:
+    std::string                           test_;
+    bool                                  tty_;
+    std::chrono::steady_clock::time_point t0_   = std::chrono::steady_clock::now();
+    double                                last_ = 0;
+  };
+} // namespace demfem::apps
