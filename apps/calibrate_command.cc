@@ -254,6 +254,15 @@ namespace demfem::apps
           "platen friction", "0.5", Patterns::Double(),
           "Brazilian platen friction (fistPkg: frictionless; a small 2D disk "
           "between frictionless platens can slide out sideways) (>= 0)");
+      prm.declare_entry(
+          "brazilian diameter", "0", Patterns::Double(),
+          "Diameter [m] of a Brazilian specimen packed on its own at the material's "
+          "grain size (a box of that size, 3D: brazilian thickness deep); 0: the disk "
+          "is carved from the vessel (diameter min(width, height)). A 3D disk needs "
+          "about 20 grains across to split (>= 0)");
+      prm.declare_entry("brazilian thickness", "0", Patterns::Double(),
+                        "3D Brazilian specimen of its own: thickness [m]; 0: half the "
+                        "brazilian diameter (ISRM t/D = 0.5) (>= 0)");
       prm.declare_entry("fit window low", "0.1", Patterns::Double(),
                         "E/nu fit from this fraction");
       prm.declare_entry("fit window high", "0.5", Patterns::Double(),
@@ -573,6 +582,8 @@ namespace demfem::apps
                                         : dem::CrackInitiationMethod::volumetric_strain;
       l.crack_volumetric_fraction = prm.get_double("crack volumetric strain fraction");
       l.split_fraction            = prm.get_double("brazilian split fraction");
+      l.brazilian_diameter        = prm.get_double("brazilian diameter");
+      l.brazilian_thickness       = prm.get_double("brazilian thickness");
       l.ratio_limit               = prm.get_double("seating ratio limit");
       l.seat_step_limit           = prm.get_integer("seating step limit");
       l.timestep_safety           = prm.get_double("time step safety");
@@ -601,6 +612,13 @@ namespace demfem::apps
       check(where, t + "crack volumetric strain fraction", l.crack_volumetric_fraction, 0,
             1, true, true);
       check(where, t + "brazilian split fraction", l.split_fraction, 0, 1, true);
+      check(where, t + "brazilian diameter", l.brazilian_diameter, 0, HUGE_VAL);
+      check(where, t + "brazilian thickness", l.brazilian_thickness, 0, HUGE_VAL);
+      if (l.brazilian_thickness > 0 && !(s.dim == 3 && l.brazilian_diameter > 0))
+        throw std::invalid_argument(where +
+                                    ": Tests/brazilian thickness: only for a 3D Brazilian "
+                                    "specimen of its own (Tests/brazilian diameter > 0); "
+                                    "allowed: 0");
       check(where, t + "seating ratio limit", l.ratio_limit, 0, 1, true);
       check(where, t + "time step safety", l.timestep_safety, 0, 1, true);
       prm.leave_subsection();

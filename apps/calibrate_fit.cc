@@ -44,6 +44,13 @@ namespace demfem::apps
               const auto first      = std::make_unique<dem::Specimen<dim>>(
                   dem::build_specimen<dim>(m, s.vessel, nullptr, s.where));
               dem::write_checkpoint(first->model, scratch, {});
+              auto finished = [](dem::LabTestResult r) {
+                if (r.ended_by == "step limit")
+                  throw std::runtime_error(std::string(dem::test_kind_name(r.kind)) +
+                                           " test ended at Tests/step limit before its "
+                                           "peak was certain");
+                return r;
+              };
               auto run = [&](dem::TestKind kind, dem::CompressionType ctype, double Pc,
                              double strain_limit) {
                 auto               sp = clone_specimen(*first, scratch);
@@ -51,12 +58,7 @@ namespace demfem::apps
                 lp.kind = kind, lp.ctype = ctype, lp.Pc = Pc;
                 if (strain_limit > 0)
                   lp.strain_limit = strain_limit;
-                auto r = dem::run_lab_test(*sp, lp);
-                if (r.ended_by == "step limit")
-                  throw std::runtime_error(std::string(dem::test_kind_name(kind)) +
-                                           " test ended at Tests/step limit before its "
-                                           "peak was certain");
-                return r;
+                return finished(dem::run_lab_test(*sp, lp));
               };
               using dem::CompressionType, dem::TestKind;
               if (elastic || fit_needs(targets, "ucs"))
@@ -81,8 +83,19 @@ namespace demfem::apps
                   // dem/specimen/brazilian_failure.h): that packing is left
                   // out of the BTS mean and named in fit.csv, rather than
                   // pulling the mean up by a crushing load (docs/calibrate.md).
-                  const auto r =
-                      run(TestKind::brazilian, CompressionType::unconfined, 0, 0);
+                  dem::LabTestResult r;
+                  if (dem::own_brazilian_specimen(s.lab))
+                    {
+                      // Its own specimen (Tests/brazilian diameter), packed
+                      // for this evaluation at the same grain size and seed.
+                      auto sp = dem::build_specimen<dim>(
+                          m, dem::brazilian_vessel(s.vessel, s.lab, dim), nullptr, s.where);
+                      dem::LabTestParams lp = s.lab;
+                      lp.kind               = TestKind::brazilian;
+                      r                     = finished(dem::run_lab_test(sp, lp));
+                    }
+                  else
+                    r = run(TestKind::brazilian, CompressionType::unconfined, 0, 0);
                   if (r.failure_mode == "split")
                     values["bts"].push_back(r.peak);
                   else

@@ -251,8 +251,8 @@ namespace demfem::apps
     if (s.vtk)
       fs::create_directories(vtk_dir);
 
-    auto build = [&]() {
-      auto sp = dem::build_specimen<dim>(s.mat, s.vessel, &std::cerr, s.where);
+    auto build = [&](const dem::VesselParams &vessel) {
+      auto sp = dem::build_specimen<dim>(s.mat, vessel, &std::cerr, s.where);
       if (s.joint)
         {
           // Smooth-jointed interface through the vessel centre + point.
@@ -274,7 +274,7 @@ namespace demfem::apps
     };
     std::cerr << "demfem calibrate: genesis (" << dim << "D, " << s.mat.type << ")\n";
     const auto   t_gen     = Clock::now();
-    auto         first     = std::make_unique<dem::Specimen<dim>>(build());
+    auto         first     = std::make_unique<dem::Specimen<dim>>(build(s.vessel));
     const double genesis_s = seconds_since(t_gen);
     const double porosity  = first->porosity();
     // Measurement-based porosity (fistPkg §5.1): mean over the three
@@ -290,10 +290,34 @@ namespace demfem::apps
       write_snapshot(vtk_dir, "specimen", *first, true);
     const std::string ckpt = s.out + "/specimen.h5";
     dem::write_checkpoint(first->model, ckpt, {{"parameter_file", s.where}});
-    auto fresh = [&]() { return clone_specimen(*first, ckpt); };
     std::cerr << "demfem calibrate: " << n_grains << " grains, porosity " << porosity
               << " (measurement regions " << porosity_m << ")"
               << ", genesis " << genesis_s << " s\n";
+    // The Brazilian specimen of its own (Tests/brazilian diameter), packed
+    // on first use at the same grain size and seed.
+    std::unique_ptr<dem::Specimen<dim>> brazilian_first;
+    double                              brazilian_genesis_s = 0;
+    const std::string                   brazilian_ckpt = s.out + "/specimen_brazilian.h5";
+    const dem::VesselParams brazilian_vessel = dem::brazilian_vessel(s.vessel, s.lab, dim);
+    auto                    fresh = [&](const dem::LabTestParams &lp) {
+      if (lp.kind != dem::TestKind::brazilian || !dem::own_brazilian_specimen(lp))
+        return clone_specimen(*first, ckpt);
+      if (!brazilian_first)
+        {
+          std::cerr << "demfem calibrate: genesis of the Brazilian specimen ("
+                    << brazilian_vessel.W << " m across)\n";
+          const auto t    = Clock::now();
+          brazilian_first = std::make_unique<dem::Specimen<dim>>(build(brazilian_vessel));
+          brazilian_genesis_s = seconds_since(t);
+          dem::write_checkpoint(brazilian_first->model, brazilian_ckpt,
+                                {{"parameter_file", s.where}});
+          if (s.vtk)
+            write_snapshot(vtk_dir, "specimen_brazilian", *brazilian_first, true);
+          std::cerr << "demfem calibrate: Brazilian specimen " << brazilian_first->n_grains()
+                    << " grains, genesis " << brazilian_genesis_s << " s\n";
+        }
+      return clone_specimen(*brazilian_first, brazilian_ckpt);
+    };
 
     std::vector<std::string> truncated; // tests ended by the step limit
     std::vector<std::string> not_split; // Brazilian tests that did not split
@@ -303,7 +327,7 @@ namespace demfem::apps
     auto run_test = [&](const std::string &label, const dem::LabTestParams &lp,
                         Json &j) -> dem::LabTestResult {
       const auto             name = file_name(label);
-      auto                   sp   = fresh();
+      auto                   sp   = fresh(lp);
       LabTestProgress        progress(label);
       dem::LabCallbacks<dim> cb;
       double                 t_peak = 0, t_end = 0;
@@ -410,7 +434,7 @@ namespace demfem::apps
             {
               factor *= 0.5;
               const char        *which = level == 1 ? "half" : "quarter";
-              auto               sp2   = fresh();
+              auto               sp2   = fresh(lp);
               dem::LabTestParams l2    = lp;
               l2.strain_rate *= factor;
               l2.step_limit = std::int64_t(double(l2.step_limit) / factor);
@@ -589,7 +613,10 @@ namespace demfem::apps
         .num("seating_step_limit", double(s.lab.seat_step_limit))
         .num("platen_friction", s.lab.platen_friction)
         .num("split_fraction", s.lab.split_fraction)
-        .num("time_step_safety", s.lab.timestep_safety);
+        .num("time_step_safety", s.lab.timestep_safety)
+        .num("brazilian_diameter_m", s.lab.brazilian_diameter)
+        .num("brazilian_thickness_m",
+             dim == 3 && dem::own_brazilian_specimen(s.lab) ? brazilian_vessel.D : 0.0);
     mat.obj("lab_tests", lab);
     mat.obj("microparameters", microparameters(s.mat, s.vessel));
     dem::vtkout::write_text_atomically(s.out + "/material.json", mat.text() + "\n");
@@ -604,12 +631,18 @@ namespace demfem::apps
         .num("measurement_porosity", porosity_m)
         .num("coordination", counts.coordination)
         .num("bond_coordination", counts.bond_coordination)
-        .num("genesis_s", genesis_s)
-        .num("wall_time_s", seconds_since(t_start));
+        .num("genesis_s", genesis_s);
+    if (brazilian_first)
+      sum.num("brazilian_n_grains", double(brazilian_first->n_grains()))
+          .num("brazilian_genesis_s", brazilian_genesis_s);
+    sum.num("wall_time_s", seconds_since(t_start));
     sum.obj("tests", tests_json);
     dem::vtkout::write_text_atomically(s.out + "/summary.json", sum.text() + "\n");
-    fs::remove(ckpt);
-    fs::remove(ckpt + ".prev");
+    for (const auto &f : {ckpt, brazilian_ckpt})
+      {
+        fs::remove(f);
+        fs::remove(f + ".prev");
+      }
     return calibration_outcome(s.out, seconds_since(t_start), truncated.size(),
                                not_split.size());
   }

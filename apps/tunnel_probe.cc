@@ -105,6 +105,8 @@ namespace demfem::apps
           set("platen_friction", lab.platen_friction);
           set("split_fraction", lab.split_fraction);
           set("time_step_safety", lab.timestep_safety); // 0 (absent): the genesis'
+          set("brazilian_diameter_m", lab.brazilian_diameter); // 0 (absent): carved
+          set("brazilian_thickness_m", lab.brazilian_thickness);
         }
       else if (const auto fw = j.find("fit_window"); fw != j.end() && fw->is_string())
         {
@@ -179,6 +181,8 @@ namespace demfem::apps
       // strain per step, the same quasi-static quality.
       dem::LabTestParams lab = ref.lab;
       lab.strain_rate /= r.k;
+      lab.brazilian_diameter *= r.k;
+      lab.brazilian_thickness *= r.k;
       // E and nu read at the stresses the material file read them at: its
       // window's fractions of its UCS. A packing stronger than the file's
       // would otherwise be read higher up its curve, where more bonds have
@@ -239,7 +243,10 @@ namespace demfem::apps
               out << std::endl;
               continue;
             }
-          auto specimen = dem::build_specimen<dim>(m, v, &out, "probe specimen");
+          // The Brazilian specimen of its own when the calibration had one
+          // (Tests/brazilian diameter, scaled by k), else carved from v.
+          auto specimen = dem::build_specimen<dim>(m, dem::brazilian_vessel(v, lab, dim),
+                                                   &out, "probe Brazilian specimen");
           lab.kind      = dem::TestKind::brazilian;
           LabTestProgress progress("probe seed " + std::to_string(m.seed) + " brazilian");
           dem::LabCallbacks<dim> cb;

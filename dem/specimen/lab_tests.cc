@@ -17,9 +17,15 @@
 
 namespace demfem::dem
 {
-  void LabTestParams::validate(const std::string &where, int /*dim*/) const
+  void LabTestParams::validate(const std::string &where, int dim) const
   {
     const double inf = HUGE_VAL;
+    check_range(where, "brazilian diameter", brazilian_diameter, 0, inf);
+    check_range(where, "brazilian thickness", brazilian_thickness, 0, inf);
+    if (brazilian_thickness > 0 && !(dim == 3 && brazilian_diameter > 0))
+      throw InputError(where +
+                       ": brazilian thickness: only for a 3D Brazilian specimen of its "
+                       "own (brazilian diameter > 0); allowed: 0");
     check_range(where, "confining pressure", Pc, 0, inf);
     check_range(where, "strain rate", strain_rate, 0, inf, true, false);
     check_range(where, "load fraction", load_fraction, 0, 1, true, true);
@@ -42,6 +48,19 @@ namespace demfem::dem
                 1, true, false);
     check_range(where, "brazilian split fraction", split_fraction, 0, 1, true, true);
     check_range(where, "time step safety", timestep_safety, 0, 1);
+  }
+
+  VesselParams brazilian_vessel(const VesselParams &v, const LabTestParams &p, int dim)
+  {
+    if (!own_brazilian_specimen(p))
+      return v;
+    VesselParams b = v;
+    b.shape        = "box";
+    b.W = b.H = p.brazilian_diameter;
+    b.D       = dim == 3 ? (p.brazilian_thickness > 0 ? p.brazilian_thickness
+                                                      : 0.5 * p.brazilian_diameter)
+                         : v.D;
+    return b;
   }
 
   const char *test_kind_name(TestKind k)

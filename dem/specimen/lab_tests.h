@@ -102,6 +102,15 @@ namespace demfem::dem
     /// a small 2D disk between frictionless platens can slide out sideways
     /// (neutral equilibrium), so a friction coefficient may be given.
     double platen_friction = 0;
+    /// Brazilian specimen of its own (§5.6): a disk (2D) or a cylinder with
+    /// its axis along y (3D) of this diameter [m], packed at the material's
+    /// grain size in a box of diameter x diameter (3D: x thickness [m],
+    /// default half the diameter, ISRM's t/D). 0: the disk is carved from
+    /// the test vessel, radius min(W, H)/2 and the vessel's depth. A 3D
+    /// disk about 11 grains across is damaged all over before it fails and
+    /// does not split (docs/calibrate_ldb.md, 3D): the split needs more
+    /// grains across than the compression specimen's width holds.
+    double brazilian_diameter = 0, brazilian_thickness = 0;
     /// Window of the modulus fit, as fractions of the peak load (loading
     /// branch before the peak): E and nu are least-squares slopes in it.
     double fit_lo = 0.1, fit_hi = 0.5;
@@ -231,6 +240,17 @@ namespace demfem::dem
   {
     nu = nu_ps / (1 + nu_ps);
     E  = E_ps * (1 - nu * nu);
+  }
+
+  /// The vessel a Brazilian specimen is packed in: `v` itself when the
+  /// disk is carved from the test vessel (brazilian_diameter 0), else a box
+  /// of brazilian_diameter across (3D: brazilian_thickness deep, default
+  /// half the diameter). The grain size is the material's either way.
+  VesselParams brazilian_vessel(const VesselParams &v, const LabTestParams &p, int dim);
+  /// True when the Brazilian test has a specimen of its own.
+  inline bool own_brazilian_specimen(const LabTestParams &p)
+  {
+    return p.brazilian_diameter > 0;
   }
 
   /// Brazilian tensile strength, fistPkg Eq. 24: sigma_t = F_max / (pi R t)

@@ -452,6 +452,63 @@ TEST_CASE("calibrate: a Brazilian disk that splits gives the BTS",
             .epsilon(1e-12));
 }
 
+TEST_CASE("calibrate: a Brazilian specimen of its own, packed at the grain size",
+          "[calibrate][brazilian]")
+{
+  // Tests/brazilian diameter packs the disk in a box of its own, at the
+  // grain size of the 15 x 30 mm specimen: the grain-scaling genesis draws
+  // the grains for the vessel's area at the cloud porosity, so 40 x 40 mm
+  // holds 1600 / 450 times its grains (measured 536 for 151: 536.9; 2 %
+  // allows the rounding of the draws). The disk is then 40 mm across, not
+  // the 15 mm of the vessel's width, about 22 grains instead of 8, and with
+  // the split test's narrow strengths it splits (measured 0.67 of 51
+  // failure cracks in the split zone).
+  const fs::path out = work_dir() / "own_disk_out";
+  fs::remove_all(out);
+  const auto r = run_demfem(
+      "calibrate " + write("own_disk.prm", tiny_prm(out)).string() +
+      " --set \"Problem/vtk=false\" --set \"Tests/brazilian diameter=0.04\""
+      " --set \"Material/Flat joint/tensile strength mean=20e6\""
+      " --set \"Material/Flat joint/tensile strength sd=2e6\""
+      " --set \"Material/Flat joint/cohesion mean=200e6\" --set \"Tests/strain rate=0.5\""
+      " --set \"Tests/strain limit=0.02\" --set \"Tests/tests=ucs, brazilian\"");
+  INFO(r.out);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find("genesis of the Brazilian specimen (0.04 m across)") !=
+        std::string::npos);
+  const auto  mat = nlohmann::json::parse(read(out / "material.json"));
+  const auto  sum = nlohmann::json::parse(read(out / "summary.json"));
+  const auto &b   = sum["tests"]["brazilian"];
+  const double n_disk_box = sum["brazilian_n_grains"].get<double>();
+  CHECK(n_disk_box == Approx(sum["n_grains"].get<double>() * 1600.0 / 450.0).epsilon(0.02));
+  // The disk's radius is the extent of the grains inside R = 20 mm: within
+  // a grain diameter (at most 1.6 mm x the grain-scaling factor, < 2.5 mm;
+  // measured 19.1 mm).
+  CHECK(b["disk_radius_m"].get<double>() <= 0.02 + 1e-12);
+  CHECK(b["disk_radius_m"].get<double>() > 0.02 - 2.5e-3);
+  CHECK(b["failure_mode"] == "split");
+  CHECK(mat["bts"].get<double>() == b["peak_Pa"].get<double>());
+  // Recorded for the probe, which repeats the test at the region's scale.
+  CHECK(mat["lab_tests"]["brazilian_diameter_m"].get<double>() == 0.04);
+  CHECK(mat["lab_tests"]["brazilian_thickness_m"].get<double>() == 0);
+  // Its checkpoint is scratch, removed like the specimen's.
+  CHECK_FALSE(fs::exists(out / "specimen_brazilian.h5"));
+
+  // A thickness is a 3D key: refused in 2D naming it, nothing written.
+  const fs::path bad = work_dir() / "bad_disk_thickness";
+  fs::remove_all(bad);
+  const auto r2 = run_demfem("calibrate " + write("bad_disk.prm", tiny_prm(bad)).string() +
+                             " --set \"Tests/brazilian diameter=0.04\""
+                             " --set \"Tests/brazilian thickness=0.02\"");
+  CHECK(r2.exit_code == 1);
+  CHECK(r2.out.find("Tests/brazilian thickness") != std::string::npos);
+  CHECK_FALSE(fs::exists(bad / "material.json"));
+  const auto r3 = run_demfem("calibrate " + write("bad_disk2.prm", tiny_prm(bad)).string() +
+                             " --set \"Tests/brazilian diameter=-1\"");
+  CHECK(r3.exit_code == 1);
+  CHECK(r3.out.find("Tests/brazilian diameter") != std::string::npos);
+}
+
 TEST_CASE("calibrate: a Brazilian disk that does not split gives no BTS",
           "[calibrate][brazilian]")
 {

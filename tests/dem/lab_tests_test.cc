@@ -104,6 +104,35 @@ TEST_CASE("plane-stress to plane-strain constants (plane strain for the continuu
   CHECK(brazilian_strength(2 * M_PI, 2.0, 0.5) == Approx(2.0).epsilon(1e-15));
 }
 
+TEST_CASE("the Brazilian specimen's vessel", "[labtests]")
+{
+  VesselParams v;
+  v.shape = "cylinder", v.W = 0.025, v.H = 0.05, v.D = 0.025;
+  LabTestParams p;
+  // Default: carved from the test vessel, which is returned unchanged.
+  CHECK(!own_brazilian_specimen(p));
+  CHECK(brazilian_vessel(v, p, 3).shape == "cylinder");
+  CHECK(brazilian_vessel(v, p, 3).W == 0.025);
+  // Its own: a box of the diameter across, 3D half of it deep (ISRM t/D).
+  p.brazilian_diameter = 0.045;
+  const auto b3        = brazilian_vessel(v, p, 3);
+  CHECK(b3.shape == "box");
+  CHECK(b3.W == 0.045);
+  CHECK(b3.H == 0.045);
+  CHECK(b3.D == 0.0225);
+  p.brazilian_thickness = 0.03;
+  CHECK(brazilian_vessel(v, p, 3).D == 0.03);
+  // 2D keeps the unit thickness, and a thickness is refused there.
+  v.D = 1;
+  CHECK(brazilian_vessel(v, p, 2).D == 1);
+  CHECK_THROWS_WITH(p.validate("test", 2), Catch::Contains("brazilian thickness"));
+  CHECK_NOTHROW(p.validate("test", 3));
+  p.brazilian_diameter = 0;
+  CHECK_THROWS_WITH(p.validate("test", 3), Catch::Contains("brazilian thickness"));
+  p.brazilian_thickness = 0, p.brazilian_diameter = -1;
+  CHECK_THROWS_WITH(p.validate("test", 3), Catch::Contains("brazilian diameter"));
+}
+
 TEST_CASE("elastic scaling of the measured constants (2D)", "[labtests]")
 {
   // Contact stiffnesses scale with E* at fixed kappa* (memo Eq. 40), so the
