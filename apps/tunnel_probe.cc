@@ -210,6 +210,9 @@ namespace demfem::apps
             << lab.fit_lo << " and " << lab.fit_hi
             << " of its peak, against the continuum's E, nu; " << seeds
             << " packing seed(s)\n";
+      if (dem::own_brazilian_specimen(lab))
+        out << "probe: Brazilian specimen of its own, " << lab.brazilian_diameter
+            << " m across (the file's Tests/brazilian diameter x " << r.k << ")\n";
       if (!keys && !ref.lab_recorded)
         out << "probe: the material file does not record its test settings "
                "(lab_tests; written by demfem calibrate since the probe exists): "
