@@ -615,10 +615,10 @@ namespace demfem::apps
       check(where, t + "brazilian diameter", l.brazilian_diameter, 0, HUGE_VAL);
       check(where, t + "brazilian thickness", l.brazilian_thickness, 0, HUGE_VAL);
       if (l.brazilian_thickness > 0 && !(s.dim == 3 && l.brazilian_diameter > 0))
-        throw std::invalid_argument(where +
-                                    ": Tests/brazilian thickness: only for a 3D Brazilian "
-                                    "specimen of its own (Tests/brazilian diameter > 0); "
-                                    "allowed: 0");
+        throw std::invalid_argument(
+            where + ": Tests/brazilian thickness: only for a 3D Brazilian "
+                    "specimen of its own (Tests/brazilian diameter > 0); "
+                    "allowed: 0");
       check(where, t + "seating ratio limit", l.ratio_limit, 0, 1, true);
       check(where, t + "time step safety", l.timestep_safety, 0, 1, true);
       prm.leave_subsection();

@@ -89,7 +89,8 @@ namespace demfem::apps
                       // Its own specimen (Tests/brazilian diameter), packed
                       // for this evaluation at the same grain size and seed.
                       auto sp = dem::build_specimen<dim>(
-                          m, dem::brazilian_vessel(s.vessel, s.lab, dim), nullptr, s.where);
+                          m, dem::brazilian_vessel(s.vessel, s.lab, dim), nullptr,
+                          s.where);
                       dem::LabTestParams lp = s.lab;
                       lp.kind               = TestKind::brazilian;
                       r                     = finished(dem::run_lab_test(sp, lp));

@@ -298,8 +298,9 @@ namespace demfem::apps
     std::unique_ptr<dem::Specimen<dim>> brazilian_first;
     double                              brazilian_genesis_s = 0;
     const std::string                   brazilian_ckpt = s.out + "/specimen_brazilian.h5";
-    const dem::VesselParams brazilian_vessel = dem::brazilian_vessel(s.vessel, s.lab, dim);
-    auto                    fresh = [&](const dem::LabTestParams &lp) {
+    const dem::VesselParams             brazilian_vessel =
+        dem::brazilian_vessel(s.vessel, s.lab, dim);
+    auto fresh = [&](const dem::LabTestParams &lp) {
       if (lp.kind != dem::TestKind::brazilian || !dem::own_brazilian_specimen(lp))
         return clone_specimen(*first, ckpt);
       if (!brazilian_first)
@@ -313,8 +314,9 @@ namespace demfem::apps
                                 {{"parameter_file", s.where}});
           if (s.vtk)
             write_snapshot(vtk_dir, "specimen_brazilian", *brazilian_first, true);
-          std::cerr << "demfem calibrate: Brazilian specimen " << brazilian_first->n_grains()
-                    << " grains, genesis " << brazilian_genesis_s << " s\n";
+          std::cerr << "demfem calibrate: Brazilian specimen "
+                    << brazilian_first->n_grains() << " grains, genesis "
+                    << brazilian_genesis_s << " s\n";
         }
       return clone_specimen(*brazilian_first, brazilian_ckpt);
     };

@@ -241,10 +241,12 @@ namespace demfem::apps
     if (prm.get_double("brazilian split fraction") != 0.5)
       refuse(where, "Tests/brazilian split fraction: the Brazilian failure-mode check "
                     "is not available for Voronoi grains (allowed: 0.5, the default)");
-    if (prm.get_double("brazilian diameter") != 0 || prm.get_double("brazilian thickness") != 0)
-      refuse(where, "Tests/brazilian diameter, Tests/brazilian thickness: a Brazilian "
-                    "specimen of its own is not available for Voronoi grains (allowed: 0, "
-                    "the default: the disk is cut from the specimen)");
+    if (prm.get_double("brazilian diameter") != 0 ||
+        prm.get_double("brazilian thickness") != 0)
+      refuse(where,
+             "Tests/brazilian diameter, Tests/brazilian thickness: a Brazilian "
+             "specimen of its own is not available for Voronoi grains (allowed: 0, "
+             "the default: the disk is cut from the specimen)");
     if (prm.get("loading rate check") != "false")
       refuse(where, "Tests/loading rate check: the rate repeats are not available for "
                     "Voronoi grains (allowed: false)");

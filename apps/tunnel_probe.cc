@@ -104,7 +104,7 @@ namespace demfem::apps
           set("seating_step_limit", lab.seat_step_limit);
           set("platen_friction", lab.platen_friction);
           set("split_fraction", lab.split_fraction);
-          set("time_step_safety", lab.timestep_safety); // 0 (absent): the genesis'
+          set("time_step_safety", lab.timestep_safety);        // 0 (absent): the genesis'
           set("brazilian_diameter_m", lab.brazilian_diameter); // 0 (absent): carved
           set("brazilian_thickness_m", lab.brazilian_thickness);
         }

@@ -75,6 +75,20 @@ namespace
     return {out, run_demfem("calibrate " + prm.string() + " " + args)};
   }
 
+  // The tiny material with narrow tensile strengths (20 +- 2 MPa) and high
+  // cohesion, whose Brazilian disks split, at 0.5 /s without VTK, plus
+  // `args`, calibrated into work_dir()/<name>_out.
+  TinyRun run_splitting(const std::string &name, const std::string &args)
+  {
+    return run_tiny(name,
+                    "--set \"Problem/vtk=false\""
+                    " --set \"Material/Flat joint/tensile strength mean=20e6\""
+                    " --set \"Material/Flat joint/tensile strength sd=2e6\""
+                    " --set \"Material/Flat joint/cohesion mean=200e6\""
+                    " --set \"Tests/strain rate=0.5\" --set \"Tests/strain limit=0.02\"" +
+                        args);
+  }
+
   std::string read(const fs::path &p)
   {
     std::ifstream     f(p);
@@ -421,17 +435,10 @@ TEST_CASE("calibrate: a Brazilian disk that splits gives the BTS",
   // (20 +- 2 MPa) and high cohesion splits along its loaded diameter
   // (measured: 35 of its 49 failure cracks in the split zone, 0.71): exit 0,
   // the BTS and its failure mode in material.json and summary.json.
-  const fs::path out = work_dir() / "split_out";
-  fs::remove_all(out);
-  const auto r = run_demfem(
-      "calibrate " + write("split.prm", tiny_prm(out)).string() +
-      " --set \"Problem/vtk=false\" --set \"Vessel/width=0.04\""
-      " --set \"Vessel/height=0.04\" --set \"Material/number of grains=350\""
-      " --set \"Material/Flat joint/tensile strength mean=20e6\""
-      " --set \"Material/Flat joint/tensile strength sd=2e6\""
-      " --set \"Material/Flat joint/cohesion mean=200e6\" --set \"Tests/strain rate=0.5\""
-      " --set \"Tests/strain limit=0.02\" --set \"Tests/tests=brazilian, direct "
-      "tension\"");
+  const auto [out, r] =
+      run_splitting("split", " --set \"Vessel/width=0.04\" --set \"Vessel/height=0.04\""
+                             " --set \"Material/number of grains=350\""
+                             " --set \"Tests/tests=brazilian, direct tension\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   CHECK(r.out.find("did not split") == std::string::npos);
@@ -463,24 +470,19 @@ TEST_CASE("calibrate: a Brazilian specimen of its own, packed at the grain size"
   // the 15 mm of the vessel's width, about 22 grains instead of 8, and with
   // the split test's narrow strengths it splits (measured 0.67 of 51
   // failure cracks in the split zone).
-  const fs::path out = work_dir() / "own_disk_out";
-  fs::remove_all(out);
-  const auto r = run_demfem(
-      "calibrate " + write("own_disk.prm", tiny_prm(out)).string() +
-      " --set \"Problem/vtk=false\" --set \"Tests/brazilian diameter=0.04\""
-      " --set \"Material/Flat joint/tensile strength mean=20e6\""
-      " --set \"Material/Flat joint/tensile strength sd=2e6\""
-      " --set \"Material/Flat joint/cohesion mean=200e6\" --set \"Tests/strain rate=0.5\""
-      " --set \"Tests/strain limit=0.02\" --set \"Tests/tests=ucs, brazilian\"");
+  const auto [out, r] =
+      run_splitting("own_disk", " --set \"Tests/brazilian diameter=0.04\""
+                                " --set \"Tests/tests=ucs, brazilian\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   CHECK(r.out.find("genesis of the Brazilian specimen (0.04 m across)") !=
         std::string::npos);
-  const auto  mat = nlohmann::json::parse(read(out / "material.json"));
-  const auto  sum = nlohmann::json::parse(read(out / "summary.json"));
-  const auto &b   = sum["tests"]["brazilian"];
+  const auto   mat        = nlohmann::json::parse(read(out / "material.json"));
+  const auto   sum        = nlohmann::json::parse(read(out / "summary.json"));
+  const auto  &b          = sum["tests"]["brazilian"];
   const double n_disk_box = sum["brazilian_n_grains"].get<double>();
-  CHECK(n_disk_box == Approx(sum["n_grains"].get<double>() * 1600.0 / 450.0).epsilon(0.02));
+  CHECK(n_disk_box ==
+        Approx(sum["n_grains"].get<double>() * 1600.0 / 450.0).epsilon(0.02));
   // The disk's radius is the extent of the grains inside R = 20 mm: within
   // a grain diameter (at most 1.6 mm x the grain-scaling factor, < 2.5 mm;
   // measured 19.1 mm).
@@ -497,14 +499,16 @@ TEST_CASE("calibrate: a Brazilian specimen of its own, packed at the grain size"
   // A thickness is a 3D key: refused in 2D naming it, nothing written.
   const fs::path bad = work_dir() / "bad_disk_thickness";
   fs::remove_all(bad);
-  const auto r2 = run_demfem("calibrate " + write("bad_disk.prm", tiny_prm(bad)).string() +
-                             " --set \"Tests/brazilian diameter=0.04\""
-                             " --set \"Tests/brazilian thickness=0.02\"");
+  const auto r2 =
+      run_demfem("calibrate " + write("bad_disk.prm", tiny_prm(bad)).string() +
+                 " --set \"Tests/brazilian diameter=0.04\""
+                 " --set \"Tests/brazilian thickness=0.02\"");
   CHECK(r2.exit_code == 1);
   CHECK(r2.out.find("Tests/brazilian thickness") != std::string::npos);
   CHECK_FALSE(fs::exists(bad / "material.json"));
-  const auto r3 = run_demfem("calibrate " + write("bad_disk2.prm", tiny_prm(bad)).string() +
-                             " --set \"Tests/brazilian diameter=-1\"");
+  const auto r3 =
+      run_demfem("calibrate " + write("bad_disk2.prm", tiny_prm(bad)).string() +
+                 " --set \"Tests/brazilian diameter=-1\"");
   CHECK(r3.exit_code == 1);
   CHECK(r3.out.find("Tests/brazilian diameter") != std::string::npos);
 }

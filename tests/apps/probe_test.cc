@@ -100,19 +100,19 @@ TEST_CASE("probe: at 32 times the grain size the lab tests give the material fil
   // Twice: the Brazilian disk carved from the 12.5 mm vessel, and a disk
   // of its own 30 mm across (Tests/brazilian diameter, recorded in the
   // file's lab_tests and scaled by the factor like every length).
-  const bool        own  = GENERATE(false, true);
-  const std::string file = own ? small_material("exact_own_disk",
-                                                "--set \"Tests/brazilian diameter=0.03\"")
-                               : small_material("exact");
-  const json        m    = read_json(file);
+  const bool        own = GENERATE(false, true);
+  const std::string file =
+      own ? small_material("exact_own_disk", "--set \"Tests/brazilian diameter=0.03\"")
+          : small_material("exact");
+  const json m = read_json(file);
   CHECK(m["lab_tests"]["brazilian_diameter_m"].get<double>() == (own ? 0.03 : 0));
-  const std::string dir =
-      (std::filesystem::temp_directory_path() / (own ? "demfem_probe_own" : "demfem_probe"))
-          .string();
+  const std::string dir = (std::filesystem::temp_directory_path() /
+                           (own ? "demfem_probe_own" : "demfem_probe"))
+                              .string();
   const auto r = probe(file, diameter_times_32(m), dir);
   INFO(r.out);
-  CHECK((r.out.find("Brazilian specimen of its own, 0.96 m across") != std::string::npos) ==
-        own);
+  CHECK((r.out.find("Brazilian specimen of its own, 0.96 m across") !=
+         std::string::npos) == own);
   CHECK(r.exit_code == 0);
   CHECK(r.out.find("probe: pass") != std::string::npos);
   const json p = read_json(dir + "/probe.json");
