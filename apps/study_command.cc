@@ -536,11 +536,12 @@ namespace demfem::apps
                 q.min_radius_factor = 8;
                 // the most conservative swept safety, at most 0.8
                 q.safety = std::min(0.8, *std::min_element(ss.begin(), ss.end()));
-                q.ratio_tolerance  = base.ratio_tolerance;
-                q.ramp_steps       = base.ramp_steps;
-                q.phase_step_limit = base.phase_step_limit;
-                q.history_interval = base.history_interval;
-                q.servo.tolerance  = st.servo_tolerance;
+                q.ratio_tolerance       = base.ratio_tolerance;
+                q.ramp_steps            = base.ramp_steps;
+                q.damage_link_diameters = base.damage_link_diameters;
+                q.phase_step_limit      = base.phase_step_limit;
+                q.history_interval      = base.history_interval;
+                q.servo.tolerance       = st.servo_tolerance;
                 std::cout << "demfem study: full-DEM reference (R = " << q.region.radius
                           << " m, a/d = " << r << ", seed " << seed << ") ..."
                           << std::endl;

@@ -65,6 +65,12 @@ namespace demfem::apps
                       "centre-disk stress before excavation is within this fraction of "
                       "the largest |in situ stress principal| (every component), in "
                       "(0, 1]; else the run ends with status in_situ_not_reached");
+    prm.declare_entry("damage link length", "2", Patterns::Double(),
+                      "Link length L of the damage zone in mean grain diameters of the "
+                      "region, in [1, 10]: an excavation crack belongs to the zone "
+                      "when it lies within L of the wall or of a crack of the zone "
+                      "(docs/tunnel.md, \"Damage measures\"); summary.json also "
+                      "gives the depth at 1.5 L and 2 L");
     prm.leave_subsection();
 
     prm.enter_subsection("Continuum");
@@ -216,8 +222,9 @@ namespace demfem::apps
     s.tunnel_radius = prm.get_double("radius");
     s.sigma0 << prm.get_double("in situ stress xx"), prm.get_double("in situ stress xy"),
         prm.get_double("in situ stress xy"), prm.get_double("in situ stress yy");
-    s.stages            = prm.get_integer("excavation stages");
-    s.in_situ_tolerance = prm.get_double("in situ tolerance");
+    s.stages                = prm.get_integer("excavation stages");
+    s.in_situ_tolerance     = prm.get_double("in situ tolerance");
+    s.damage_link_diameters = prm.get_double("damage link length");
     AssertThrow(s.in_situ_tolerance > 0 && s.in_situ_tolerance <= 1,
                 ExcMessage(key_name("Tunnel/in situ tolerance") + " = " +
                            prm.get("in situ tolerance") + " is outside (0, 1]"));

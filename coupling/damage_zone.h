@@ -7,8 +7,8 @@
 //
 // * the zone: the cracks connected to the wall, a crack being connected when
 //   it lies within the link length L of the wall or of a connected crack
-//   (L = link_grain_diameters mean grain diameters, chains of broken
-//   contacts between neighbouring grains). Isolated cracks (an unloading
+//   (L = Tunnel/damage link length mean grain diameters, 2 by default:
+//   chains of broken contacts between neighbouring grains). Isolated cracks (an unloading
 //   wave's, or a weak bond far out) are counted but not in the zone: they
 //   moved the percentile of all cracks by 2x between packings of the same
 //   material (docs/study.md, "Damage measured on the zone connected to the
@@ -43,27 +43,34 @@ namespace demfem::coupling
     static constexpr double      percentile            = 0.9;
     static constexpr int         sectors               = 12; // 30 degrees
     static constexpr std::size_t min_cracks_per_sector = 3;
-    /// Link length L / mean grain diameter: a broken contact's centroid
-    /// lies about one diameter from its neighbours' on the same grain, so
-    /// two diameters link the cracks of a chain of grains and not a crack
-    /// behind an intact grain layer.
-    static constexpr double link_grain_diameters = 2.0;
+    /// Default link length L / mean grain diameter (Tunnel/damage link
+    /// length): a broken contact's centroid lies about one diameter from
+    /// its neighbours' on the same grain, so two diameters link the cracks
+    /// of a chain of grains and not a crack behind an intact grain layer.
+    static constexpr double default_link_grain_diameters = 2.0;
+    /// The link lengths a caller may choose, in mean grain diameters: below
+    /// one diameter neighbouring grains' broken contacts are not linked,
+    /// beyond ten the zone is every crack of a typical region.
+    static constexpr double min_link_grain_diameters = 1.0;
+    static constexpr double max_link_grain_diameters = 10.0;
 
-    std::size_t         cracks           = 0; ///< all cracks measured
-    std::size_t         connected_cracks = 0; ///< in the zone connected to the wall
-    double              link_length      = 0; ///< L [m]
-    double              depth            = 0; ///< zone: 90th-percentile distance [m]
-    double              depth_all        = 0; ///< all cracks: 90th percentile [m]
-    double              depth_max        = 0; ///< all cracks: largest distance [m]
-    std::vector<double> sector_depth     = std::vector<double>(sectors, 0.0); ///< [m]
-    double              notch_depth      = 0; ///< deepest sector [m]
-    double              notch_angle      = 0; ///< its centre, in [0, 180) [deg]
-    double              damaged_area     = 0; ///< [m^2] per unit length
-    /// The zone's depth with longer links, 3 and 4 grain diameters: where
-    /// the damage is en echelon (crack chains offset by an intact grain)
-    /// the depth grows with L, and these show by how much (the default
-    /// tunnel example: 0.235, 0.26 and 0.48 m for L = 2, 3, 4 d).
-    static constexpr std::array<double, 2> longer_links = {{3.0, 4.0}};
+    std::size_t         cracks               = 0; ///< all cracks measured
+    std::size_t         connected_cracks     = 0; ///< in the zone connected to the wall
+    double              link_length          = 0; ///< L [m]
+    double              link_grain_diameters = default_link_grain_diameters; ///< L / d
+    double              depth                = 0; ///< zone: 90th-percentile distance [m]
+    double              depth_all            = 0; ///< all cracks: 90th percentile [m]
+    double              depth_max            = 0; ///< all cracks: largest distance [m]
+    std::vector<double> sector_depth         = std::vector<double>(sectors, 0.0); ///< [m]
+    double              notch_depth          = 0; ///< deepest sector [m]
+    double              notch_angle          = 0; ///< its centre, in [0, 180) [deg]
+    double              damaged_area         = 0; ///< [m^2] per unit length
+    /// The zone's depth with longer links, 1.5 L and 2 L (3 and 4 grain
+    /// diameters at the default L = 2 d): where the damage is en echelon
+    /// (crack chains offset by an intact grain) the depth grows with L, and
+    /// these show by how much (the default tunnel example: 0.235, 0.26 and
+    /// 0.48 m for L = 2, 3, 4 d).
+    static constexpr std::array<double, 2> longer_link_factors = {{1.5, 2.0}};
     std::array<double, 2>                  depth_longer_links{};
 
     nlohmann::ordered_json to_json() const
@@ -73,6 +80,7 @@ namespace demfem::coupling
       j["connected_cracks"]          = connected_cracks;
       j["isolated_cracks"]           = cracks - connected_cracks;
       j["link_length_m"]             = link_length;
+      j["link_grain_diameters"]      = link_grain_diameters;
       j["depth_percentile"]          = percentile;
       j["depth_m"]                   = depth;
       j["depth_all_m"]               = depth_all;
@@ -86,9 +94,10 @@ namespace demfem::coupling
       nlohmann::ordered_json by_link = nlohmann::ordered_json::array();
       by_link.push_back(
           {{"link_grain_diameters", link_grain_diameters}, {"depth_m", depth}});
-      for (std::size_t k = 0; k < longer_links.size(); ++k)
-        by_link.push_back({{"link_grain_diameters", longer_links[k]},
-                           {"depth_m", depth_longer_links[k]}});
+      for (std::size_t k = 0; k < longer_link_factors.size(); ++k)
+        by_link.push_back(
+            {{"link_grain_diameters", longer_link_factors[k] * link_grain_diameters},
+             {"depth_m", depth_longer_links[k]}});
       j["depth_by_link"] = by_link;
       return j;
     }
@@ -181,13 +190,14 @@ namespace demfem::coupling
   }
 
   /// The damage zone of cracks at positions x (z = 0 in 2D) around the wall
-  /// r = a, its cracks linked within `link` [m] (DamageZone::
-  /// link_grain_diameters mean grain diameters; <= 0: every crack);
+  /// r = a, its cracks linked within `link` [m] (`link_grain_diameters`
+  /// mean grain diameters, which is reported; <= 0: every crack);
   /// `connected` is connected_to_wall(x, a, link), computed once by a
   /// caller that also needs it.
-  inline DamageZone measure_damage_zone(const std::vector<std::array<double, 3>> &x,
-                                        double a, double link,
-                                        const std::vector<bool> &connected)
+  inline DamageZone measure_damage_zone(
+      const std::vector<std::array<double, 3>> &x, double a, double link,
+      const std::vector<bool> &connected,
+      double link_grain_diameters = DamageZone::default_link_grain_diameters)
   {
     DamageZone                       z;
     std::vector<double>              all, zone;
@@ -206,17 +216,18 @@ namespace demfem::coupling
         zone.push_back(d);
         by_sector[s].push_back(d);
       }
-    z.cracks           = all.size();
-    z.connected_cracks = zone.size();
-    z.link_length      = std::max(0.0, link);
-    z.depth            = nearest_rank_percentile(zone, DamageZone::percentile);
-    z.depth_all        = nearest_rank_percentile(all, DamageZone::percentile);
-    z.depth_max        = nearest_rank_percentile(all, 1.0);
+    z.cracks               = all.size();
+    z.connected_cracks     = zone.size();
+    z.link_length          = std::max(0.0, link);
+    z.link_grain_diameters = link_grain_diameters;
+    z.depth                = nearest_rank_percentile(zone, DamageZone::percentile);
+    z.depth_all            = nearest_rank_percentile(all, DamageZone::percentile);
+    z.depth_max            = nearest_rank_percentile(all, 1.0);
     z.depth_longer_links.fill(z.depth); // link <= 0: every crack, whatever the link
-    for (std::size_t k = 0; k < DamageZone::longer_links.size() && link > 0; ++k)
+    for (std::size_t k = 0; k < DamageZone::longer_link_factors.size() && link > 0; ++k)
       {
-        const auto longer = connected_to_wall(
-            x, a, link * DamageZone::longer_links[k] / DamageZone::link_grain_diameters);
+        const auto longer =
+            connected_to_wall(x, a, link * DamageZone::longer_link_factors[k]);
         std::vector<double> d;
         for (std::size_t i = 0; i < x.size(); ++i)
           if (longer[i])
@@ -241,9 +252,11 @@ namespace demfem::coupling
   }
 
   /// The same, the zone found here.
-  inline DamageZone measure_damage_zone(const std::vector<std::array<double, 3>> &x,
-                                        double a, double link)
+  inline DamageZone measure_damage_zone(
+      const std::vector<std::array<double, 3>> &x, double a, double link,
+      double link_grain_diameters = DamageZone::default_link_grain_diameters)
   {
-    return measure_damage_zone(x, a, link, connected_to_wall(x, a, link));
+    return measure_damage_zone(x, a, link, connected_to_wall(x, a, link),
+                               link_grain_diameters);
   }
 } // namespace demfem::coupling

@@ -153,13 +153,13 @@ namespace demfem::coupling::excavation
   /// The damage zone (coupling/damage_zone.h: the zone connected to the
   /// wall, its percentile depth, sector depths, notch, damaged area) of the
   /// cracks with index >= from and in-plane centre distance <= r_max, their
-  /// links DamageZone::link_grain_diameters mean grain diameters d long.
+  /// links `link_diameters` mean grain diameters d long.
   template <int dim>
   DamageZone damage_zone(const dem::Model<dim> &m, std::size_t from, double a, double d,
-                         double r_max = HUGE_VAL)
+                         double link_diameters, double r_max = HUGE_VAL)
   {
-    return measure_damage_zone(crack_positions(m, from, r_max), a,
-                               DamageZone::link_grain_diameters * d);
+    return measure_damage_zone(crack_positions(m, from, r_max), a, link_diameters * d,
+                               link_diameters);
   }
 
   /// Cracks (all, since the start) at an in-plane distance > r from the

@@ -274,6 +274,9 @@ namespace demfem::coupling
     dem::check_range(w, "reference boundary band [grain diameters]", boundary_band, 0,
                      0.25 * region.radius / region.mean_diameter());
     dem::check_range(w, "Tunnel/excavation stages", stages, 1, 1000);
+    dem::check_range(w, "Tunnel/damage link length", damage_link_diameters,
+                     DamageZone::min_link_grain_diameters,
+                     DamageZone::max_link_grain_diameters);
     dem::check_range(w, "timestep safety", safety, 0, 1, true);
     dem::check_range(w, "equilibrium ratio", ratio_tolerance, 0, 1, true);
     dem::check_range(w, "ramp steps", double(ramp_steps), 1, 1e12);
@@ -556,9 +559,10 @@ namespace demfem::coupling
           {
             // The zone within R/2; the percentile of all excavation cracks'
             // distances, wherever they are, on its own (no zone needed).
-            r.damage            = excavation::damage_zone(m, exc.cracks_before, a, d(),
-                                                          r.evaluation_radius);
-            r.damage_zone_depth = r.damage.depth;
+            r.damage =
+                excavation::damage_zone(m, exc.cracks_before, a, d(),
+                                        p.damage_link_diameters, r.evaluation_radius);
+            r.damage_zone_depth     = r.damage.depth;
             r.damage_zone_depth_max = r.damage.depth_max;
             std::vector<double> all;
             for (const auto &x : excavation::crack_positions(m, exc.cracks_before))

@@ -113,12 +113,15 @@ namespace demfem::coupling
     /// membrane is the loading frame, not rock (measured in 3D: 783 bonds
     /// there broke at the in-situ stress, all within two grains of it, none
     /// inside; 2D: 3-10). 0: breakable to the membrane. At most R / (4 d).
-    double              boundary_band    = 3;
-    double              safety           = 0.8; ///< dt = safety x DEM critical
-    double              ratio_tolerance  = 1e-3;
-    std::int64_t        ramp_steps       = 2000;
-    std::int64_t        phase_step_limit = 20000;
-    std::int64_t        history_interval = 100;
+    double boundary_band = 3;
+    /// The damage zone's link length in mean grain diameters (as the
+    /// embedded run's Tunnel/damage link length: both measured alike).
+    double              damage_link_diameters = DamageZone::default_link_grain_diameters;
+    double              safety                = 0.8; ///< dt = safety x DEM critical
+    double              ratio_tolerance       = 1e-3;
+    std::int64_t        ramp_steps            = 2000;
+    std::int64_t        phase_step_limit      = 20000;
+    std::int64_t        history_interval      = 100;
     MembraneServoParams servo;
 
     /// Throws dem::InputError naming the key (prefixed by `where`).

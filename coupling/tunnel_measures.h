@@ -24,11 +24,14 @@ namespace demfem::coupling
   {
   public:
     /// `tunnel_radius` a; the region's parameters give the mean grain
-    /// diameter (wall band, interface band) and the region's size.
-    TunnelMeasures(const CoupledModel<dim> &model, double tunnel_radius)
+    /// diameter (wall band, interface band) and the region's size; the
+    /// damage zone's cracks are linked within `link_diameters` of them.
+    TunnelMeasures(const CoupledModel<dim> &model, double tunnel_radius,
+                   double link_diameters)
         : m(model)
         , a(tunnel_radius)
         , d_mean(model.region_params().mean_diameter())
+        , link_diameters(link_diameters)
     {
     }
 
@@ -93,8 +96,7 @@ namespace demfem::coupling
       if (!excavated)
         return {{0, 0}};
       return cracks_beyond(excavation::crack_positions(m.dem, exc.cracks_before), a,
-                           DamageZone::link_grain_diameters * d_mean,
-                           interface_band_radius());
+                           link_diameters * d_mean, interface_band_radius());
     }
 
     /// Damage-zone depth of the excavation cracks so far (0 before).
@@ -103,7 +105,7 @@ namespace demfem::coupling
     /// The excavation cracks' damage zone (coupling/damage_zone.h).
     DamageZone damage_zone() const
     {
-      return excavation::damage_zone(m.dem, exc.cracks_before, a, d_mean);
+      return excavation::damage_zone(m.dem, exc.cracks_before, a, d_mean, link_diameters);
     }
 
     /// wall_displacement.csv: the wall grains' reference position and
@@ -133,16 +135,16 @@ namespace demfem::coupling
       // The zone is found once for both measures (damage_zone() and
       // cracks_near_interface() each find it on their own).
       const auto   x    = excavation::crack_positions(m.dem, exc.cracks_before);
-      const double link = DamageZone::link_grain_diameters * d_mean;
+      const double link = link_diameters * d_mean;
       const auto   zone = connected_to_wall(x, a, link);
       const auto   near = excavated ? cracks_beyond(x, zone, interface_band_radius())
                                     : std::array<std::size_t, 2>{{0, 0}};
       r.cracks_near_interface      = near[0];
       r.zone_cracks_near_interface = near[1];
       r.region_too_small           = near[1] > 0;
-      r.damage                     = measure_damage_zone(x, a, link, zone);
-      r.damage_zone_depth          = r.damage.depth;
-      r.damage_zone_depth_max      = r.damage.depth_max;
+      r.damage                = measure_damage_zone(x, a, link, zone, link_diameters);
+      r.damage_zone_depth     = r.damage.depth;
+      r.damage_zone_depth_max = r.damage.depth_max;
       std::vector<std::array<double, 6>> rows;
       r.wall_convergence_mean = convergence(&r.n_wall_particles, &rows);
       r.wall_points.clear();
@@ -162,7 +164,7 @@ namespace demfem::coupling
 
   private:
     const CoupledModel<dim>        &m;
-    double                          a, d_mean;
+    double                          a, d_mean, link_diameters;
     excavation::Record<dim>         exc;
     bool                            excavated = false;
     Eigen::Matrix<double, dim, dim> stress_before =

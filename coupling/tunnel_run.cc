@@ -56,6 +56,9 @@ namespace demfem::coupling
     coupling.validate(w);
     with_tunnel(*this).validate(w, dimension, region.radius, coupling);
     dem::check_range(w, "Tunnel/excavation stages", stages, 1, 1000);
+    dem::check_range(w, "Tunnel/damage link length", damage_link_diameters,
+                     DamageZone::min_link_grain_diameters,
+                     DamageZone::max_link_grain_diameters);
     if (coupling.variant == "slaved-layer" &&
         tunnel_radius + 3 * region.d_hi >
             region.radius - coupling.overlap_grains * region.mean_diameter())
@@ -117,7 +120,7 @@ namespace demfem::coupling
                                           MPI_COMM_WORLD))
           , m(*model)
           , dir(pp.output_directory)
-          , measures(m, pp.tunnel_radius)
+          , measures(m, pp.tunnel_radius, pp.damage_link_diameters)
           , history(dir + "/history.csv")
           , frames(dir)
       {

@@ -31,9 +31,12 @@ namespace demfem::coupling
     double          ratio_tolerance = 1e-3; ///< equilibrium: unbalanced ratio below this
     /// In-situ state reached: centre-disk stress before excavation within
     /// this fraction of the largest |sigma0 principal| (tunnel_result.h).
-    double       in_situ_tolerance = 0.1;
-    std::int64_t ramp_steps        = 2000;  ///< in-situ load ramp
-    std::int64_t phase_step_limit  = 20000; ///< per equilibrium phase / stage
+    double in_situ_tolerance = 0.1;
+    /// The damage zone's link length L in mean grain diameters of the
+    /// region (coupling/damage_zone.h; Tunnel/damage link length).
+    double       damage_link_diameters = DamageZone::default_link_grain_diameters;
+    std::int64_t ramp_steps            = 2000;  ///< in-situ load ramp
+    std::int64_t phase_step_limit      = 20000; ///< per equilibrium phase / stage
     /// Model time an equilibrium phase / stage may take [s] (0: no limit):
     /// the physical limit, independent of the time step; the step limit
     /// is the cost budget.

@@ -5,6 +5,8 @@
 
 #include "run_command.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -153,13 +155,16 @@ TEST_CASE("study: breakable mode in 3D, the slab against the plane-strain slab r
   // thick) coarsened to a/d = 2 to keep the test cheap (b = 4 a: a region
   // of 3 a leaves too few grains between the tunnel and the slaved layer):
   // the reference is the 3D slab r <= 8 a of the same thickness in a
-  // cylindrical membrane.
+  // cylindrical membrane. The damage zone's link is 3 grain diameters
+  // (Tunnel/damage link length), which the embedded run and the reference
+  // both measure with.
   const std::string d = dir("breakable_3d");
   const auto        r = run_study("tunnel_3d.prm", d,
                                   "--set \"Study/breakable=true\" --set "
                                          "\"Study/grain resolutions=2\" --set "
                                          "\"Study/region radius factors=4\" --set "
-                                         "\"Coupling/step limit=15000\"");
+                                         "\"Coupling/step limit=15000\" --set "
+                                         "\"Tunnel/damage link length=3\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   const std::string ref_text = read(d + "/reference_00/summary.json");
@@ -178,6 +183,15 @@ TEST_CASE("study: breakable mode in 3D, the slab against the plane-strain slab r
   CHECK(rows[0].at("breakable") == "yes");
   CHECK(std::stod(rows[0].at("reference_depth_m")) ==
         Approx(ref.at("damage_zone_depth")).epsilon(1e-5));
+  for (const char *run : {"/reference_00", "/run_000"})
+    {
+      INFO(run);
+      const auto damage =
+          nlohmann::json::parse(read(d + run + "/summary.json"))["damage"];
+      CHECK(damage["link_grain_diameters"].get<double>() == 3.0);
+      // L = 3 d with d = 2 a / (a/d) / 2 = 0.3 m: the slab's a/d = 2.
+      CHECK(damage["link_length_m"].get<double>() == Approx(3 * 0.3).epsilon(1e-9));
+    }
   const auto s = json_numbers(read(d + "/summary.json"));
   CHECK(s.at("dimension") == 3);
   CHECK(read(d + "/summary.json").find("\"embedding\": \"slab\"") != std::string::npos);

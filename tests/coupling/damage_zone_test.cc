@@ -136,6 +136,19 @@ TEST_CASE("damage zone: cracks join the zone through chains no longer than the l
   CHECK(by_link[0]["link_grain_diameters"].get<double>() == 2.0);
   CHECK(by_link[2]["link_grain_diameters"].get<double>() == 4.0);
   CHECK(by_link[2]["depth_m"].get<double>() == Approx(0.7));
+  // The same cracks with L = 3 d (0.3 m, Tunnel/damage link length = 3):
+  // the first two are the zone (0.35 m), and the sensitivity links are
+  // 1.5 L = 4.5 d (0.45 m: all three, 0.7 m) and 2 L = 6 d, reported as such.
+  const DamageZone e3 = measure_damage_zone(
+      {polar(a + 0.1, 30), polar(a + 0.35, 30), polar(a + 0.7, 30)}, a, 0.3, 3.0);
+  CHECK(e3.connected_cracks == 2);
+  CHECK(e3.depth == Approx(0.35));
+  CHECK(e3.depth_longer_links[0] == Approx(0.7));
+  const auto j3 = e3.to_json();
+  CHECK(j3["link_grain_diameters"].get<double>() == 3.0);
+  CHECK(j3["link_length_m"].get<double>() == Approx(0.3));
+  CHECK(j3["depth_by_link"][1]["link_grain_diameters"].get<double>() == 4.5);
+  CHECK(j3["depth_by_link"][2]["link_grain_diameters"].get<double>() == 6.0);
   // Every crack connected (link <= 0): the same depth at any link.
   const DamageZone all =
       measure_damage_zone({polar(a + 0.1, 30), polar(a + 0.7, 30)}, a, 0);

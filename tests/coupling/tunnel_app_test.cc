@@ -126,6 +126,8 @@ TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing",
       {"--set \"Coupling/timestep safety=5\"", "Coupling/timestep safety (--set) = 5"},
       {"--set \"Coupling/timestep safety=1.01\"", "outside (0, 1]"},
       {"--set \"Tunnel/in situ tolerance=0\"", "Tunnel/in situ tolerance (--set) = 0"},
+      // The damage zone's link: 1 to 10 mean grain diameters.
+      {"--set \"Tunnel/damage link length=0.5\"", "Tunnel/damage link length"},
       // Only statuses whose results are still results may be accepted.
       {"--accept fine", "unknown run status 'fine'"},
       {"--accept in_situ_not_reached", "only not_equilibrated and region_too_small"},
