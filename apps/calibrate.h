@@ -6,6 +6,7 @@
 #include "dem/specimen/lab_tests.h"
 
 #include <array>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -41,6 +42,18 @@ namespace demfem::apps
     double      lo = 0, hi = 0;
   };
 
+  /// One evaluation of an earlier fit, a row of its fit.csv (Fit/resume
+  /// from): replayed instead of measured again when the search asks for
+  /// the same parameters in the same order.
+  struct FitLogRow
+  {
+    std::string                   stage;
+    std::vector<double>           values;   ///< every Fit/parameters entry
+    std::map<std::string, double> mean, sd; ///< the targets it measured
+    std::string                   error, note;
+    double                        seconds = 0; ///< what it cost then
+  };
+
   /// `demfem calibrate FILE.prm --fit`: searches the parameters with a
   /// derivative-free optimizer (NLopt) for the targets (docs/calibrate.md,
   /// "Automatic calibration").
@@ -53,6 +66,11 @@ namespace demfem::apps
     int                       evaluations = 60; ///< budget per stage
     std::string               algorithm   = "bobyqa";
     double elastic_strain                 = 3e-4; ///< axial strain of the elastic stage
+    /// Fit/resume from: an earlier fit.csv of the same parameters and
+    /// targets, read when the settings are (before the output directory is
+    /// claimed); its evaluations are replayed in order.
+    std::string            resume_from;
+    std::vector<FitLogRow> replay;
   };
 
   struct CalibrateSettings

@@ -321,6 +321,12 @@ namespace demfem::apps
       prm.declare_entry(
           "elastic strain", "3e-4", Patterns::Anything(),
           "Axial strain of the elastic stage's small-strain test (0, 0.01]");
+      prm.declare_entry(
+          "resume from", "", Patterns::Anything(),
+          "fit.csv of an earlier --fit run of the same parameters and targets (e.g. "
+          "one stopped by the end of a session): its evaluations are replayed in "
+          "order without measuring, and the search goes on from where it stopped; "
+          "read before the output directory is claimed, so it may lie in it");
       prm.enter_subsection("Targets");
       for (const char *t :
            {"E", "nu", "ucs", "bts", "direct tension", "crack initiation ratio", "mi"})
@@ -728,6 +734,11 @@ namespace demfem::apps
       throw std::invalid_argument(key("Targets/direct tension") +
                                   ": a direct tensile strength at or above the UCS is "
                                   "not a rock (allowed: below Fit/Targets/ucs)");
+    f.resume_from = prm.get("resume from");
+    if (f.resume_from.find_first_not_of(" \t") == std::string::npos)
+      f.resume_from.clear();
+    else if (f.enabled)
+      f.replay = read_fit_log(f.resume_from, f, key("resume from"));
     if (!f.enabled)
       return;
     if (f.targets.empty())

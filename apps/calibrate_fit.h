@@ -31,6 +31,17 @@ namespace demfem::apps
       dealii::ParameterHandler &prm, const std::string &where, FitSettings &f,
       const std::function<void(const FitParameter &)> &check_parameter);
 
+  /// The header line (with its newline) of fit.csv for the parameters and
+  /// targets of `f`: evaluation, stage, each parameter, each target's mean
+  /// and sd, objective, all_within_tolerance, seconds, error, note.
+  std::string fit_csv_header(const FitSettings &f);
+
+  /// The evaluations of an earlier fit.csv (Fit/resume from; `key` names
+  /// it in errors): its header must be fit_csv_header(f), every row whole
+  /// (std::invalid_argument naming the key, the file and the line).
+  std::vector<FitLogRow> read_fit_log(const std::string &file, const FitSettings &f,
+                                      const std::string &key);
+
   /// Seed mean and sample standard deviation of each measured target.
   struct FitMeasurement
   {

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 
@@ -76,14 +77,6 @@ namespace demfem::apps
       return o.str();
     }
 
-    std::string csv_name(std::string n)
-    {
-      for (auto &c : n)
-        if (c == ' ' || c == '/')
-          c = '_';
-      return n;
-    }
-
     // The fit's state across stages: the current parameter values, the log
     // and the best evaluation so far.
     class Fit
@@ -93,16 +86,12 @@ namespace demfem::apps
           : f_(f)
           , problem_(problem)
           , out_(out)
+          , csv_(fit_csv_header(f))
           , current_(problem.initial)
       {
-        std::ostringstream h;
-        h << "evaluation,stage";
-        for (const auto &p : f.parameters)
-          h << ',' << csv_name(p.name);
-        for (const auto &t : f.targets)
-          h << ',' << csv_name(t.name) << "_mean," << csv_name(t.name) << "_sd";
-        h << ",objective,all_within_tolerance,seconds,error,note\n";
-        csv_ = h.str();
+        if (!f.replay.empty())
+          std::cerr << "demfem calibrate --fit: resuming: " << f.replay.size()
+                    << " evaluations of " << f.resume_from << " to replay\n";
       }
 
       // One stage: the listed parameters searched for the listed targets.
@@ -166,14 +155,29 @@ namespace demfem::apps
                   << "\n";
       }
 
-      // Measurement of the current parameters on every target.
-      FitMeasurement final_measurement() const
+      // Measurement of the current parameters on every target, logged in
+      // fit.csv as stage "check" (it costs a full evaluation, so a resumed
+      // fit replays it too).
+      FitMeasurement final_measurement()
       {
         std::vector<std::string> all;
-        for (const auto &t : f_.targets)
-          all.push_back(t.name);
-        return problem_.measure(current_, all, false);
+        std::vector<std::size_t> every;
+        for (std::size_t t = 0; t < f_.targets.size(); ++t)
+          all.push_back(f_.targets[t].name), every.push_back(t);
+        stage_              = "check";
+        double       s      = 0;
+        bool         re     = false;
+        const auto   m      = measure(current_, all, false, s, re);
+        bool         within = false;
+        const double f      = objective_of(m, every, within);
+        log(current_, m, f, within, s, re);
+        std::cerr
+            << "demfem calibrate --fit: [check] the best parameters on every target: "
+            << "objective " << f << (re ? " (replayed)" : "") << "\n";
+        return m;
       }
+
+      int replayed() const { return n_replayed_; }
 
       const std::vector<double> &current() const { return current_; }
       const std::vector<Json>   &stages() const { return stages_; }
@@ -186,9 +190,67 @@ namespace demfem::apps
         return self.evaluate(std::vector<double>(u, u + n));
       }
 
+      // The measurement of `values`: the next row of the resumed log when
+      // it is this stage's evaluation of the same values (the search then
+      // follows the earlier run's path), else measured now; a row that
+      // differs ends the replay.
+      FitMeasurement measure(const std::vector<double>      &values,
+                             const std::vector<std::string> &names, bool elastic,
+                             double &seconds, bool &replayed)
+      {
+        replayed = false;
+        if (next_replay_ < f_.replay.size())
+          {
+            const FitLogRow &row = f_.replay[next_replay_];
+            if (row.stage == stage_ && row.values == values)
+              {
+                ++next_replay_, ++n_replayed_;
+                replayed = true;
+                seconds  = row.seconds;
+                FitMeasurement m;
+                m.mean  = row.mean;
+                m.sd    = row.sd;
+                m.error = row.error;
+                m.note  = row.note;
+                return m;
+              }
+            std::cerr << "demfem calibrate --fit: [" << stage_ << "] the search leaves "
+                      << f_.resume_from << " at its row " << next_replay_ + 1
+                      << " (other parameters or stage): measuring from here\n";
+            next_replay_ = f_.replay.size();
+          }
+        const auto t0 = Clock::now();
+        auto       m  = problem_.measure(values, names, elastic);
+        seconds       = seconds_since(t0);
+        ++n_fresh_;
+        fresh_seconds_ += seconds;
+        return m;
+      }
+
+      // Weighted sum of squared relative errors in units of each target's
+      // tolerance: 1 per target means "at the tolerance". A failed
+      // evaluation (instability, a test that did not reach a peak) is far
+      // worse than any measured one.
+      double objective_of(const FitMeasurement           &m,
+                          const std::vector<std::size_t> &targets, bool &within) const
+      {
+        double f = 0;
+        within   = m.error.empty();
+        for (auto t : targets)
+          {
+            const auto  &T  = f_.targets[t];
+            const auto   it = m.mean.find(T.name);
+            const double r  = it == m.mean.end() || !std::isfinite(it->second)
+                                  ? HUGE_VAL
+                                  : (it->second - T.value) / std::abs(T.value);
+            f += T.weight * std::pow(std::min(std::abs(r), 1e3) / T.tolerance, 2);
+            within = within && std::abs(r) <= T.tolerance;
+          }
+        return m.error.empty() ? f : 1e12;
+      }
+
       double evaluate(const std::vector<double> &u)
       {
-        const auto          t0     = Clock::now();
         std::vector<double> values = current_, x(u.size());
         for (std::size_t i = 0; i < u.size(); ++i)
           {
@@ -199,41 +261,29 @@ namespace demfem::apps
         std::vector<std::string> names;
         for (auto t : targets_)
           names.push_back(f_.targets[t].name);
-        const FitMeasurement m = problem_.measure(values, names, elastic_);
-        // Weighted sum of squared relative errors in units of each target's
-        // tolerance: 1 per target means "at the tolerance". A failed
-        // evaluation (instability, a test that did not reach a peak) is
-        // far worse than any measured one.
-        double f      = 0;
-        bool   within = m.error.empty();
-        for (auto t : targets_)
-          {
-            const auto  &T  = f_.targets[t];
-            const auto   it = m.mean.find(T.name);
-            const double r  = it == m.mean.end() || !std::isfinite(it->second)
-                                  ? HUGE_VAL
-                                  : (it->second - T.value) / std::abs(T.value);
-            f += T.weight * std::pow(std::min(std::abs(r), 1e3) / T.tolerance, 2);
-            within = within && std::abs(r) <= T.tolerance;
-          }
-        if (!m.error.empty())
-          f = 1e12;
+        double               seconds  = 0;
+        bool                 replayed = false;
+        const FitMeasurement m      = measure(values, names, elastic_, seconds, replayed);
+        bool                 within = false;
+        const double         f      = objective_of(m, targets_, within);
         ++n_eval_;
         history_.push_back(f);
         if (f < best_f_)
           best_f_ = f, best_x_ = x;
-        log(values, m, f, within, seconds_since(t0));
+        log(values, m, f, within, seconds, replayed);
+        progress(m, f, replayed);
         if (within)
           throw nlopt::forced_stop();
         return f;
       }
 
+      // A row of fit.csv (a replayed row marked so in its note).
       void log(const std::vector<double> &values, const FitMeasurement &m, double f,
-               bool within, double seconds)
+               bool within, double seconds, bool replayed)
       {
         std::ostringstream row;
         row.precision(17);
-        row << history_.size() << ',' << stage_;
+        row << ++rows_ << ',' << stage_;
         for (double v : values)
           row << ',' << v;
         for (const auto &t : f_.targets)
@@ -252,16 +302,22 @@ namespace demfem::apps
               c = ' ';
           return t;
         };
-        row << ',' << f << ',' << (within ? 1 : 0) << ',' << seconds << ','
-            << cell(m.error) << ',' << cell(m.note) << '\n';
+        const std::string note =
+            replayed ? (m.note.empty() ? "replayed" : "replayed; " + m.note) : m.note;
+        row << ',' << f << ',' << (within ? 1 : 0) << ',' << std::setprecision(4)
+            << seconds << ',' << cell(m.error) << ',' << cell(note) << '\n';
         csv_ += row.str();
         dem::vtkout::write_text_atomically(out_ + "/fit.csv", csv_);
-        // Progress with ETA against the stage's evaluation budget.
-        const double spent = seconds_since(t_stage_);
-        const double eta   = spent / n_eval_ * (f_.evaluations - n_eval_);
+      }
+
+      // The progress line, with an ETA against the stage's evaluation
+      // budget from the evaluations measured now (a replayed one costs
+      // nothing).
+      void progress(const FitMeasurement &m, double f, bool replayed) const
+      {
         std::cerr << "demfem calibrate --fit: [" << stage_ << "] evaluation " << n_eval_
-                  << "/" << f_.evaluations << ": objective " << f << " (best " << best_f_
-                  << ")";
+                  << "/" << f_.evaluations << (replayed ? " (replayed)" : "")
+                  << ": objective " << f << " (best " << best_f_ << ")";
         for (auto t : targets_)
           {
             const auto &n = f_.targets[t].name;
@@ -272,18 +328,25 @@ namespace demfem::apps
           std::cerr << ", failed: " << m.error;
         else if (!m.note.empty())
           std::cerr << ", note: " << m.note;
-        std::cerr << "; ETA at most " << seconds_text(eta) << "\n";
+        if (n_fresh_ > 0)
+          std::cerr << "; ETA at most "
+                    << seconds_text(fresh_seconds_ / n_fresh_ *
+                                    (f_.evaluations - n_eval_));
+        std::cerr << "\n";
       }
 
       const FitSettings       &f_;
       const FitProblem        &problem_;
-      std::string              out_, stage_, csv_;
+      std::string              out_, csv_, stage_;
       std::vector<double>      current_;
       std::vector<std::size_t> params_, targets_;
       bool                     elastic_ = false;
       double                   best_f_  = HUGE_VAL;
       std::vector<double>      best_x_, history_;
-      int                      n_eval_ = 0;
+      int                      n_eval_ = 0, rows_ = 0;
+      std::size_t              next_replay_ = 0; ///< the resumed log's next row
+      int                      n_replayed_ = 0, n_fresh_ = 0;
+      double                   fresh_seconds_ = 0; ///< measured now, for the ETA
       Clock::time_point        t_stage_;
       std::vector<Json>        stages_;
     };
@@ -393,6 +456,8 @@ namespace demfem::apps
         .str("algorithm", f.algorithm)
         .num("seeds", f.seeds)
         .num("evaluations", double(fit.objectives().size()))
+        .num("replayed_evaluations", fit.replayed())
+        .str("resumed_from", f.resume_from)
         .num("wall_time_s", seconds_since(t0))
         .obj("best_parameters", best)
         .obj("targets", targets)

@@ -137,6 +137,75 @@ TEST_CASE("calibrate --fit recovers known microparameters", "[calibrate][fit]")
   for (const char *f :
        {"fit.csv", "fit_convergence.svg", "material.json", "summary.json"})
     CHECK(fs::is_regular_file(out2 / f));
+
+  // 3. Fit/resume from: the same fit stopped after its first five
+  //    evaluations (fit.csv is rewritten after each, so that is what a
+  //    stopped run leaves) and resumed replays them and then measures
+  //    exactly what the uninterrupted fit measured: the search and the
+  //    measurements are deterministic, and the log keeps 17 digits.
+  const auto split = [](const std::string &text, char sep) {
+    std::vector<std::string> v;
+    std::stringstream        s(text);
+    for (std::string x; std::getline(s, x, sep);)
+      v.push_back(x);
+    if (!text.empty() && text.back() == sep && sep == ',')
+      v.push_back("");
+    return v;
+  };
+  const auto full = split(read(out2 / "fit.csv"), '\n');
+  REQUIRE(full.size() > 7); // the header and more than six evaluations
+  std::string stopped;
+  for (std::size_t k = 0; k <= 5; ++k)
+    stopped += full[k] + "\n";
+  const fs::path stopped_csv = write("stopped.csv", stopped);
+  const fs::path out3        = work_dir() / "resumed";
+  fs::remove_all(out3);
+  const auto resume = [&](const fs::path &log) {
+    return targets.str() + "  set resume from = " + log.string() + "\n";
+  };
+  const auto r3 = run_demfem(
+      "calibrate " +
+      write("resumed.prm", prm(out3, 25e9, 3.2, resume(stopped_csv))).string() +
+      " --fit");
+  INFO(r3.out);
+  REQUIRE(r3.exit_code == 0);
+  CHECK(r3.out.find("resuming: 5 evaluations") != std::string::npos);
+  const auto again = split(read(out3 / "fit.csv"), '\n');
+  REQUIRE(again.size() == full.size());
+  for (std::size_t k = 1; k < full.size(); ++k)
+    {
+      INFO("fit.csv row " << k);
+      auto a = split(full[k], ','), b = split(again[k], ',');
+      REQUIRE(a.size() == b.size());
+      // The note marks a replayed row; the seconds of a measured one are
+      // its own. Everything else, the objective included, is the same.
+      CHECK((b.back().rfind("replayed", 0) == 0) == (k <= 5));
+      if (k > 5)
+        a[a.size() - 3] = b[b.size() - 3];
+      a.pop_back(), b.pop_back();
+      CHECK(a == b);
+    }
+  const auto fit3 = nlohmann::json::parse(read(out3 / "fit.json"));
+  CHECK(fit3["best_parameters"] == fit["best_parameters"]);
+  CHECK(fit3["replayed_evaluations"] == 5);
+  CHECK(fit3["resumed_from"] == stopped_csv.string());
+
+  // 4. A log of other targets (step 1 searched for E only), or a damaged
+  //    one, is refused naming the key and the file, before anything runs.
+  std::string damaged = stopped;
+  damaged.insert(damaged.find('\n', damaged.find('\n') + 1), ",1");
+  for (const fs::path &log : {out1 / "fit.csv", write("damaged.csv", damaged)})
+    {
+      const fs::path out4 = work_dir() / "refused";
+      fs::remove_all(out4);
+      const auto r4 = run_demfem(
+          "calibrate " +
+          write("refused.prm", prm(out4, 25e9, 3.2, resume(log))).string() + " --fit");
+      INFO(r4.out);
+      CHECK(r4.exit_code == 1);
+      CHECK(r4.out.find("Fit/resume from = " + log.string()) != std::string::npos);
+      CHECK(!fs::exists(out4));
+    }
 }
 
 TEST_CASE("calibrate --fit refuses bad targets and empty search spaces",
