@@ -251,6 +251,12 @@ namespace demfem::apps
       prm.declare_entry("grip thickness", "0.1", Patterns::Double(),
                         "t_g / H (direct tension)");
       prm.declare_entry(
+          "servo velocity limit", "0", Patterns::Double(),
+          "Largest speed [m/s] of the confining servo's walls in loading (>= 0; "
+          "in seating it only lowers the automatic limit); 0: automatic, 10 x "
+          "strain rate x height (fistPkg Table 10), in seating at most P_c / "
+          "(rho c), in loading at least 2 P_c / (rho c) (docs/calibrate.md)");
+      prm.declare_entry(
           "platen friction", "0.5", Patterns::Double(),
           "Brazilian platen friction (fistPkg: frictionless; a small 2D disk "
           "between frictionless platens can slide out sideways) (>= 0)");
@@ -580,6 +586,7 @@ namespace demfem::apps
       l.history_interval          = prm.get_integer("history interval");
       l.grip_thickness            = prm.get_double("grip thickness");
       l.platen_friction           = prm.get_double("platen friction");
+      l.servo.v_limit             = prm.get_double("servo velocity limit");
       l.fit_lo                    = prm.get_double("fit window low");
       l.fit_hi                    = prm.get_double("fit window high");
       l.crack_initiation_fraction = prm.get_double("crack initiation fraction");
@@ -611,6 +618,7 @@ namespace demfem::apps
       check(where, t + "strain limit", l.strain_limit, 0, 1, true);
       check(where, t + "grip thickness", l.grip_thickness, 0, 0.5, true, true);
       check(where, t + "platen friction", l.platen_friction, 0, HUGE_VAL);
+      check(where, t + "servo velocity limit", l.servo.v_limit, 0, HUGE_VAL);
       check(where, t + "fit window low", l.fit_lo, 0, 1, false, true);
       check(where, t + "fit window high", l.fit_hi, l.fit_lo, 1, true);
       check(where, t + "crack initiation fraction", l.crack_initiation_fraction, 0, 1,

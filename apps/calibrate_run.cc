@@ -163,7 +163,8 @@ namespace demfem::apps
               .num("confining_deviation", r.confining_deviation)
               .num("confining_deviation_to_peak", r.confining_deviation_to_peak)
               .num("confining_spike_to_peak", r.confining_spike_to_peak)
-              .num("confining_window_s", r.confining_window);
+              .num("confining_window_s", r.confining_window)
+              .num("confining_velocity_limit_m_s", r.confining_velocity_limit);
           if (dim == 2)
             j.num("E_plane_stress_Pa", r.E_ps).num("nu_plane_stress", r.nu_ps);
         }

@@ -212,11 +212,20 @@ namespace demfem::dem
         // stays out.
         if (!loading)
           sp.integral_gain = 0;
-        if (sp.v_limit > 0)
-          return sp;                          // given
+        // Given (Tests/servo velocity limit), it is the loading servo's;
+        // the seating keeps the automatic bound below, which a larger given
+        // limit would break (at 3 m/s a tiny specimen seated to 6 MPa failed
+        // the energy check), and takes a smaller one.
+        const double given = sp.v_limit;
+        if (loading && given > 0)
+          return sp;
         sp.v_limit = 10 * p_.strain_rate * H; // Table 10 default: 10 eps_rate H
         if (!(wave_speed() > 0 && p_.Pc > 0))
-          return sp;
+          {
+            if (given > 0)
+              sp.v_limit = std::min(sp.v_limit, given);
+            return sp;
+          }
         // A wall moving at v sends a wave of rho c v into the specimen.
         // Seating from Pm to Pc faster than Pc / (rho c) overshoots Pc (at
         // 1/s, 10 eps_rate H seated a 250-grain specimen at 0.6 m/s against
@@ -228,6 +237,8 @@ namespace demfem::dem
         const double impedance = s_.material.density * wave_speed();
         sp.v_limit             = loading ? std::max(sp.v_limit, 2 * p_.Pc / impedance)
                                          : std::min(sp.v_limit, p_.Pc / impedance);
+        if (given > 0)
+          sp.v_limit = std::min(sp.v_limit, given);
         return sp;
       }
 
@@ -283,7 +294,9 @@ namespace demfem::dem
           {
             // Loading: the lateral walls stay on Pc while the specimen
             // dilates, with the integral term that removes the lag.
-            servo_ = std::make_unique<Servo<dim>>(s_.vessel, servo_params(H, true));
+            const ServoParams sp        = servo_params(H, true);
+            r_.confining_velocity_limit = sp.v_limit;
+            servo_                      = std::make_unique<Servo<dim>>(s_.vessel, sp);
             for (int a = 0; a < dim - 1; ++a)
               servo_->set_pressure(a, p_.Pc);
             servo_->set_velocity(ax, -v_);

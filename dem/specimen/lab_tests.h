@@ -93,7 +93,9 @@ namespace demfem::dem
     // seating (compression) / set-up (Brazilian) equilibrium
     /// Confining servo. v_limit 0: automatic, Table 10's 10 eps_rate H, in
     /// seating at most Pc / (rho c), in loading at least 2 Pc / (rho c)
-    /// (docs/calibrate.md); the integral gain acts in loading only.
+    /// (docs/calibrate.md); given (> 0), the loading limit and an upper
+    /// bound of the seating's automatic one; the integral gain acts in
+    /// loading only.
     ServoParams  servo;
     double       ratio_limit     = 1e-4; ///< ft_eq ratio limit for seating
     std::int64_t seat_step_limit = 100000;
@@ -193,6 +195,9 @@ namespace demfem::dem
     /// averaging window [s].
     double confining_spike_to_peak = std::numeric_limits<double>::quiet_NaN();
     double confining_window        = std::numeric_limits<double>::quiet_NaN();
+    /// The loading servo's wall velocity limit [m/s] (Tests/servo velocity
+    /// limit, or the automatic one); NaN for the other tests.
+    double confining_velocity_limit = std::numeric_limits<double>::quiet_NaN();
     /// Crack-damage stress (Martin & Chandler): axial-stress magnitude at the
     /// reversal of the volumetric strain (gauge based), i.e. at the most
     /// compacted state before the peak; NaN if the volume only grows.

@@ -344,6 +344,41 @@ TEST_CASE(
   CHECK(fs::is_regular_file(t.out / "envelope.svg"));
 }
 
+TEST_CASE("calibrate: the confining servo's velocity limit, automatic or given",
+          "[calibrate]")
+{
+  // The loading servo's limit (docs/calibrate.md, "Confining servo"):
+  // automatic, the larger of 10 x strain rate x height (10 x 2/s x 0.03 m
+  // = 0.6 m/s for the tiny specimen) and 2 P_c / (rho c) with c = sqrt(E* /
+  // rho) (1.2 m/s at P_c 6 MPa, E* 40 GPa, rho 2650), so the second; or
+  // Tests/servo velocity limit, reported as used.
+  const std::string triaxial =
+      " --set \"Problem/vtk=false\" --set \"Tests/tests=triaxial\""
+      " --set \"Tests/confining pressure=6e6\""
+      " --set \"Material/density=2650\"";
+  const auto automatic = run_tiny("servo_auto", triaxial);
+  INFO(automatic.r.out);
+  REQUIRE(automatic.r.exit_code == 0);
+  const auto t0 =
+      nlohmann::json::parse(read(automatic.out / "summary.json"))["tests"]["triaxial"];
+  CHECK(t0["confining_velocity_limit_m_s"].get<double>() ==
+        Approx(2 * 6e6 / std::sqrt(40e9 * 2650)).epsilon(1e-12));
+  CHECK(t0["confining_deviation_to_peak"].get<double>() >= 0);
+  const auto given =
+      run_tiny("servo_given", triaxial + " --set \"Tests/servo velocity limit=3\"");
+  INFO(given.r.out);
+  REQUIRE(given.r.exit_code == 0);
+  const auto t1 =
+      nlohmann::json::parse(read(given.out / "summary.json"))["tests"]["triaxial"];
+  CHECK(t1["confining_velocity_limit_m_s"].get<double>() == 3.0);
+  // Refused where it enters, naming the key; nothing written.
+  const auto bad =
+      run_tiny("servo_bad", triaxial + " --set \"Tests/servo velocity limit=-1\"");
+  CHECK(bad.r.exit_code != 0);
+  CHECK(bad.r.out.find("Tests/servo velocity limit") != std::string::npos);
+  CHECK_FALSE(fs::exists(bad.out));
+}
+
 TEST_CASE("calibrate: the loading-rate check reports half and quarter rate",
           "[calibrate]")
 {
