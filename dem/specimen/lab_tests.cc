@@ -4,6 +4,7 @@
 
 #include "dem/specimen/brazilian_failure.h"
 #include "dem/specimen/crack_initiation.h"
+#include "dem/specimen/post_peak_end.h"
 
 #include <array>
 
@@ -605,22 +606,20 @@ namespace demfem::dem
 
       void load()
       {
-        const std::int64_t nmax    = p_.step_limit;
-        r_.ended_by                = "step limit";
-        double      peak           = -HUGE_VAL;
-        std::size_t cracks_at_peak = 0;
+        const std::int64_t nmax = p_.step_limit;
+        r_.ended_by             = "step limit";
+        double peak             = -HUGE_VAL;
         // A failure crosses the specimen: a splitting or shear crack breaks
         // about one contact per grain it passes, some N^(1/dim) of them. A
         // drop when the test has cracked fewer contacts in all than a
         // quarter of that is a local event (a grain crushed under a
         // Brazilian platen: measured, 2 cracks dropped a 1000-grain disk's
         // load by 10 % at a quarter of its strength, and the load would
-        // have risen again). Counted in all, not after the peak: a split
-        // that formed mostly before the peak may need only a few more
-        // cracks to open.
+        // have risen again).
         const std::size_t failure_cracks = std::max<std::size_t>(
             1, static_cast<std::size_t>(
                    0.25 * std::pow(double(m_.particles.size()), 1.0 / dim)));
+        PostPeakEnd      post_peak(p_.load_fraction, failure_cracks);
         const bool       track_pc = servo_holds_confinement() && p_.Pc > 0;
         ConfinementGauge confinement;
         if (track_pc)
@@ -655,15 +654,25 @@ namespace demfem::dem
             const std::size_t cracks = h.cracks_tension + h.cracks_shear;
             if (h.load > peak)
               {
-                peak           = h.load;
-                cracks_at_peak = cracks;
-                r_.peak_row    = r_.history.size() - 1;
+                peak        = h.load;
+                r_.peak_row = r_.history.size() - 1;
                 if (cb_.snapshot)
                   cb_.snapshot(s_, "peak");
               }
-            double done = std::abs(h.axial_strain) / p_.strain_limit;
-            if (peak > 0 && h.load < peak)
-              done = std::max(done, (peak - h.load) / (peak * (1 - p_.load_fraction)));
+            // The post-peak end (post_peak_end.h): the mean of the last
+            // three rows filters platen chatter.
+            const std::size_t nh = r_.history.size();
+            const double      recent =
+                nh < 3 ? h.load
+                            : (r_.history[nh - 1].load + r_.history[nh - 2].load +
+                          r_.history[nh - 3].load) /
+                             3;
+            const bool   failed    = post_peak.failed(h.load, recent, cracks);
+            const double reference = post_peak.reference_peak();
+            double       done      = std::abs(h.axial_strain) / p_.strain_limit;
+            if (reference > 0 && h.load < reference)
+              done = std::max(done, (reference - h.load) /
+                                        (reference * (1 - p_.load_fraction)));
             if (cb_.progress)
               {
                 LabProgress g;
@@ -675,20 +684,7 @@ namespace demfem::dem
                 g.fraction_done = std::min(1.0, done);
                 cb_.progress(g);
               }
-            // Post-peak end (Table 10-12 load factor): only when the material
-            // broke after the peak (failure_cracks), so that neither start-up
-            // noise, the inertial spike of the platens starting at full speed
-            // (with a few weak bonds broken during it) nor a local crushing
-            // can end the test.
-            // The mean of the last three rows filters platen chatter.
-            const std::size_t nh = r_.history.size();
-            const double      recent =
-                nh < 3 ? h.load
-                            : (r_.history[nh - 1].load + r_.history[nh - 2].load +
-                          r_.history[nh - 3].load) /
-                             3;
-            if (cracks > cracks_at_peak && cracks >= failure_cracks && peak > 0 &&
-                recent < p_.load_fraction * peak)
+            if (failed)
               {
                 r_.ended_by = "post-peak";
                 break;
