@@ -605,8 +605,6 @@ namespace demfem::apps
       for (const auto &p : Utilities::split_string_list(prm.get("confining pressures")))
         s.confining_pressures.push_back(Utilities::string_to_double(p));
       const std::string t = "Tests/";
-      check(where, t + "strain rate", l.strain_rate, 0, HUGE_VAL, true);
-      check(where, t + "confining pressure", l.Pc, 0, HUGE_VAL);
       for (double Pc : s.confining_pressures)
         check(where, t + "confining pressures", Pc, 0, HUGE_VAL);
       if (std::count_if(s.confining_pressures.begin(), s.confining_pressures.end(),
@@ -614,27 +612,9 @@ namespace demfem::apps
         throw std::invalid_argument(where +
                                     ": Tests/confining pressures: the series needs "
                                     "at least two distinct pressures");
-      check(where, t + "load fraction", l.load_fraction, 0, 1, true, true);
-      check(where, t + "strain limit", l.strain_limit, 0, 1, true);
-      check(where, t + "grip thickness", l.grip_thickness, 0, 0.5, true, true);
-      check(where, t + "platen friction", l.platen_friction, 0, HUGE_VAL);
-      check(where, t + "servo velocity limit", l.servo.v_limit, 0, HUGE_VAL);
-      check(where, t + "fit window low", l.fit_lo, 0, 1, false, true);
-      check(where, t + "fit window high", l.fit_hi, l.fit_lo, 1, true);
-      check(where, t + "crack initiation fraction", l.crack_initiation_fraction, 0, 1,
-            true);
-      check(where, t + "crack volumetric strain fraction", l.crack_volumetric_fraction, 0,
-            1, true, true);
-      check(where, t + "brazilian split fraction", l.split_fraction, 0, 1, true);
-      check(where, t + "brazilian diameter", l.brazilian_diameter, 0, HUGE_VAL);
-      check(where, t + "brazilian thickness", l.brazilian_thickness, 0, HUGE_VAL);
-      if (l.brazilian_thickness > 0 && !(s.dim == 3 && l.brazilian_diameter > 0))
-        throw std::invalid_argument(
-            where + ": Tests/brazilian thickness: only for a 3D Brazilian "
-                    "specimen of its own (Tests/brazilian diameter > 0); "
-                    "allowed: 0");
-      check(where, t + "seating ratio limit", l.ratio_limit, 0, 1, true);
+      // The key's 0 is no "keep the specimen's step" (the library's 0).
       check(where, t + "time step safety", l.timestep_safety, 0, 1, true);
+      l.validate(where, s.dim, t);
       prm.leave_subsection();
 
       prm.enter_subsection("Fit");
@@ -651,7 +631,6 @@ namespace demfem::apps
       // The library's own checks (same ranges; any remaining combination).
       m.validate(where, s.dim);
       v.validate(where, s.dim);
-      l.validate(where, s.dim);
       // The specimen's memory, estimated before the output directory is
       // made (genesis checks it again where the grains are drawn).
       const double n = s.n_grains > 0 ? s.n_grains

@@ -18,37 +18,43 @@
 
 namespace demfem::dem
 {
-  void LabTestParams::validate(const std::string &where, int dim) const
+  void LabTestParams::validate(const std::string &where, int dim,
+                               const std::string &key_prefix) const
   {
-    const double inf = HUGE_VAL;
-    check_range(where, "brazilian diameter", brazilian_diameter, 0, inf);
-    check_range(where, "brazilian thickness", brazilian_thickness, 0, inf);
+    const double inf   = HUGE_VAL;
+    const auto   check = [&](const char *key, double value, double lo, double hi,
+                           bool lo_open = false, bool hi_open = false) {
+      check_range(where, key_prefix + key, value, lo, hi, lo_open, hi_open);
+    };
+    check("brazilian diameter", brazilian_diameter, 0, inf);
+    check("brazilian thickness", brazilian_thickness, 0, inf);
     if (brazilian_thickness > 0 && !(dim == 3 && brazilian_diameter > 0))
-      throw InputError(where +
-                       ": brazilian thickness: only for a 3D Brazilian specimen of its "
-                       "own (brazilian diameter > 0); allowed: 0");
-    check_range(where, "confining pressure", Pc, 0, inf);
-    check_range(where, "strain rate", strain_rate, 0, inf, true, false);
-    check_range(where, "load fraction", load_fraction, 0, 1, true, true);
-    check_range(where, "strain limit", strain_limit, 0, 1, true, false);
-    check_range(where, "step limit", double(step_limit), 1, inf);
-    check_range(where, "history interval", history_interval, 1, 1e9);
-    check_range(where, "equilibrium ratio limit", ratio_limit, 0, 1, true, false);
-    check_range(where, "seating step limit", double(seat_step_limit), 0, inf);
-    check_range(where, "grip thickness", grip_thickness, 0, 0.5, true, true);
-    check_range(where, "platen friction", platen_friction, 0, inf);
-    check_range(where, "fit window low", fit_lo, 0, 1, false, true);
-    check_range(where, "fit window high", fit_hi, fit_lo, 1, true, false);
-    check_range(where, "fit window stress low", fit_stress_lo, 0, inf);
+      throw InputError(where + ": " + key_prefix +
+                       "brazilian thickness: only for a 3D Brazilian specimen of its "
+                       "own (" +
+                       key_prefix + "brazilian diameter > 0); allowed: 0");
+    check("confining pressure", Pc, 0, inf);
+    check("strain rate", strain_rate, 0, inf, true, false);
+    check("load fraction", load_fraction, 0, 1, true, true);
+    check("strain limit", strain_limit, 0, 1, true, false);
+    check("step limit", double(step_limit), 1, inf);
+    check("history interval", history_interval, 1, 1e9);
+    check("seating ratio limit", ratio_limit, 0, 1, true, false);
+    check("seating step limit", double(seat_step_limit), 0, inf);
+    check("grip thickness", grip_thickness, 0, 0.5, true, true);
+    check("platen friction", platen_friction, 0, inf);
+    check("servo velocity limit", servo.v_limit, 0, inf);
+    check("fit window low", fit_lo, 0, 1, false, true);
+    check("fit window high", fit_hi, fit_lo, 1, true, false);
+    check("fit window stress low", fit_stress_lo, 0, inf);
     if (fit_stress_hi > 0)
-      check_range(where, "fit window stress high", fit_stress_hi, fit_stress_lo, inf,
-                  true, false);
-    check_range(where, "crack initiation fraction", crack_initiation_fraction, 0, 1, true,
-                false);
-    check_range(where, "crack volumetric strain fraction", crack_volumetric_fraction, 0,
-                1, true, false);
-    check_range(where, "brazilian split fraction", split_fraction, 0, 1, true, true);
-    check_range(where, "time step safety", timestep_safety, 0, 1);
+      check("fit window stress high", fit_stress_hi, fit_stress_lo, inf, true, false);
+    check("crack initiation fraction", crack_initiation_fraction, 0, 1, true, false);
+    check("crack volumetric strain fraction", crack_volumetric_fraction, 0, 1, true,
+          true);
+    check("brazilian split fraction", split_fraction, 0, 1, true, true);
+    // 0 keeps the specimen's time step.
+    check("time step safety", timestep_safety, 0, 1);
   }
 
   VesselParams brazilian_vessel(const VesselParams &v, const LabTestParams &p, int dim)

@@ -145,7 +145,10 @@ namespace demfem::dem
     /// depend on it (docs/calibrate.md, "Loading rate and time step").
     double timestep_safety = 0;
 
-    void validate(const std::string &where, int dim) const;
+    /// Checks every field's range once where the values enter; errors name
+    /// `key_prefix` + the parameter-file key (e.g. "Tests/strain rate").
+    void validate(const std::string &where, int dim,
+                  const std::string &key_prefix = "") const;
   };
 
   struct LabTestResult

@@ -430,3 +430,50 @@ TEST_CASE("the lab tests do not depend on the time step", "[labtests]")
   l.timestep_safety = -0.1;
   CHECK_THROWS_WITH(l.validate("Tests", 2), Catch::Contains("time step safety"));
 }
+
+TEST_CASE("lab-test parameters are checked once, naming the key", "[labtests]")
+{
+  // LabTestParams::validate is the one check of the Tests keys (demfem
+  // calibrate passes its "Tests/" prefix): each range names the key, the
+  // file and the allowed range; the library's 0 time-step safety keeps the
+  // specimen's step.
+  const auto refused = [](LabTestParams p, const std::string &key, int dim = 2) {
+    INFO(key);
+    CHECK_THROWS_WITH(p.validate("f.prm", dim, "Tests/"),
+                      Catch::Contains("f.prm") && Catch::Contains("Tests/" + key));
+  };
+  LabTestParams ok;
+  CHECK_NOTHROW(ok.validate("f.prm", 2, "Tests/"));
+  ok.timestep_safety = 0;
+  CHECK_NOTHROW(ok.validate("f.prm", 3, "Tests/"));
+
+  LabTestParams p;
+  p.strain_rate = 0;
+  refused(p, "strain rate");
+  p               = LabTestParams();
+  p.load_fraction = 1;
+  refused(p, "load fraction");
+  p              = LabTestParams();
+  p.strain_limit = 1.5;
+  refused(p, "strain limit");
+  p                   = LabTestParams();
+  p.servo.v_limit     = -1;
+  refused(p, "servo velocity limit");
+  p                           = LabTestParams();
+  p.crack_volumetric_fraction = 1;
+  refused(p, "crack volumetric strain fraction");
+  p             = LabTestParams();
+  p.ratio_limit = 0;
+  refused(p, "seating ratio limit");
+  p        = LabTestParams();
+  p.fit_lo = 0.3;
+  p.fit_hi = 0.2;
+  refused(p, "fit window high");
+  // The disk's thickness is a 3D key of a disk of its own.
+  p                     = LabTestParams();
+  p.brazilian_thickness = 0.02;
+  refused(p, "brazilian thickness", 3);
+  p.brazilian_diameter = 0.04;
+  CHECK_NOTHROW(p.validate("f.prm", 3, "Tests/"));
+  refused(p, "brazilian thickness", 2);
+}
