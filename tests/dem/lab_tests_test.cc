@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 
 using namespace demfem::dem;
 
@@ -447,30 +448,24 @@ TEST_CASE("lab-test parameters are checked once, naming the key", "[labtests]")
   ok.timestep_safety = 0;
   CHECK_NOTHROW(ok.validate("f.prm", 3, "Tests/"));
 
-  LabTestParams p;
-  p.strain_rate = 0;
-  refused(p, "strain rate");
-  p               = LabTestParams();
-  p.load_fraction = 1;
-  refused(p, "load fraction");
-  p              = LabTestParams();
-  p.strain_limit = 1.5;
-  refused(p, "strain limit");
-  p                   = LabTestParams();
-  p.servo.v_limit     = -1;
-  refused(p, "servo velocity limit");
-  p                           = LabTestParams();
-  p.crack_volumetric_fraction = 1;
-  refused(p, "crack volumetric strain fraction");
-  p             = LabTestParams();
-  p.ratio_limit = 0;
-  refused(p, "seating ratio limit");
-  p        = LabTestParams();
-  p.fit_lo = 0.3;
-  p.fit_hi = 0.2;
-  refused(p, "fit window high");
+  // One bad value each, on otherwise valid parameters.
+  const std::vector<std::pair<std::string, std::function<void(LabTestParams &)>>> bad = {
+      {"strain rate", [](LabTestParams &q) { q.strain_rate = 0; }},
+      {"load fraction", [](LabTestParams &q) { q.load_fraction = 1; }},
+      {"strain limit", [](LabTestParams &q) { q.strain_limit = 1.5; }},
+      {"servo velocity limit", [](LabTestParams &q) { q.servo.v_limit = -1; }},
+      {"crack volumetric strain fraction",
+       [](LabTestParams &q) { q.crack_volumetric_fraction = 1; }},
+      {"seating ratio limit", [](LabTestParams &q) { q.ratio_limit = 0; }},
+      {"fit window high", [](LabTestParams &q) { q.fit_lo = 0.3, q.fit_hi = 0.2; }}};
+  for (const auto &[key, spoil] : bad)
+    {
+      LabTestParams q;
+      spoil(q);
+      refused(q, key);
+    }
   // The disk's thickness is a 3D key of a disk of its own.
-  p                     = LabTestParams();
+  LabTestParams p;
   p.brazilian_thickness = 0.02;
   refused(p, "brazilian thickness", 3);
   p.brazilian_diameter = 0.04;
