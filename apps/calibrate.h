@@ -42,16 +42,25 @@ namespace demfem::apps
     double      lo = 0, hi = 0;
   };
 
+  /// Seed mean and sample standard deviation of each measured target.
+  struct FitMeasurement
+  {
+    std::map<std::string, double> mean, sd;
+    std::string                   error; ///< non-empty: the evaluation failed
+    /// What the means leave out (e.g. a Brazilian disk that did not split),
+    /// logged in fit.csv and on the progress line.
+    std::string note;
+  };
+
   /// One evaluation of an earlier fit, a row of its fit.csv (Fit/resume
   /// from): replayed instead of measured again when the search asks for
   /// the same parameters in the same order.
   struct FitLogRow
   {
-    std::string                   stage;
-    std::vector<double>           values;   ///< every Fit/parameters entry
-    std::map<std::string, double> mean, sd; ///< the targets it measured
-    std::string                   error, note;
-    double                        seconds = 0; ///< what it cost then
+    std::string         stage;
+    std::vector<double> values; ///< every Fit/parameters entry
+    FitMeasurement      measured;
+    double              seconds = 0; ///< what it cost then
   };
 
   /// `demfem calibrate FILE.prm --fit`: searches the parameters with a

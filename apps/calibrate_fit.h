@@ -42,16 +42,6 @@ namespace demfem::apps
   std::vector<FitLogRow> read_fit_log(const std::string &file, const FitSettings &f,
                                       const std::string &key);
 
-  /// Seed mean and sample standard deviation of each measured target.
-  struct FitMeasurement
-  {
-    std::map<std::string, double> mean, sd;
-    std::string                   error; ///< non-empty: the evaluation failed
-    /// What the means leave out (e.g. a Brazilian disk that did not split),
-    /// logged in fit.csv and on the progress line.
-    std::string note;
-  };
-
   /// The mean and sample standard deviation of each list of per-seed values.
   FitMeasurement summarize_seeds(const std::map<std::string, std::vector<double>> &values,
                                  const std::string                                &error);

@@ -100,19 +100,19 @@ namespace demfem::apps
           {
             const auto &name = f.targets[i].name;
             if (!c[2 + P + 2 * i].empty())
-              r.mean[name] = logged_number(c[2 + P + 2 * i], at);
+              r.measured.mean[name] = logged_number(c[2 + P + 2 * i], at);
             if (!c[3 + P + 2 * i].empty())
-              r.sd[name] = logged_number(c[3 + P + 2 * i], at);
+              r.measured.sd[name] = logged_number(c[3 + P + 2 * i], at);
           }
-        r.seconds = logged_number(c[2 + P + 2 * T + 2], at);
-        r.error   = c[2 + P + 2 * T + 3];
-        r.note    = c[2 + P + 2 * T + 4];
+        r.seconds        = logged_number(c[2 + P + 2 * T + 2], at);
+        r.measured.error = c[2 + P + 2 * T + 3];
+        r.measured.note  = c[2 + P + 2 * T + 4];
         // A row replayed before carries that mark; the measurement's own
         // note is what follows it.
         for (const std::string mark : {"replayed; ", "replayed"})
-          if (r.note.rfind(mark, 0) == 0)
+          if (r.measured.note.rfind(mark, 0) == 0)
             {
-              r.note.erase(0, mark.size());
+              r.measured.note.erase(0, mark.size());
               break;
             }
         rows.push_back(r);

@@ -207,12 +207,7 @@ namespace demfem::apps
                 ++next_replay_, ++n_replayed_;
                 replayed = true;
                 seconds  = row.seconds;
-                FitMeasurement m;
-                m.mean  = row.mean;
-                m.sd    = row.sd;
-                m.error = row.error;
-                m.note  = row.note;
-                return m;
+                return row.measured;
               }
             std::cerr << "demfem calibrate --fit: [" << stage_ << "] the search leaves "
                       << f_.resume_from << " at its row " << next_replay_ + 1
