@@ -286,9 +286,10 @@ namespace demfem::apps
         << "; mean (sd) over " << seeds << " seed(s)\n";
     // One row: the probe's mean against the file's value, judged by a
     // tolerance (relative) or, for the strengths, as two seed means of one
-    // material: the difference within two standard errors of it, from both
-    // scatters (the file's packings and the probe's; a file of one packing
-    // is one draw, whose scatter the probe's estimates).
+    // material by Welch's t test at 95 % (common/statistics.h,
+    // compare_means), from both scatters (the file's packings and the
+    // probe's; a file of one packing is one draw, whose scatter the probe's
+    // estimates).
     auto row = [&](const std::string &name, const std::vector<double> &x, double want,
                    double rel_tol, bool by_scatter, double want_sd = NAN,
                    std::size_t want_n = 1) {
@@ -296,7 +297,7 @@ namespace demfem::apps
       const double rel = (st.mean - want) / std::abs(want);
       std::string  rule, verdict;
       bool         judged = true, ok = true;
-      json         se = json();
+      json         se = json(), t = json(), nu = json();
       if (!std::isfinite(want))
         {
           rule   = "no material file: reported, not judged";
@@ -314,14 +315,18 @@ namespace demfem::apps
                                                    file_scatter ? want_sd : st.sd,
                                                    file_scatter ? want_n : 1);
           std::ostringstream r;
-          r << "the means within 2 standard errors of their difference ("
-            << c.standard_error << "; " << x.size() << " probe and "
+          r << "Welch's t test at 95 %: the means within t = " << c.critical
+            << " (nu = " << c.degrees_of_freedom
+            << ") standard errors of their difference (" << c.standard_error << "; "
+            << x.size() << " probe and "
             << (file_scatter ? std::to_string(want_n) + " file packings"
                              : std::string("1 file packing, its scatter the probe's"))
             << ")";
           rule = r.str();
           ok   = c.agree;
           se   = c.standard_error;
+          t    = c.critical;
+          nu   = c.degrees_of_freedom;
         }
       else
         {
@@ -344,6 +349,8 @@ namespace demfem::apps
             std::isfinite(want) ? json(want) : json()},
            {"material_file_sd", std::isfinite(want_sd) ? json(want_sd) : json()},
            {"standard_error", se},
+           {"critical_t", t},
+           {"degrees_of_freedom", nu},
            {"difference", rel},
            {"rule", rule},
            {"verdict", verdict}});

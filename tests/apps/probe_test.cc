@@ -192,6 +192,13 @@ TEST_CASE("probe: the strengths are judged by the standard error of the differen
         Approx(std::sqrt(sd2(u["probe_values"]) / 2 + 0.01 * ucs * ucs / 3))
             .epsilon(1e-12));
   CHECK(u["rule"].get<std::string>().find("3 file packings") != std::string::npos);
+  // Welch's t test: nu from both scatters (2 probe, 3 file packings).
+  {
+    const double va = sd2(u["probe_values"]) / 2, vb = 0.01 * ucs * ucs / 3;
+    CHECK(u["degrees_of_freedom"].get<double>() ==
+          Approx((va + vb) * (va + vb) / (va * va / 1 + vb * vb / 2)).epsilon(1e-12));
+    CHECK(u["critical_t"].get<double>() > 1.96);
+  }
   const json  &b  = p["rows"][3];
   const double sb = 0.4 * bts / std::sqrt(2.0);
   CHECK(b["standard_error"].get<double>() ==

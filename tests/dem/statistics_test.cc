@@ -29,29 +29,51 @@ TEST_CASE("statistics: the 95 % confidence interval of a mean uses Student's t",
   CHECK_FALSE(one.contains(7));
 }
 
-TEST_CASE("statistics: two seed means compared by the standard error of their difference",
-          "[statistics]")
+TEST_CASE("statistics: two seed means compared by Welch's t test", "[statistics]")
 {
   using demfem::statistics::compare_means;
-  // sd 3 and 4 over 9 and 16 packings: standard error sqrt(9/9 + 16/16) =
-  // sqrt(2); a difference of 2.8 lies within 2 of them (2.828), 2.9 not.
-  const auto c = compare_means(12.8, 3, 9, 10, 4, 16);
-  CHECK(c.difference == Approx(2.8).epsilon(1e-14));
-  CHECK(c.standard_error == Approx(std::sqrt(2.0)).epsilon(1e-15));
+  // Three packings a side with equal scatter s: standard error s sqrt(2/3),
+  // Welch-Satterthwaite nu = 4 exactly, t_{0.975, 4} = 2.776445 (tables).
+  const double s  = 3;
+  const double se = s * std::sqrt(2.0 / 3);
+  const auto   c  = compare_means(10 + 2.77 * se, s, 3, 10, s, 3);
+  CHECK(c.difference == Approx(2.77 * se).epsilon(1e-14));
+  CHECK(c.standard_error == Approx(se).epsilon(1e-15));
+  CHECK(c.degrees_of_freedom == Approx(4).epsilon(1e-12));
+  CHECK(c.critical == Approx(2.776445).epsilon(1e-6));
   CHECK(c.agree);
-  CHECK_FALSE(compare_means(12.9, 3, 9, 10, 4, 16).agree);
-  CHECK(compare_means(10, 3, 9, 12.9, 4, 16, 2.1).agree); // z given, sign irrelevant
-  // Both scatters count: the probe's UCS of docs/tunnel.md (247 +- 21 MPa,
+  CHECK_FALSE(compare_means(10 + 2.78 * se, s, 3, 10, s, 3).agree);
+  // 2.5 standard errors: "different" by the normal two, not at nu = 4.
+  CHECK(compare_means(10, s, 3, 10 + 2.5 * se, s, 3).agree); // sign irrelevant
+  // Another level: t_{0.90, 4} = 1.533206.
+  CHECK(compare_means(10, s, 3, 11, s, 3, 0.8).critical ==
+        Approx(1.533206).epsilon(1e-6));
+  // A file of one packing whose scatter is the probe's: nu = n - 1 = 2,
+  // t_{0.975, 2} = 4.302653, standard error s sqrt(1/3 + 1).
+  const auto one = compare_means(12, s, 3, 10, s, 1);
+  CHECK(one.degrees_of_freedom == 2);
+  CHECK(one.critical == Approx(4.302653).epsilon(1e-6));
+  CHECK(one.standard_error == Approx(s * std::sqrt(4.0 / 3)).epsilon(1e-15));
+  // Many packings: t tends to the normal 1.96 (nu = 1998: 1.96115).
+  CHECK(compare_means(1, 1, 1000, 0, 1, 1000).critical == Approx(1.96115).epsilon(1e-4));
+  // Unequal scatters: the probe's UCS of docs/tunnel.md (247 +- 21 MPa,
   // three packings) against its material file's (201 +- 43 MPa, three):
-  // standard error 27.6 MPa, difference 46 MPa = 1.67 of them.
+  // standard error 27.6 MPa, nu = 2.90, the difference of 46 MPa is 1.67
+  // of them.
   const auto ldb = compare_means(247, 21, 3, 201, 43, 3);
   CHECK(ldb.standard_error ==
         Approx(std::sqrt(21.0 * 21 / 3 + 43.0 * 43 / 3)).epsilon(1e-15));
+  const double va = 21.0 * 21 / 3, vb = 43.0 * 43 / 3;
+  CHECK(ldb.degrees_of_freedom ==
+        Approx((va + vb) * (va + vb) / (va * va / 2 + vb * vb / 2)).epsilon(1e-14));
+  CHECK(ldb.degrees_of_freedom == Approx(2.90).epsilon(1e-3));
   CHECK(ldb.agree);
-  // Without scatter on either side any difference disagrees; no packings: unknown.
+  // Without scatter on either side only equal means agree; no packings or
+  // one on each side: unknown.
   CHECK_FALSE(compare_means(1.0001, 0, 3, 1, 0, 3).agree);
   CHECK(compare_means(1, 0, 3, 1, 0, 3).agree);
   CHECK(std::isnan(compare_means(1, 1, 0, 1, 1, 3).standard_error));
+  CHECK(std::isnan(compare_means(1, 1, 1, 1, 1, 1).standard_error));
 }
 
 TEST_CASE(
