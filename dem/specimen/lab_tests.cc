@@ -665,15 +665,8 @@ namespace demfem::dem
                 if (cb_.snapshot)
                   cb_.snapshot(s_, "peak");
               }
-            // The post-peak end (post_peak_end.h): the mean of the last
-            // three rows filters platen chatter.
-            const std::size_t nh = r_.history.size();
-            const double      recent =
-                nh < 3 ? h.load
-                            : (r_.history[nh - 1].load + r_.history[nh - 2].load +
-                          r_.history[nh - 3].load) /
-                             3;
-            const bool   failed    = post_peak.failed(h.load, recent, cracks);
+            // The post-peak end (post_peak_end.h).
+            const bool   failed    = post_peak.failed(h.load, cracks);
             const double reference = post_peak.reference_peak();
             double       done      = std::abs(h.axial_strain) / p_.strain_limit;
             if (reference > 0 && h.load < reference)

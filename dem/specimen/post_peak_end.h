@@ -3,6 +3,7 @@
 // docs/calibrate.md, "Lab tests"): shared by the bonded-particle tests
 // (dem/specimen/lab_tests.cc) and the Voronoi-grain ones
 // (dem/voronoi/voronoi_lab_test.cc), called once per history row.
+#include <array>
 #include <cmath>
 #include <cstddef>
 
@@ -31,10 +32,18 @@ namespace demfem::dem
     {
     }
 
-    /// One history row: its load, the mean load of the last three rows and
-    /// the cracks so far. True when the test has failed.
-    bool failed(double load, double recent_load, std::size_t cracks)
+    /// One history row: its load and the cracks so far. True when the test
+    /// has failed.
+    bool failed(double load, std::size_t cracks)
     {
+      // The mean of the last three rows' loads (the current load until
+      // there are three) filters platen chatter.
+      last_loads_[rows_ % last_loads_.size()] = load;
+      ++rows_;
+      const double recent_load =
+          rows_ < last_loads_.size()
+              ? load
+              : (last_loads_[0] + last_loads_[1] + last_loads_[2]) / last_loads_.size();
       if (load > reference_peak_)
         {
           // A new peak is no drop (the three-row mean may lag behind a
@@ -60,10 +69,12 @@ namespace demfem::dem
     std::size_t restarts() const { return restarts_; }
 
   private:
-    double      load_fraction_;
-    std::size_t failure_cracks_;
-    double      reference_peak_ = -HUGE_VAL;
-    std::size_t cracks_at_peak_ = 0;
-    std::size_t restarts_       = 0;
+    double                load_fraction_;
+    std::size_t           failure_cracks_;
+    double                reference_peak_ = -HUGE_VAL;
+    std::size_t           cracks_at_peak_ = 0;
+    std::size_t           restarts_       = 0;
+    std::array<double, 3> last_loads_{};
+    std::size_t           rows_ = 0;
   };
 } // namespace demfem::dem

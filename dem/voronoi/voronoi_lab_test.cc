@@ -6,6 +6,7 @@
 
 #include "dem/specimen/genesis.h"
 #include "dem/specimen/lab_tests.h"
+#include "dem/specimen/post_peak_end.h"
 
 #include <algorithm>
 #include <chrono>
@@ -248,9 +249,10 @@ namespace demfem::dem::voronoi
 
       double        next_row = p.history_strain;
       bool          new_peak = false;
-      std::int64_t &k        = r.loading_steps;
-      r.ended_by             = "step limit";
-      r.status               = VoronoiLabStatus::step_limit_reached;
+      PostPeakEnd   post_peak_end(p.load_fraction, 1);
+      std::int64_t &k = r.loading_steps;
+      r.ended_by      = "step limit";
+      r.status        = VoronoiLabStatus::step_limit_reached;
       for (; k < p.step_limit; ++k)
         {
           advance();
@@ -284,20 +286,13 @@ namespace demfem::dem::voronoi
               r.history.push_back(row);
               while (next_row <= std::abs(row.axial_strain))
                 next_row += p.history_strain;
-              // Post-peak as dem/specimen/lab_tests.cc: the load (mean of the
-              // last three rows, against platen chatter) below the fraction of
-              // the peak, and points broke after the peak, so neither start-up
+              // The post-peak end of the bonded tests (post_peak_end.h): a
+              // drop after cracking since its peak, so neither start-up
               // noise nor the inertial spike of the platens starting at full
-              // speed can end the test.
-              const std::size_t nh = r.history.size();
-              const double      recent =
-                  nh < 3 ? row.load
-                              : (r.history[nh - 1].load + r.history[nh - 2].load +
-                            r.history[nh - 3].load) /
-                               3;
-              post_peak = row.cracks_tensile + row.cracks_shear >
-                              r.cracks_tensile_peak + r.cracks_shear_peak &&
-                          r.peak_load > 0 && recent < p.load_fraction * r.peak_load;
+              // speed can end the test; one crack is enough in all (a
+              // specimen of tens of grains).
+              post_peak =
+                  post_peak_end.failed(row.load, row.cracks_tensile + row.cracks_shear);
             }
           if (post_peak || at_limit)
             {

@@ -20,20 +20,13 @@ namespace
     std::size_t cracks;
   };
 
-  /// Feeds rows as the lab tests do (the mean of the last three loads) and
-  /// returns the index of the row that ended the test, or rows.size().
+  /// Feeds rows as the lab tests do and returns the index of the row that
+  /// ended the test, or rows.size().
   std::size_t end_row(PostPeakEnd &rule, const std::vector<Row> &rows)
   {
-    std::vector<double> loads;
     for (std::size_t i = 0; i < rows.size(); ++i)
-      {
-        loads.push_back(rows[i].load);
-        const std::size_t n = loads.size();
-        const double      recent =
-            n < 3 ? loads.back() : (loads[n - 1] + loads[n - 2] + loads[n - 3]) / 3;
-        if (rule.failed(rows[i].load, recent, rows[i].cracks))
-          return i;
-      }
+      if (rule.failed(rows[i].load, rows[i].cracks))
+        return i;
     return rows.size();
   }
 
