@@ -274,19 +274,13 @@ namespace demfem::apps
       return sp;
     };
     std::cerr << "demfem calibrate: genesis (" << dim << "D, " << s.mat.type << ")\n";
-    const auto   t_gen     = Clock::now();
-    auto         first     = std::make_unique<dem::Specimen<dim>>(build(s.vessel));
-    const double genesis_s = seconds_since(t_gen);
-    const double porosity  = first->porosity();
-    // Measurement-based porosity (fistPkg §5.1): mean over the three
-    // measurement regions (grains counted by centre). Unlike the vessel-based
-    // value it leaves out the loose layer along the walls, which adds ~0.05
-    // in 3D at ~7 grains across (docs/calibrate.md).
-    double porosity_m = 0;
-    for (const auto &r : first->vessel.regions)
-      porosity_m += dem::region_porosity(first->model, r) / first->vessel.regions.size();
-    const double n_grains = double(first->n_grains());
-    const auto   counts   = dem::contact_counts(first->model);
+    const auto   t_gen      = Clock::now();
+    auto         first      = std::make_unique<dem::Specimen<dim>>(build(s.vessel));
+    const double genesis_s  = seconds_since(t_gen);
+    const double porosity   = first->porosity();
+    const double porosity_m = first->measurement_porosity();
+    const double n_grains   = double(first->n_grains());
+    const auto   counts     = dem::contact_counts(first->model);
     if (s.vtk)
       write_snapshot(vtk_dir, "specimen", *first, true);
     const std::string ckpt = s.out + "/specimen.h5";

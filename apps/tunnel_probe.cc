@@ -34,6 +34,9 @@ namespace demfem::apps
     struct Reference
     {
       double E = NAN, nu = NAN, ucs = NAN, bts = NAN;
+      /// The lab specimen's packing (vessel-based and in the measurement
+      /// regions): reported beside the probe's, not judged.
+      double porosity = NAN, measurement_porosity = NAN;
       /// The file's seed scatter of UCS and BTS and the number of packings
       /// that measured each (`Problem/seeds`; one packing: no scatter, NaN).
       double             ucs_sd = NAN, bts_sd = NAN;
@@ -48,11 +51,13 @@ namespace demfem::apps
     {
       Reference     r;
       std::ifstream in(file);
-      const json    j = json::parse(in, nullptr, true, true);
-      r.E             = number(j, "E");
-      r.nu            = number(j, "nu");
-      r.ucs           = number(j, "ucs");
-      r.bts           = number(j, "bts");
+      const json    j        = json::parse(in, nullptr, true, true);
+      r.E                    = number(j, "E");
+      r.nu                   = number(j, "nu");
+      r.ucs                  = number(j, "ucs");
+      r.bts                  = number(j, "bts");
+      r.porosity             = number(j, "porosity");
+      r.measurement_porosity = number(j, "measurement_porosity");
       // Each strength's scatter over the packings that measured it (a
       // Brazilian disk that did not split has a null BTS).
       const auto sc = j.find("seed_scatter");
@@ -151,6 +156,7 @@ namespace demfem::apps
     struct Measured
     {
       std::vector<double>      E, nu, ucs, bts;
+      std::vector<double>      porosity, measurement_porosity; ///< of the UCS specimens
       std::vector<std::string> modes; ///< Brazilian failure modes
       std::size_t              grains = 0;
       double                   k      = NAN; ///< grain-size factor region / lab
@@ -224,7 +230,9 @@ namespace demfem::apps
           {
             auto specimen = dem::build_specimen<dim>(m, v, &out, "probe specimen");
             r.grains      = specimen.n_grains();
-            lab.kind      = dem::TestKind::compression;
+            r.porosity.push_back(specimen.porosity());
+            r.measurement_porosity.push_back(specimen.measurement_porosity());
+            lab.kind = dem::TestKind::compression;
             // The keys' loading in units of the grains' dynamics: a strain
             // per step (the specimen's step: the lab test keeps it).
             if (keys)
@@ -239,8 +247,10 @@ namespace demfem::apps
           }
           if (keys)
             {
-              out << "probe: seed " << m.seed << ": " << r.grains << " grains, E "
-                  << r.E.back() / 1e9 << " GPa, nu " << r.nu.back();
+              out << "probe: seed " << m.seed << ": " << r.grains << " grains, porosity "
+                  << r.porosity.back() << " (measurement regions "
+                  << r.measurement_porosity.back() << "), E " << r.E.back() / 1e9
+                  << " GPa, nu " << r.nu.back();
               if (s.region.breakable)
                 out << ", UCS " << r.ucs.back() / 1e6 << " MPa";
               out << std::endl;
@@ -257,10 +267,12 @@ namespace demfem::apps
           const auto b = dem::run_lab_test(specimen, lab, cb);
           r.bts.push_back(b.peak);
           r.modes.push_back(b.failure_mode);
-          out << "probe: seed " << m.seed << ": " << r.grains << " grains, E "
-              << r.E.back() / 1e9 << " GPa, nu " << r.nu.back() << ", UCS "
-              << r.ucs.back() / 1e6 << " MPa, BTS " << r.bts.back() / 1e6 << " MPa ("
-              << b.failure_mode << ")" << std::endl;
+          out << "probe: seed " << m.seed << ": " << r.grains << " grains, porosity "
+              << r.porosity.back() << " (measurement regions "
+              << r.measurement_porosity.back() << "), E " << r.E.back() / 1e9
+              << " GPa, nu " << r.nu.back() << ", UCS " << r.ucs.back() / 1e6
+              << " MPa, BTS " << r.bts.back() / 1e6 << " MPa (" << b.failure_mode << ")"
+              << std::endl;
         }
       return r;
     }
@@ -396,6 +408,26 @@ namespace demfem::apps
         j["lab_tests_recorded"]   = ref.lab_recorded;
         j["fit_window_stress_Pa"] = {ref.lab.fit_lo * ref.ucs, ref.lab.fit_hi * ref.ucs};
         j["brazilian_split"]      = split;
+      }
+    // The packing beside the properties: a strength off the file's can be
+    // told apart as a looser or denser packing (reported, not judged: the
+    // proof is the properties).
+    for (auto [name, x, want] :
+         {std::tuple{"porosity", &m.porosity, ref.porosity},
+          std::tuple{"measurement_porosity", &m.measurement_porosity,
+                     ref.measurement_porosity}})
+      {
+        const auto st = statistics::mean_interval(*x);
+        out << "  " << name << "  probe " << st.mean << " (" << st.sd << ")  ";
+        if (std::isfinite(want))
+          out << "material file " << want;
+        else
+          out << "no value in the material file";
+        out << "  reported, not judged\n";
+        j[name] = {{"probe_mean", st.mean},
+                   {"probe_sd", std::isfinite(st.sd) ? json(st.sd) : json()},
+                   {"probe_values", *x},
+                   {"material_file", std::isfinite(want) ? json(want) : json()}};
       }
     out << "probe: " << (all ? "pass" : "FAIL") << std::endl;
     if (!json_dir.empty())

@@ -131,6 +131,16 @@ TEST_CASE("probe: at 32 times the grain size the lab tests give the material fil
       INFO(name << ": probe " << got << ", material file " << want);
       CHECK(std::abs(got - want) <= 1e-12 * std::abs(want));
     }
+  // The packing is reported beside them (not judged): the same packing,
+  // so the same porosities to round-off.
+  for (const char *name : {"porosity", "measurement_porosity"})
+    {
+      const double want = p[name]["material_file"], got = p[name]["probe_mean"];
+      INFO(name << ": probe " << got << ", material file " << want);
+      CHECK(want > 0.1);
+      CHECK(std::abs(got - want) <= 1e-12 * want);
+    }
+  CHECK(r.out.find("reported, not judged") != std::string::npos);
 }
 
 TEST_CASE("probe: a material file whose E the region does not reproduce fails",
