@@ -625,7 +625,10 @@ namespace demfem::dem
         const std::size_t failure_cracks = std::max<std::size_t>(
             1, static_cast<std::size_t>(
                    0.25 * std::pow(double(m_.particles.size()), 1.0 / dim)));
-        PostPeakEnd      post_peak(p_.load_fraction, failure_cracks);
+        // The post-peak rule averages the load over the round trip of a
+        // compression wave along the loaded length (post_peak_end.h).
+        const double     round_trip = wave_speed() > 0 ? 2 * L0_ / wave_speed() : 0;
+        PostPeakEnd      post_peak(p_.load_fraction, failure_cracks, round_trip);
         const bool       track_pc = servo_holds_confinement() && p_.Pc > 0;
         ConfinementGauge confinement;
         if (track_pc)
@@ -650,10 +653,18 @@ namespace demfem::dem
                     r_.confining_spike_to_peak     = confinement.spike;
                   }
               }
-            // The strain limit is checked every step as well: the end must
-            // not wait for the next history row.
+            // The post-peak end and the strain limit are judged every step
+            // (the rule on its own time windows): where a test ends must not
+            // depend on the history rows.
+            bool failed = false;
+            if (post_peak.add_step(m_.timestep(), now.load))
+              {
+                count_cracks();
+                failed = post_peak.failed(n_ten_ - counted_base_ten_ + n_shear_ -
+                                          counted_base_shear_);
+              }
             const bool at_strain_limit = std::abs(now.axial_strain) >= p_.strain_limit;
-            if (n % p_.history_interval != 0 && n != nmax && !at_strain_limit)
+            if (n % p_.history_interval != 0 && n != nmax && !at_strain_limit && !failed)
               continue;
             const HistoryRow h = record();
             r_.history.push_back(h);
@@ -665,8 +676,6 @@ namespace demfem::dem
                 if (cb_.snapshot)
                   cb_.snapshot(s_, "peak");
               }
-            // The post-peak end (post_peak_end.h).
-            const bool   failed    = post_peak.failed(h.load, cracks);
             const double reference = post_peak.reference_peak();
             double       done      = std::abs(h.axial_strain) / p_.strain_limit;
             if (reference > 0 && h.load < reference)

@@ -143,7 +143,8 @@ namespace demfem::dem::voronoi
     /// interface, dem/voronoi/boundary.h).
     template <class Model>
     VoronoiLabResult run_test(Model &model, const VoronoiSpecimen &spec,
-                              const ContactMaterial &contact, const VoronoiLabParams &p)
+                              const ContactMaterial &contact, const VoronoiLabParams &p,
+                              double wave_speed)
     {
       model.damping     = p.damping;
       const bool   disk = spec.domain.shape == ClipDomain::Shape::circle;
@@ -247,19 +248,33 @@ namespace demfem::dem::voronoi
                gauge;
       };
 
-      double        next_row = p.history_strain;
-      bool          new_peak = false;
-      PostPeakEnd   post_peak_end(p.load_fraction, 1);
+      double next_row = p.history_strain;
+      bool   new_peak = false;
+      // The post-peak end of the bonded tests (post_peak_end.h), fed every
+      // step and judged over the round trip of a compression wave along
+      // the loading axis: a drop after cracking since its peak, so neither
+      // start-up noise nor the inertial spike of the platens starting at
+      // full speed can end the test; one crack is enough in all (a specimen
+      // of tens of grains).
+      PostPeakEnd   post_peak_end(p.load_fraction, 1,
+                                wave_speed > 0 ? 2 * H / wave_speed : 0);
       std::int64_t &k = r.loading_steps;
       r.ended_by      = "step limit";
       r.status        = VoronoiLabStatus::step_limit_reached;
       for (; k < p.step_limit; ++k)
         {
+          const double time_before = time;
           advance();
           VoronoiLabRow row;
           row.step = k + 1;
           row.time = time;
           measure(row);
+          bool post_peak = false;
+          if (post_peak_end.add_step(time - time_before, row.load))
+            {
+              count_cracks(model.contacts, row.cracks_tensile, row.cracks_shear);
+              post_peak = post_peak_end.failed(row.cracks_tensile + row.cracks_shear);
+            }
           if (row.load > r.peak_load)
             {
               r.peak_load   = row.load;
@@ -269,9 +284,8 @@ namespace demfem::dem::voronoi
               r.peak_strain = std::abs(row.axial_strain);
               new_peak      = true;
             }
-          const bool at_limit  = std::abs(row.axial_strain) >= p.strain_limit;
-          bool       post_peak = false;
-          if (std::abs(row.axial_strain) >= next_row || at_limit)
+          const bool at_limit = std::abs(row.axial_strain) >= p.strain_limit;
+          if (std::abs(row.axial_strain) >= next_row || at_limit || post_peak)
             {
               row.lateral_strain = lateral();
               count_cracks(model.contacts, row.cracks_tensile, row.cracks_shear);
@@ -286,13 +300,6 @@ namespace demfem::dem::voronoi
               r.history.push_back(row);
               while (next_row <= std::abs(row.axial_strain))
                 next_row += p.history_strain;
-              // The post-peak end of the bonded tests (post_peak_end.h): a
-              // drop after cracking since its peak, so neither start-up
-              // noise nor the inertial spike of the platens starting at full
-              // speed can end the test; one crack is enough in all (a
-              // specimen of tens of grains).
-              post_peak =
-                  post_peak_end.failed(row.load, row.cracks_tensile + row.cracks_shear);
             }
           if (post_peak || at_limit)
             {
@@ -348,7 +355,15 @@ namespace demfem::dem::voronoi
     check_specimen_shape(spec, p);
     RigidVoronoiModel model(spec.tessellation, spec.x, spec.y, spec.radius, density,
                             contact, p.scheme);
-    VoronoiLabResult  r = run_test(model, spec, contact, p);
+    // Compression-wave speed of the cell assembly: the contact springs are
+    // its only compliance, E ~ kn d with d the mean disk diameter the cells
+    // were built on (E_c itself in deformability mode).
+    double d = 0;
+    for (double radius : spec.radius)
+      d += 2 * radius / spec.radius.size();
+    const double E =
+        contact.deformability_mode() ? contact.contact_modulus : contact.kn * d;
+    VoronoiLabResult r = run_test(model, spec, contact, p, std::sqrt(E / density));
     if (final_model)
       final_model->emplace(std::move(model));
     return r;
@@ -365,7 +380,10 @@ namespace demfem::dem::voronoi
       throw InputError("Voronoi lab test: the grain and contact thicknesses differ");
     FlexibleVoronoiModel model(spec.tessellation, spec.x, spec.y, spec.radius, grain,
                                contact, p.scheme, p.flexible_mesh);
-    VoronoiLabResult     r = run_test(model, spec, contact, p);
+    // The grains' own wave speed: an upper bound of the assembly's (the
+    // contacts add compliance), so the shortest post-peak window.
+    VoronoiLabResult r = run_test(model, spec, contact, p,
+                                  std::sqrt(grain.youngs_modulus / grain.density));
     if (final_model)
       final_model->emplace(std::move(model));
     return r;

@@ -312,13 +312,16 @@ TEST_CASE("a start-up transient with early cracks does not end the test", "[labt
   CHECK(r.history[r.peak_row].step > 1000);
 }
 
-TEST_CASE("the strength does not depend on the history interval", "[labtests]")
+TEST_CASE("the strength and the end of a test do not depend on the history interval",
+          "[labtests]")
 {
   // The peak is taken over every loading step, not over the history rows:
   // the same specimen loaded with rows every 50 and every 7 steps follows the
   // same trajectory (rows are read-only) and must report the same UCS and
   // peak strain to the last bit. Before, rows every 50 steps read the 2D UCS
-  // of a 400-grain specimen 0.08 % low.
+  // of a 400-grain specimen 0.08 % low. The post-peak end is judged every
+  // step on windows of time (post_peak_end.h), so the test ends at the same
+  // step too (before, it was judged on the last three rows).
   const MaterialParams p = breakable_material(20e6, 6e6, 5);
   LabTestParams        l = breakable_ucs();
   LabTestResult        r[2];
@@ -335,6 +338,8 @@ TEST_CASE("the strength does not depend on the history interval", "[labtests]")
   REQUIRE(r[0].peak > 0);
   CHECK(r[0].peak == r[1].peak);
   CHECK(r[0].peak_strain == r[1].peak_strain);
+  CHECK(r[1].ended_by == "post-peak");
+  CHECK(r[0].loading_steps == r[1].loading_steps);
   // The strength is at least the largest row's load.
   for (const auto &h : r[0].history)
     CHECK(h.load <= r[0].peak_load);
