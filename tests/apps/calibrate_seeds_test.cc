@@ -67,6 +67,26 @@ TEST_CASE("calibrate: Problem/seeds = 2 writes the seed means, their scatter and
             Approx(std::abs(a - b) / std::sqrt(2.0)).epsilon(1e-9));
       CHECK(m["seed_values"][key] == json::array({a, b}));
     }
+  // How well the means are known: the 95 % interval of two values is
+  // t_{0.975, 1} s / sqrt(2) with t = 12.706205 (t tables), and a 5 %
+  // standard error needs (s / mean / 0.05)^2 packings, rounded up.
+  for (const char *key : {"E", "nu", "ucs"})
+    {
+      const double a = s0[key], b = s1[key];
+      const double mean = 0.5 * (a + b), sd = std::abs(a - b) / std::sqrt(2.0);
+      const json  &c = m["seed_confidence"][key];
+      INFO(key << ": " << c.dump());
+      CHECK(c["packings"] == 2);
+      CHECK(c["half_width_95"].get<double>() ==
+            Approx(12.706205 * sd / std::sqrt(2.0)).epsilon(1e-6));
+      CHECK(c["relative_half_width_95"].get<double>() ==
+            Approx(12.706205 * sd / std::sqrt(2.0) / std::abs(mean)).epsilon(1e-6));
+      const double cov = sd / std::abs(mean);
+      CHECK(c["packings_for_5_percent_standard_error"].get<double>() ==
+            std::max(1.0, std::ceil(cov * cov / (0.05 * 0.05))));
+    }
+  CHECK_FALSE(m["seed_confidence"].contains("bts")); // not measured
+  CHECK_THAT(r.out, Catch::Contains("packings for a 5 % standard error"));
   CHECK(m["ratios"]["crack_initiation_to_ucs"].get<double>() ==
         Approx(0.5 * (s0["ratios"]["crack_initiation_to_ucs"].get<double>() +
                       s1["ratios"]["crack_initiation_to_ucs"].get<double>()))
