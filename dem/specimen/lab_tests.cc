@@ -269,6 +269,12 @@ namespace demfem::dem
         counted_base_shear_ = n_shear_;
       }
       std::size_t counted_base_ten_ = 0, counted_base_shear_ = 0;
+
+      // Cracks counted since loading began, both modes.
+      std::size_t loading_cracks() const
+      {
+        return n_ten_ - counted_base_ten_ + n_shear_ - counted_base_shear_;
+      }
       std::size_t loading_crack0_ = 0; // index in m_.cracks of the first loading crack
       std::array<std::size_t, n_bond_types> counted_base_type_{};
 
@@ -660,8 +666,7 @@ namespace demfem::dem
             if (post_peak.add_step(m_.timestep(), now.load))
               {
                 count_cracks();
-                failed = post_peak.failed(n_ten_ - counted_base_ten_ + n_shear_ -
-                                          counted_base_shear_);
+                failed = post_peak.failed(loading_cracks());
               }
             const bool at_strain_limit = std::abs(now.axial_strain) >= p_.strain_limit;
             if (n % p_.history_interval != 0 && n != nmax && !at_strain_limit && !failed)

@@ -87,9 +87,6 @@ namespace demfem::dem
     /// The largest window mean the drop is measured from (progress reports).
     double reference_peak() const { return reference_peak_; }
 
-    /// The mean load of the last closed window.
-    double window_mean() const { return window_mean_; }
-
     /// Drops without cracks that restarted the reference peak.
     std::size_t restarts() const { return restarts_; }
 
