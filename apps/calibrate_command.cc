@@ -36,7 +36,8 @@ namespace demfem::apps
     namespace fs = std::filesystem;
 
     const char *usage =
-        "usage: demfem calibrate FILE.prm [--fit] [--set \"Section/key=value\"]... "
+        "usage: demfem calibrate FILE.prm [--fit | --front FIT.csv] [--set "
+        "\"Section/key=value\"]... "
         "[--overwrite] [--defaults] [--print-parameters] [--help]\n"
         "\n"
         "Builds a bonded-particle material (fistPkg §4: packing, finalization), runs\n"
@@ -59,7 +60,11 @@ namespace demfem::apps
         "       evaluation, elastic stage first; writes fit.csv (every evaluation),\n"
         "       fit.json, fit_convergence.svg, then calibrates the best material.\n"
         "       Exit 3 (status targets_not_reached) when a target stays outside its\n"
-        "       tolerance.\n";
+        "       tolerance. Every fit also writes fit_front.{csv,json,svg}: which\n"
+        "       targets conflict (each met alone, never together) and each pair's\n"
+        "       Pareto front.\n"
+        "--front FIT.csv  no test: the same analysis of an earlier fit's log against\n"
+        "       this file's Fit/Targets, into Problem/output directory.\n";
 
     // Test names of Tests/tests and what they run.
     const std::vector<TestSpec> known_tests = {
@@ -644,97 +649,6 @@ namespace demfem::apps
     }
   } // namespace
 
-  // Subsection Fit (`--fit`): targets and searched parameters, each value
-  // checked once here, naming the key (docs/calibrate.md, "Automatic
-  // calibration").
-  void read_fit_settings(ParameterHandler &prm, const std::string &where, FitSettings &f,
-                         const std::function<void(const FitParameter &)> &check_parameter)
-  {
-    const auto key = [&](const std::string &k) { return where + ": Fit/" + k; };
-    f.seeds        = int(parse_integer(key("seeds"), prm.get("seeds"), 1, 100));
-    f.evaluations =
-        int(parse_integer(key("evaluations"), prm.get("evaluations"), 1, 100000));
-    f.algorithm = prm.get("algorithm");
-    f.elastic_strain =
-        parse_number(key("elastic strain"), prm.get("elastic strain"), 1e-6, 0.01);
-    std::stringstream all(prm.get("parameters"));
-    for (std::string item; std::getline(all, item, ';');)
-      {
-        std::stringstream        w(item);
-        std::vector<std::string> words;
-        for (std::string x; w >> x;)
-          words.push_back(x);
-        if (words.empty())
-          continue;
-        if (words.size() < 3)
-          throw std::invalid_argument(key("parameters") + ": '" + item +
-                                      "' is not 'name lo hi'");
-        FitParameter p;
-        for (std::size_t i = 0; i + 2 < words.size(); ++i)
-          p.name += (i ? " " : "") + words[i];
-        const std::string what = key("parameters") + " (" + p.name + ")";
-        p.lo = parse_number(what + " lower bound", words[words.size() - 2], 0);
-        p.hi = parse_number(what + " upper bound", words.back(), 0);
-        if (!(p.hi > p.lo))
-          throw std::invalid_argument(what + ": empty search space, the upper bound " +
-                                      words.back() + " must exceed the lower bound " +
-                                      words[words.size() - 2]);
-        check_parameter(p); // a known name for this material type, sane bounds
-        f.parameters.push_back(p);
-      }
-    prm.enter_subsection("Targets");
-    for (const char *name :
-         {"E", "nu", "ucs", "bts", "direct tension", "crack initiation ratio", "mi"})
-      {
-        const std::string text = prm.get(name);
-        if (text.find_first_not_of(" \t") == std::string::npos)
-          continue;
-        const std::string what = key(std::string("Targets/") + name);
-        const auto        v    = split_list(what, text);
-        if (v.size() > 3)
-          throw std::invalid_argument(what + ": 'value[, weight[, tolerance]]' expected");
-        FitTarget t;
-        t.name        = name;
-        const bool nu = t.name == "nu", ratio = t.name == "crack initiation ratio";
-        t.value = parse_number(what, v[0], nu ? 0.0 : std::nextafter(0.0, 1.0),
-                               nu ? std::nextafter(0.5, 0.0)
-                                  : (ratio ? 1.0 : std::numeric_limits<double>::max()));
-        if (nu && !(t.value > 0))
-          throw std::invalid_argument(what + ": Poisson's ratio must lie in (0, 0.5)");
-        if (v.size() > 1)
-          t.weight = parse_number(what + " weight", v[1], 0);
-        if (v.size() > 2)
-          t.tolerance = parse_number(what + " tolerance", v[2], 1e-6, 1);
-        if (!(t.weight > 0))
-          throw std::invalid_argument(what + " weight: must be > 0");
-        f.targets.push_back(t);
-      }
-    prm.leave_subsection();
-    auto target = [&](const std::string &n) -> const FitTarget * {
-      for (const auto &t : f.targets)
-        if (t.name == n)
-          return &t;
-      return nullptr;
-    };
-    if (target("direct tension") && target("ucs") &&
-        target("direct tension")->value >= target("ucs")->value)
-      throw std::invalid_argument(key("Targets/direct tension") +
-                                  ": a direct tensile strength at or above the UCS is "
-                                  "not a rock (allowed: below Fit/Targets/ucs)");
-    f.resume_from = prm.get("resume from");
-    if (f.resume_from.find_first_not_of(" \t") == std::string::npos)
-      f.resume_from.clear();
-    else if (f.enabled)
-      f.replay = read_fit_log(f.resume_from, f, key("resume from"));
-    if (!f.enabled)
-      return;
-    if (f.targets.empty())
-      throw std::invalid_argument(key("Targets") + ": --fit needs at least one target");
-    if (f.parameters.empty())
-      throw std::invalid_argument(key("parameters") +
-                                  ": --fit needs at least one parameter to search");
-  }
-
   int run_calibrate(int argc, char **argv)
   {
     try
@@ -743,11 +657,21 @@ namespace demfem::apps
         // command line is read.
         std::vector<char *> args;
         bool                fit = false;
+        std::string         front; // --front FIT.csv: an earlier fit's log
         for (int i = 0; i < argc; ++i)
           if (std::string(argv[i]) == "--fit")
             fit = true;
+          else if (std::string(argv[i]) == "--front")
+            {
+              if (i + 1 >= argc)
+                throw std::invalid_argument("--front: give the fit.csv of a --fit run");
+              front = argv[++i];
+            }
           else
             args.push_back(argv[i]);
+        if (fit && !front.empty())
+          throw std::invalid_argument("--front analyses an earlier fit's log: not with "
+                                      "--fit (a fit writes fit_front.* itself)");
         std::string      file;
         ParameterHandler prm;
         declare_parameters(prm);
@@ -764,6 +688,8 @@ namespace demfem::apps
             // at install (a fracture energy below a contact's brittle
             // value) writes nothing.
             const VoronoiCalibrateSettings v = read_voronoi_settings(prm, file, fit);
+            if (!front.empty())
+              return run_fit_front(prm, file, v.fit.targets, v.out, front);
             if (v.fit.enabled)
               {
                 RunDirectory           run(v.out, prm);
@@ -778,6 +704,8 @@ namespace demfem::apps
             return outcome.exit_code;
           }
         const Settings s = read_settings(prm, file, fit);
+        if (!front.empty())
+          return run_fit_front(prm, file, s.fit.targets, s.out, front);
         // The run owns its output directory: lock, manifest.json, and an
         // earlier run's results refused unless --overwrite.
         RunDirectory           run(s.out, prm);

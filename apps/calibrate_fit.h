@@ -8,8 +8,10 @@
 // parameter set: it packs Fit/seeds specimens and averages their test
 // results, so the objective is a deterministic function of the parameters.
 #include "apps/calibrate.h"
+#include "dem/specimen/target_front.h"
 
 #include <functional>
+#include <iosfwd>
 #include <map>
 #include <string>
 #include <vector>
@@ -79,6 +81,34 @@ namespace demfem::apps
   /// per evaluation on stderr.
   FitSearchResult run_fit_search(const FitSettings &fit, const FitProblem &problem,
                                  const std::string &out);
+
+  /// The evaluations of a fit.csv, read by column names (`evaluation`, each
+  /// target's `<name>_mean`, and `error` when present: a row with an error
+  /// is left out; '#' lines before the header are notes), as relative
+  /// errors against `targets`. Logs of earlier
+  /// versions and of other parameters read as well; a missing column or a
+  /// cell that is not a number is a std::invalid_argument naming `what`, the
+  /// file and the line.
+  std::vector<dem::TargetEvaluation> read_fit_evaluations(
+      const std::string &file, const std::vector<FitTarget> &targets,
+      const std::string &what);
+
+  /// Which targets conflict (dem/specimen/target_front.h): writes
+  /// out/fit_front.csv and out/fit_front.json (every pair, every target's
+  /// best) and out/fit_front.svg (the pair with the largest trade-off);
+  /// prints each conflicting pair and each target never reached to `log`.
+  dem::TargetFront write_target_front(
+      const std::vector<FitTarget>             &targets,
+      const std::vector<dem::TargetEvaluation> &evaluations, const std::string &out,
+      std::ostream &log);
+
+  /// `demfem calibrate FILE.prm --front FIT.csv` (`where` = FILE.prm): the
+  /// targets of FILE.prm's Fit/Targets (at least two) against the
+  /// evaluations of an earlier fit's log, into `out` (a run directory of its
+  /// own); runs no test. Returns the exit code (0).
+  int run_fit_front(const dealii::ParameterHandler &prm, const std::string &where,
+                    const std::vector<FitTarget> &targets, const std::string &out,
+                    const std::string &fit_csv);
 
   /// The outcome of a fit whose best material was calibrated successfully:
   /// ok, or targets_not_reached (exit 3) with a message, when a target

@@ -446,6 +446,20 @@ namespace demfem::apps
       }
     for (std::size_t i = 0; i < f.parameters.size(); ++i)
       best.num(f.parameters[i].name, result.best[i]);
+    // Which targets conflict over every evaluation of this fit (replayed
+    // ones included): fit_front.*, the conflicting pairs named in fit.json.
+    std::vector<Json> conflicts;
+    for (const auto &p :
+         write_target_front(f.targets,
+                            read_fit_evaluations(out + "/fit.csv", f.targets, "fit.csv"),
+                            out, std::cerr)
+             .pairs)
+      if (p.conflict)
+        {
+          Json c;
+          c.str("target_a", p.a).str("target_b", p.b).num("best_joint", p.best_joint);
+          conflicts.push_back(c);
+        }
     Json j;
     j.str("status", result.all_within ? "ok" : "targets_not_reached")
         .str("algorithm", f.algorithm)
@@ -456,6 +470,7 @@ namespace demfem::apps
         .num("wall_time_s", seconds_since(t0))
         .obj("best_parameters", best)
         .obj("targets", targets)
+        .objs("conflicting_targets", conflicts)
         .objs("stages", fit.stages());
     if (!m.error.empty())
       j.str("error", m.error);

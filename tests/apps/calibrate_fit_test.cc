@@ -135,8 +135,16 @@ TEST_CASE("calibrate --fit recovers known microparameters", "[calibrate][fit]")
   CHECK(fit["best_parameters"]["stiffness ratio"].get<double>() ==
         Approx(2).epsilon(0.05));
   for (const char *f :
-       {"fit.csv", "fit_convergence.svg", "material.json", "summary.json"})
+       {"fit.csv", "fit_convergence.svg", "fit_front.csv", "fit_front.json",
+        "fit_front.svg", "material.json", "summary.json"})
     CHECK(fs::is_regular_file(out2 / f));
+  // Which targets conflict (fit_front.*): E and nu were met together, in
+  // the evaluation that ended the search.
+  CHECK(fit["conflicting_targets"].empty());
+  const auto front = nlohmann::json::parse(read(out2 / "fit_front.json"));
+  REQUIRE(front["pairs"].size() == 1);
+  CHECK(front["pairs"][0]["conflict"] == "no");
+  CHECK(front["pairs"][0]["best_joint"].get<double>() <= 1);
 
   // 3. Fit/resume from: the same fit stopped after its first five
   //    evaluations (fit.csv is rewritten after each, so that is what a
