@@ -62,7 +62,8 @@ namespace demfem::apps
         "       Exit 3 (status targets_not_reached) when a target stays outside its\n"
         "       tolerance. Every fit also writes fit_front.{csv,json,svg}: which\n"
         "       targets conflict (each met alone, never together) and each pair's\n"
-        "       Pareto front.\n"
+        "       Pareto front; fit_levers.csv: what each parameter alone did to\n"
+        "       each target in the fit's one-at-a-time steps.\n"
         "--front FIT.csv  no test: the same analysis of an earlier fit's log against\n"
         "       this file's Fit/Targets, into Problem/output directory.\n";
 
@@ -689,7 +690,7 @@ namespace demfem::apps
             // value) writes nothing.
             const VoronoiCalibrateSettings v = read_voronoi_settings(prm, file, fit);
             if (!front.empty())
-              return run_fit_front(prm, file, v.fit.targets, v.out, front);
+              return run_fit_front(prm, file, v.fit, v.out, front);
             if (v.fit.enabled)
               {
                 RunDirectory           run(v.out, prm);
@@ -705,7 +706,7 @@ namespace demfem::apps
           }
         const Settings s = read_settings(prm, file, fit);
         if (!front.empty())
-          return run_fit_front(prm, file, s.fit.targets, s.out, front);
+          return run_fit_front(prm, file, s.fit, s.out, front);
         // The run owns its output directory: lock, manifest.json, and an
         // earlier run's results refused unless --overwrite.
         RunDirectory           run(s.out, prm);

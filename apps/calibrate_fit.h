@@ -82,32 +82,33 @@ namespace demfem::apps
   FitSearchResult run_fit_search(const FitSettings &fit, const FitProblem &problem,
                                  const std::string &out);
 
-  /// The evaluations of a fit.csv, read by column names (`evaluation`, each
-  /// target's `<name>_mean`, and `error` when present: a row with an error
-  /// is left out; '#' lines before the header are notes), as relative
-  /// errors against `targets`. Logs of earlier
-  /// versions and of other parameters read as well; a missing column or a
-  /// cell that is not a number is a std::invalid_argument naming `what`, the
-  /// file and the line.
-  std::vector<dem::TargetEvaluation> read_fit_evaluations(
-      const std::string &file, const std::vector<FitTarget> &targets,
-      const std::string &what);
+  /// The evaluations of a fit.csv, read by column names (`evaluation`,
+  /// each target's `<name>_mean` and, when present, `<name>_sd`, each
+  /// searched parameter, and `error` when present: a row with an error is
+  /// left out; '#' lines before the header are notes), as relative errors
+  /// against fit.targets. Logs of earlier versions read as well; a missing
+  /// column or a cell that is not a number is a std::invalid_argument naming
+  /// `what`, the file and the line.
+  std::vector<dem::TargetEvaluation> read_fit_evaluations(const std::string &file,
+                                                          const FitSettings &fit,
+                                                          const std::string &what);
 
   /// Which targets conflict (dem/specimen/target_front.h): writes
   /// out/fit_front.csv and out/fit_front.json (every pair, every target's
-  /// best) and out/fit_front.svg (the pair with the largest trade-off);
-  /// prints each conflicting pair and each target never reached to `log`.
+  /// best, the levers), out/fit_front.svg (the pair with the largest
+  /// trade-off) and out/fit_levers.csv (what each parameter alone did to
+  /// each target); prints each conflicting pair and each target never
+  /// reached to `log`.
   dem::TargetFront write_target_front(
-      const std::vector<FitTarget>             &targets,
-      const std::vector<dem::TargetEvaluation> &evaluations, const std::string &out,
-      std::ostream &log);
+      const FitSettings &fit, const std::vector<dem::TargetEvaluation> &evaluations,
+      const std::string &out, std::ostream &log);
 
   /// `demfem calibrate FILE.prm --front FIT.csv` (`where` = FILE.prm): the
   /// targets of FILE.prm's Fit/Targets (at least two) against the
   /// evaluations of an earlier fit's log, into `out` (a run directory of its
   /// own); runs no test. Returns the exit code (0).
   int run_fit_front(const dealii::ParameterHandler &prm, const std::string &where,
-                    const std::vector<FitTarget> &targets, const std::string &out,
+                    const FitSettings &fit, const std::string &out,
                     const std::string &fit_csv);
 
   /// The outcome of a fit whose best material was calibrated successfully:

@@ -83,10 +83,11 @@ namespace demfem::apps
     }
   } // namespace
 
-  std::vector<dem::TargetEvaluation> read_fit_evaluations(
-      const std::string &file, const std::vector<FitTarget> &targets,
-      const std::string &what)
+  std::vector<dem::TargetEvaluation> read_fit_evaluations(const std::string &file,
+                                                          const FitSettings &fit,
+                                                          const std::string &what)
   {
+    const auto   &targets = fit.targets;
     std::ifstream in(file);
     if (!in)
       throw std::invalid_argument(what + " " + file +
@@ -106,16 +107,30 @@ namespace demfem::apps
     if (number < 0)
       throw std::invalid_argument(what + " " + file +
                                   ": no 'evaluation' column (not a fit.csv)");
-    std::vector<long> mean;
+    const auto csv_name = [](std::string n) {
+      std::replace(n.begin(), n.end(), ' ', '_');
+      std::replace(n.begin(), n.end(), '/', '_');
+      return n;
+    };
+    std::vector<long> mean, sd, parameter;
     for (const auto &t : targets)
       {
-        std::string n = t.name;
-        std::replace(n.begin(), n.end(), ' ', '_');
+        const std::string n = csv_name(t.name);
         mean.push_back(column(n + "_mean"));
+        sd.push_back(column(n + "_sd")); // optional
         if (mean.back() < 0)
           throw std::invalid_argument(what + " " + file + ": no column '" + n +
                                       "_mean' for Fit/Targets/" + t.name +
                                       " (the log of a fit with other targets?)");
+      }
+    for (const auto &p : fit.parameters)
+      {
+        parameter.push_back(column(csv_name(p.name)));
+        if (parameter.back() < 0)
+          throw std::invalid_argument(what + " " + file + ": no column '" +
+                                      csv_name(p.name) + "' for Fit/parameters (" +
+                                      p.name +
+                                      ") (the log of a fit with other parameters?)");
       }
     std::vector<dem::TargetEvaluation> rows;
     for (std::string line; std::getline(in, line);)
@@ -134,19 +149,27 @@ namespace demfem::apps
         dem::TargetEvaluation e;
         e.number = int(cell_number(c[std::size_t(number)], at));
         for (std::size_t i = 0; i < targets.size(); ++i)
-          if (const auto &cell = c[std::size_t(mean[i])]; !cell.empty())
-            e.relative_error[targets[i].name] =
-                (cell_number(cell, at) - targets[i].value) / std::abs(targets[i].value);
+          {
+            const double scale = std::abs(targets[i].value);
+            if (const auto &cell = c[std::size_t(mean[i])]; !cell.empty())
+              e.relative_error[targets[i].name] =
+                  (cell_number(cell, at) - targets[i].value) / scale;
+            if (sd[i] >= 0 && !c[std::size_t(sd[i])].empty())
+              e.relative_sd[targets[i].name] =
+                  cell_number(c[std::size_t(sd[i])], at) / scale;
+          }
+        for (const long k : parameter)
+          e.parameters.push_back(cell_number(c[std::size_t(k)], at));
         rows.push_back(e);
       }
     return rows;
   }
 
   dem::TargetFront write_target_front(
-      const std::vector<FitTarget>             &targets,
-      const std::vector<dem::TargetEvaluation> &evaluations, const std::string &out,
-      std::ostream &log)
+      const FitSettings &fit, const std::vector<dem::TargetEvaluation> &evaluations,
+      const std::string &out, std::ostream &log)
   {
+    const auto                  &targets = fit.targets;
     std::vector<dem::TargetSpec> specs;
     for (const auto &t : targets)
       specs.push_back({t.name, t.tolerance});
@@ -200,13 +223,39 @@ namespace demfem::apps
               << b.evaluations << " evaluation(s) that measured it (closest: evaluation "
               << b.evaluation << ", " << b.normalized_error << " tolerances)\n";
       }
+    // What each parameter alone does to each target (fit_levers.csv).
+    std::vector<dem::ParameterSpec> params;
+    for (const auto &p : fit.parameters)
+      params.push_back({p.name, p.lo, p.hi});
+    std::ostringstream levers_csv;
+    levers_csv << std::setprecision(17)
+               << "parameter,target,pairs,change_per_range,largest_step,"
+                  "change_at_largest_step,seed_sd\n";
+    std::vector<Json> levers;
+    for (const auto &l : dem::one_at_a_time_levers(params, specs, evaluations))
+      {
+        levers_csv << l.parameter << ',' << l.target << ',' << l.pairs << ','
+                   << l.change_per_range << ',' << l.largest_step << ','
+                   << l.change_per_range * l.largest_step << ',' << l.seed_sd << '\n';
+        Json j;
+        j.str("parameter", l.parameter)
+            .str("target", l.target)
+            .num("pairs", l.pairs)
+            .num("change_per_range", l.change_per_range)
+            .num("largest_step", l.largest_step)
+            .num("change_at_largest_step", l.change_per_range * l.largest_step)
+            .num("seed_sd", l.seed_sd);
+        levers.push_back(j);
+      }
     Json j;
     j.num("evaluations", double(evaluations.size()))
         .str("errors_in", "tolerances: |value - target| / (tolerance x |target|)")
         .objs("targets", bests)
-        .objs("pairs", pairs);
+        .objs("pairs", pairs)
+        .objs("levers", levers);
     dem::vtkout::write_text_atomically(out + "/fit_front.csv", csv.str());
     dem::vtkout::write_text_atomically(out + "/fit_front.json", j.text() + "\n");
+    dem::vtkout::write_text_atomically(out + "/fit_levers.csv", levers_csv.str());
     // The plot: the pair with the largest trade-off (pairs come sorted).
     if (!f.pairs.empty() && f.pairs.front().evaluations > 0)
       dem::vtkout::write_text_atomically(out + "/fit_front.svg",

@@ -109,20 +109,20 @@ namespace demfem::apps
   }
 
   int run_fit_front(const ParameterHandler &prm, const std::string &where,
-                    const std::vector<FitTarget> &targets, const std::string &out,
+                    const FitSettings &fit, const std::string &out,
                     const std::string &fit_csv)
   {
-    if (targets.size() < 2)
+    if (fit.targets.size() < 2)
       throw std::invalid_argument(where +
                                   ": Fit/Targets: --front needs at least two "
                                   "targets to compare (it gives " +
-                                  std::to_string(targets.size()) + ")");
-    const auto   evaluations = read_fit_evaluations(fit_csv, targets, "--front");
+                                  std::to_string(fit.targets.size()) + ")");
+    const auto   evaluations = read_fit_evaluations(fit_csv, fit, "--front");
     RunDirectory run(out, prm);
-    const auto   front = write_target_front(targets, evaluations, out, std::cout);
+    const auto   front = write_target_front(fit, evaluations, out, std::cout);
     std::cout << "demfem calibrate --front: " << evaluations.size() << " evaluations, "
               << front.pairs.size() << " target pairs -> " << out
-              << "/fit_front.{csv,json,svg}\n";
+              << "/fit_front.{csv,json,svg}, fit_levers.csv\n";
     run.finish("ok", 0);
     return 0;
   }

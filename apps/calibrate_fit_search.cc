@@ -450,9 +450,8 @@ namespace demfem::apps
     // ones included): fit_front.*, the conflicting pairs named in fit.json.
     std::vector<Json> conflicts;
     for (const auto &p :
-         write_target_front(f.targets,
-                            read_fit_evaluations(out + "/fit.csv", f.targets, "fit.csv"),
-                            out, std::cerr)
+         write_target_front(f, read_fit_evaluations(out + "/fit.csv", f, "fit.csv"), out,
+                            std::cerr)
              .pairs)
       if (p.conflict)
         {

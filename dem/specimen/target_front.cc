@@ -87,6 +87,78 @@ namespace demfem::dem
     }
   } // namespace
 
+  std::vector<TargetLever> one_at_a_time_levers(
+      const std::vector<ParameterSpec>    &parameters,
+      const std::vector<TargetSpec>       &targets,
+      const std::vector<TargetEvaluation> &evaluations)
+  {
+    for (const auto &p : parameters)
+      if (!(p.hi > p.lo))
+        throw std::invalid_argument(
+            "parameter '" + p.name + "': the upper bound " + std::to_string(p.hi) +
+            " must exceed the lower bound " + std::to_string(p.lo));
+    const std::size_t                     P = parameters.size();
+    std::vector<const TargetEvaluation *> known;
+    for (const auto &e : evaluations)
+      if (e.parameters.size() == P)
+        known.push_back(&e);
+    std::vector<TargetLever> levers;
+    for (std::size_t k = 0; k < P; ++k)
+      {
+        // The pairs that differ in parameter k only, as (i, j, step / range).
+        struct Pair
+        {
+          const TargetEvaluation *i, *j;
+          double                  step;
+        };
+        std::vector<Pair> pairs;
+        for (std::size_t a = 0; a < known.size(); ++a)
+          for (std::size_t b = a + 1; b < known.size(); ++b)
+            {
+              const auto &pa = known[a]->parameters, &pb = known[b]->parameters;
+              bool        only_k = pa[k] != pb[k];
+              for (std::size_t m = 0; m < P && only_k; ++m)
+                only_k = m == k || pa[m] == pb[m];
+              if (only_k)
+                pairs.push_back(
+                    {known[a], known[b],
+                     (pb[k] - pa[k]) / (parameters[k].hi - parameters[k].lo)});
+            }
+        for (const auto &t : targets)
+          {
+            TargetLever l;
+            l.parameter = parameters[k].name;
+            l.target    = t.name;
+            double sxy = 0, sxx = 0, sd = 0;
+            int    n_sd = 0;
+            for (const auto &p : pairs)
+              {
+                const auto ei = p.i->relative_error.find(t.name),
+                           ej = p.j->relative_error.find(t.name);
+                if (ei == p.i->relative_error.end() || ej == p.j->relative_error.end() ||
+                    !std::isfinite(ei->second) || !std::isfinite(ej->second))
+                  continue;
+                ++l.pairs;
+                sxy += p.step * (ej->second - ei->second);
+                sxx += p.step * p.step;
+                l.largest_step = std::max(l.largest_step, std::abs(p.step));
+                for (const auto *e : {p.i, p.j})
+                  {
+                    const auto s = e->relative_sd.find(t.name);
+                    sd += s == e->relative_sd.end() ? std::nan("") : s->second;
+                    ++n_sd;
+                  }
+              }
+            if (l.pairs == 0)
+              continue;
+            l.change_per_range = sxy / sxx;
+            l.seed_sd          = sd / n_sd;
+            levers.push_back(l);
+          }
+      }
+    return levers;
+  }
+
   TargetFront analyse_target_front(const std::vector<TargetSpec>       &targets,
                                    const std::vector<TargetEvaluation> &evaluations)
   {

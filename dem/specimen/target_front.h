@@ -20,12 +20,23 @@ namespace demfem::dem
     double      tolerance = 0.05;
   };
 
+  /// A searched microparameter and its bounds (hi > lo).
+  struct ParameterSpec
+  {
+    std::string name;
+    double      lo = 0, hi = 1;
+  };
+
   /// One evaluation: its number (fit.csv's `evaluation`) and, for each target
-  /// it measured, the signed relative error (value - target) / |target|.
+  /// it measured, the signed relative error (value - target) / |target| and
+  /// the seed standard deviation over |target|; the value of each searched
+  /// parameter (in the order of the ParameterSpecs; empty: not known).
   struct TargetEvaluation
   {
     int                           number = 0;
     std::map<std::string, double> relative_error;
+    std::map<std::string, double> relative_sd;
+    std::vector<double>           parameters;
   };
 
   /// The best one target reaches alone, in tolerances: |error| / tolerance.
@@ -64,6 +75,34 @@ namespace demfem::dem
     std::vector<TargetBest>      targets; ///< in the order of the specs
     std::vector<TargetPairFront> pairs;   ///< largest joint_excess first
   };
+
+  /// What one parameter alone does to one target, from the pairs of
+  /// evaluations that differ in that parameter only (every other one
+  /// bit-identical, as in BOBYQA's first model: the start, then each
+  /// parameter alone up and down).
+  struct TargetLever
+  {
+    std::string parameter, target;
+    int         pairs = 0; ///< evaluation pairs that differ in this parameter only
+    /// Least-squares slope of the target's relative change on the
+    /// parameter's change over its range (hi - lo), through the pairs'
+    /// differences: the relative change of the target per full range.
+    double change_per_range = 0;
+    double largest_step     = 0; ///< largest |change| / range of those pairs
+    /// Mean seed standard deviation of the target over |target| in those
+    /// evaluations (NaN when not logged, 0 with one packing): a change well
+    /// below it is not resolved by the packings.
+    double seed_sd = 0;
+  };
+
+  /// The levers above for every parameter and target with at least one
+  /// pair, parameters in their order, targets in theirs. Evaluations whose
+  /// `parameters` do not hold one value per spec are left out.
+  /// std::invalid_argument for hi <= lo.
+  std::vector<TargetLever> one_at_a_time_levers(
+      const std::vector<ParameterSpec>    &parameters,
+      const std::vector<TargetSpec>       &targets,
+      const std::vector<TargetEvaluation> &evaluations);
 
   /// The analysis above; an evaluation's target without a finite error
   /// (not measured) leaves that evaluation out of the target and its pairs.

@@ -13,6 +13,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -139,6 +140,32 @@ TEST_CASE("calibrate --front on the committed 2D fit log: UCS and BTS conflict",
   CHECK(conflicts == 2);
   CHECK(j["targets"][5]["target"] == "crack initiation ratio");
   CHECK(j["targets"][5]["reached"] == "no");
+
+  // The third fit (three packings per evaluation): its first 13
+  // evaluations are BOBYQA's one-at-a-time model, so every searched
+  // parameter has three pairs; the levers docs/calibrate_ldb.md quotes.
+  const fs::path out3 = work_dir() / "committed_3seeds";
+  fs::remove_all(out3);
+  const auto r3 = run_demfem(
+      "calibrate " + data + "ldb_2d_fit_3seeds.prm --front " + data +
+      "ldb_2d_fit_3seeds.csv --set \"Problem/output directory=" + out3.string() + "\"");
+  INFO(r3.out);
+  REQUIRE(r3.exit_code == 0);
+  const auto j3 = nlohmann::json::parse(read(out3 / "fit_front.json"));
+  CHECK(j3["pairs"][0]["conflict"] == "no"); // nu is met in no evaluation
+  std::map<std::string, double> lever;
+  for (const auto &l : j3["levers"])
+    {
+      CHECK(l["pairs"] == 3);
+      lever[l["parameter"].get<std::string>() + "/" + l["target"].get<std::string>()] =
+          l["change_per_range"].get<double>();
+    }
+  CHECK(lever.size() == 36); // 6 parameters x 6 targets
+  // Printed digits of the documented table.
+  CHECK(lever["tensile strength mean/direct tension"] == Approx(1.371).margin(5e-4));
+  CHECK(lever["tensile strength sd/direct tension"] == Approx(-0.707).margin(5e-4));
+  CHECK(lever["cohesion mean/direct tension"] == 0); // c leaves DT to the digit
+  CHECK(fs::is_regular_file(out3 / "fit_levers.csv"));
 }
 
 TEST_CASE("calibrate --front refuses bad input naming the key or the file",

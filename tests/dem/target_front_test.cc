@@ -111,3 +111,51 @@ TEST_CASE("target pairs: a tolerance <= 0 or a repeated target is refused",
   CHECK_THROWS_WITH(analyse_target_front({{"E", 0.05}, {"E", 0.1}}, {}),
                     Catch::Contains("given twice"));
 }
+
+TEST_CASE("levers: what one parameter alone does to a target, from one-at-a-time "
+          "pairs",
+          "[target_front]")
+{
+  // p0 in [0, 4], p1 in [0, 2]; BOBYQA's first model around (2, 1): each
+  // parameter a quarter of its range up and down. Evaluation 6 moves both
+  // (no pair), 7 has no parameters (left out). A responds with slope 1 per
+  // range to p0 and, centrally, (0.5 + 0.125) / 0.5 = 1.25 to p1; B is
+  // measured in 1 and 2 only. Dyadic numbers: the sums are exact.
+  const std::vector<ParameterSpec> params = {{"p0", 0, 4}, {"p1", 0, 2}};
+  const std::vector<TargetSpec>    specs  = {{"A", 0.05}, {"B", 0.05}};
+  auto ev = [](int n, std::vector<double> p, double a, double b) {
+    TargetEvaluation e;
+    e.number              = n;
+    e.parameters          = p;
+    e.relative_error["A"] = a;
+    e.relative_sd["A"]    = 0.125;
+    if (!std::isnan(b))
+      e.relative_error["B"] = b;
+    return e;
+  };
+  const double                        none = std::nan("");
+  const std::vector<TargetEvaluation> e    = {ev(1, {2, 1}, 0, 0),
+                                              ev(2, {3, 1}, 0.25, 0.5),
+                                              ev(3, {1, 1}, -0.25, none),
+                                              ev(4, {2, 1.5}, 0.5, none),
+                                              ev(5, {2, 0.5}, -0.125, none),
+                                              ev(6, {4, 2}, 3, 3),
+                                              ev(7, {}, 9, 9)};
+  const auto                          l    = one_at_a_time_levers(params, specs, e);
+  REQUIRE(l.size() == 3); // p1 has no pair measuring B
+  CHECK(l[0].parameter == "p0");
+  CHECK(l[0].target == "A");
+  CHECK(l[0].pairs == 3);
+  CHECK(l[0].change_per_range == 1);
+  CHECK(l[0].largest_step == 0.5);
+  CHECK(l[0].seed_sd == 0.125);
+  CHECK(l[1].target == "B");
+  CHECK(l[1].pairs == 1);
+  CHECK(l[1].change_per_range == 2);
+  CHECK(std::isnan(l[1].seed_sd)); // B's sd not logged
+  CHECK(l[2].parameter == "p1");
+  CHECK(l[2].pairs == 3);
+  CHECK(l[2].change_per_range == 1.25); // the central difference
+  CHECK_THROWS_WITH(one_at_a_time_levers({{"c", 2, 2}}, specs, e),
+                    Catch::Contains("'c'") && Catch::Contains("must exceed"));
+}
