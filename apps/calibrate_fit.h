@@ -33,6 +33,15 @@ namespace demfem::apps
       dealii::ParameterHandler &prm, const std::string &where, FitSettings &f,
       const std::function<void(const FitParameter &)> &check_parameter);
 
+  /// A parameter or target name as a fit.csv column ("tensile strength
+  /// mean" -> "tensile_strength_mean").
+  std::string fit_csv_name(std::string name);
+  /// A fit.csv cell as a number; std::invalid_argument naming `where` when
+  /// it is not one (whole cell).
+  double fit_log_number(const std::string &cell, const std::string &where);
+  /// A fit.csv line's cells (a trailing comma: an empty last cell).
+  std::vector<std::string> fit_log_cells(const std::string &line);
+
   /// The header line (with its newline) of fit.csv for the parameters and
   /// targets of `f`: evaluation, stage, each parameter, each target's mean
   /// and sd, objective, all_within_tolerance, seconds, error, note.

@@ -18,34 +18,6 @@ namespace demfem::apps
 {
   namespace
   {
-    std::vector<std::string> csv_cells(const std::string &line)
-    {
-      std::vector<std::string> c;
-      std::stringstream        s(line);
-      for (std::string cell; std::getline(s, cell, ',');)
-        c.push_back(cell);
-      if (!line.empty() && line.back() == ',')
-        c.push_back("");
-      return c;
-    }
-
-    double cell_number(const std::string &cell, const std::string &where)
-    {
-      std::size_t used = 0;
-      double      v    = 0;
-      try
-        {
-          v = std::stod(cell, &used);
-        }
-      catch (const std::exception &)
-        {
-          used = 0;
-        }
-      if (used == 0 || used != cell.size())
-        throw std::invalid_argument(where + ": '" + cell + "' is not a number");
-      return v;
-    }
-
     const FitTarget &target_named(const std::vector<FitTarget> &targets,
                                   const std::string            &name)
     {
@@ -98,7 +70,7 @@ namespace demfem::apps
     std::size_t line_no = 0;
     while (std::getline(in, header) && (++line_no, header.rfind('#', 0) == 0))
       ;
-    const auto names  = csv_cells(header);
+    const auto names  = fit_log_cells(header);
     const auto column = [&](const std::string &n) -> long {
       const auto it = std::find(names.begin(), names.end(), n);
       return it == names.end() ? -1 : long(it - names.begin());
@@ -107,15 +79,10 @@ namespace demfem::apps
     if (number < 0)
       throw std::invalid_argument(what + " " + file +
                                   ": no 'evaluation' column (not a fit.csv)");
-    const auto csv_name = [](std::string n) {
-      std::replace(n.begin(), n.end(), ' ', '_');
-      std::replace(n.begin(), n.end(), '/', '_');
-      return n;
-    };
     std::vector<long> mean, sd, parameter;
     for (const auto &t : targets)
       {
-        const std::string n = csv_name(t.name);
+        const std::string n = fit_csv_name(t.name);
         mean.push_back(column(n + "_mean"));
         sd.push_back(column(n + "_sd")); // optional
         if (mean.back() < 0)
@@ -125,10 +92,10 @@ namespace demfem::apps
       }
     for (const auto &p : fit.parameters)
       {
-        parameter.push_back(column(csv_name(p.name)));
+        parameter.push_back(column(fit_csv_name(p.name)));
         if (parameter.back() < 0)
           throw std::invalid_argument(what + " " + file + ": no column '" +
-                                      csv_name(p.name) + "' for Fit/parameters (" +
+                                      fit_csv_name(p.name) + "' for Fit/parameters (" +
                                       p.name +
                                       ") (the log of a fit with other parameters?)");
       }
@@ -139,7 +106,7 @@ namespace demfem::apps
         if (line.empty())
           continue;
         const std::string at = what + " " + file + ", line " + std::to_string(line_no);
-        const auto        c  = csv_cells(line);
+        const auto        c  = fit_log_cells(line);
         if (c.size() != names.size())
           throw std::invalid_argument(at + ": " + std::to_string(c.size()) +
                                       " cells, the header has " +
@@ -147,19 +114,19 @@ namespace demfem::apps
         if (error >= 0 && !c[std::size_t(error)].empty())
           continue; // a failed measurement has no properties
         dem::TargetEvaluation e;
-        e.number = int(cell_number(c[std::size_t(number)], at));
+        e.number = int(fit_log_number(c[std::size_t(number)], at));
         for (std::size_t i = 0; i < targets.size(); ++i)
           {
             const double scale = std::abs(targets[i].value);
             if (const auto &cell = c[std::size_t(mean[i])]; !cell.empty())
               e.relative_error[targets[i].name] =
-                  (cell_number(cell, at) - targets[i].value) / scale;
+                  (fit_log_number(cell, at) - targets[i].value) / scale;
             if (sd[i] >= 0 && !c[std::size_t(sd[i])].empty())
               e.relative_sd[targets[i].name] =
-                  cell_number(c[std::size_t(sd[i])], at) / scale;
+                  fit_log_number(c[std::size_t(sd[i])], at) / scale;
           }
         for (const long k : parameter)
-          e.parameters.push_back(cell_number(c[std::size_t(k)], at));
+          e.parameters.push_back(fit_log_number(c[std::size_t(k)], at));
         rows.push_back(e);
       }
     return rows;

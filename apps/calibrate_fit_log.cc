@@ -13,44 +13,52 @@
 
 namespace demfem::apps
 {
-  namespace
+  std::string fit_csv_name(std::string n)
   {
-    std::string csv_name(std::string n)
-    {
-      for (auto &c : n)
-        if (c == ' ' || c == '/')
-          c = '_';
-      return n;
-    }
+    for (auto &c : n)
+      if (c == ' ' || c == '/')
+        c = '_';
+    return n;
+  }
 
-    // A logged number (the log writes 17 significant digits, so a double
-    // comes back bit for bit).
-    double logged_number(const std::string &cell, const std::string &where)
-    {
-      std::size_t used = 0;
-      double      v    = 0;
-      try
-        {
-          v = std::stod(cell, &used);
-        }
-      catch (const std::exception &)
-        {
-          used = 0;
-        }
-      if (used == 0 || used != cell.size())
-        throw std::invalid_argument(where + ": '" + cell + "' is not a number");
-      return v;
-    }
-  } // namespace
+  // A logged number (the log writes 17 significant digits, so a double
+  // comes back bit for bit).
+  double fit_log_number(const std::string &cell, const std::string &where)
+  {
+    std::size_t used = 0;
+    double      v    = 0;
+    try
+      {
+        v = std::stod(cell, &used);
+      }
+    catch (const std::exception &)
+      {
+        used = 0;
+      }
+    if (used == 0 || used != cell.size())
+      throw std::invalid_argument(where + ": '" + cell + "' is not a number");
+    return v;
+  }
+
+  std::vector<std::string> fit_log_cells(const std::string &line)
+  {
+    std::vector<std::string> c;
+    std::stringstream        s(line);
+    for (std::string cell; std::getline(s, cell, ',');)
+      c.push_back(cell);
+    if (!line.empty() && line.back() == ',')
+      c.push_back(""); // an empty last cell
+    return c;
+  }
 
   std::string fit_csv_header(const FitSettings &f)
   {
     std::ostringstream h;
     h << "evaluation,stage";
     for (const auto &p : f.parameters)
-      h << ',' << csv_name(p.name);
+      h << ',' << fit_csv_name(p.name);
     for (const auto &t : f.targets)
-      h << ',' << csv_name(t.name) << "_mean," << csv_name(t.name) << "_sd";
+      h << ',' << fit_csv_name(t.name) << "_mean," << fit_csv_name(t.name) << "_sd";
     h << ",objective,all_within_tolerance,seconds,error,note\n";
     return h.str();
   }
@@ -81,13 +89,8 @@ namespace demfem::apps
         ++line_no;
         if (line.empty())
           continue;
-        const std::string        at = what + ", line " + std::to_string(line_no);
-        std::vector<std::string> c;
-        std::stringstream        s(line);
-        for (std::string cell; std::getline(s, cell, ',');)
-          c.push_back(cell);
-        if (line.back() == ',')
-          c.push_back(""); // an empty note
+        const std::string              at = what + ", line " + std::to_string(line_no);
+        const std::vector<std::string> c  = fit_log_cells(line);
         if (c.size() != cells)
           throw std::invalid_argument(at + ": " + std::to_string(c.size()) +
                                       " cells, expected " + std::to_string(cells) +
@@ -95,16 +98,16 @@ namespace demfem::apps
         FitLogRow r;
         r.stage = c[1];
         for (std::size_t i = 0; i < P; ++i)
-          r.values.push_back(logged_number(c[2 + i], at));
+          r.values.push_back(fit_log_number(c[2 + i], at));
         for (std::size_t i = 0; i < T; ++i)
           {
             const auto &name = f.targets[i].name;
             if (!c[2 + P + 2 * i].empty())
-              r.measured.mean[name] = logged_number(c[2 + P + 2 * i], at);
+              r.measured.mean[name] = fit_log_number(c[2 + P + 2 * i], at);
             if (!c[3 + P + 2 * i].empty())
-              r.measured.sd[name] = logged_number(c[3 + P + 2 * i], at);
+              r.measured.sd[name] = fit_log_number(c[3 + P + 2 * i], at);
           }
-        r.seconds        = logged_number(c[2 + P + 2 * T + 2], at);
+        r.seconds        = fit_log_number(c[2 + P + 2 * T + 2], at);
         r.measured.error = c[2 + P + 2 * T + 3];
         r.measured.note  = c[2 + P + 2 * T + 4];
         // A row replayed before carries that mark; the measurement's own
