@@ -269,8 +269,11 @@ namespace demfem::dem::voronoi
           row.step = k + 1;
           row.time = time;
           measure(row);
-          bool post_peak = false;
-          if (post_peak_end.add_step(time - time_before, row.load))
+          // Cracks are counted (an O(contacts) scan) only when a window
+          // closes or a row is written, once when both fall on this step.
+          bool       post_peak     = false;
+          const bool window_closed = post_peak_end.add_step(time - time_before, row.load);
+          if (window_closed)
             {
               count_cracks(model.contacts, row.cracks_tensile, row.cracks_shear);
               post_peak = post_peak_end.failed(row.cracks_tensile + row.cracks_shear);
@@ -288,7 +291,8 @@ namespace demfem::dem::voronoi
           if (std::abs(row.axial_strain) >= next_row || at_limit || post_peak)
             {
               row.lateral_strain = lateral();
-              count_cracks(model.contacts, row.cracks_tensile, row.cracks_shear);
+              if (!window_closed)
+                count_cracks(model.contacts, row.cracks_tensile, row.cracks_shear);
               if (new_peak)
                 {
                   // Crack counts at the peak: those of the first row at or
