@@ -49,6 +49,9 @@ namespace demfem::apps
     Json       &nums(const std::string &key, const std::vector<double> &v);
     Json       &objs(const std::string &key, const std::vector<Json> &v);
     std::string text() const; ///< indented by two spaces
+    /// The object itself (to merge into another document without a text
+    /// round trip).
+    const nlohmann::ordered_json &value() const { return j_; }
 
   private:
     nlohmann::ordered_json j_ = nlohmann::ordered_json::object();

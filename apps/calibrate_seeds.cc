@@ -87,7 +87,7 @@ namespace demfem::apps
           sd.push_back(i.sd);
         }
       mean.fit(where);
-      json e                         = json::parse(mean.json().text());
+      json e                         = mean.json().value();
       e["peak_axial_stresses_sd_Pa"] = sd;
       e["fitted_to"] = "the seed means of the peaks at each confining pressure";
 
