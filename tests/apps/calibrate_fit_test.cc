@@ -58,13 +58,7 @@ namespace
     return p;
   }
 
-  std::string read(const fs::path &p)
-  {
-    std::ifstream     f(p);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-  }
+  std::string read(const fs::path &p) { return demfem::testing::read_text(p.string()); }
 } // namespace
 
 TEST_CASE("calibrate --fit recovers known microparameters", "[calibrate][fit]")

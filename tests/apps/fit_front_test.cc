@@ -36,13 +36,7 @@ namespace
     return p;
   }
 
-  std::string read(const fs::path &p)
-  {
-    std::ifstream     f(p);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-  }
+  std::string read(const fs::path &p) { return demfem::testing::read_text(p.string()); }
 
   // The committed 2D example with a Fit/Targets subsection (`targets`: "set
   // key = value, weight, tolerance" lines), and the command-line options that

@@ -2,8 +2,10 @@
 // Runs the built `demfem` executable and captures stdout, stderr, exit code.
 #include <array>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <sys/wait.h>
 
@@ -49,5 +51,13 @@ namespace demfem::testing
          it != std::sregex_iterator(); ++it)
       v[(*it)[1]] = std::stod((*it)[2]);
     return v;
+  }
+  /// The whole text of a file ("" when it cannot be read).
+  inline std::string read_text(const std::string &file)
+  {
+    std::ifstream     in(file);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
   }
 } // namespace demfem::testing
