@@ -33,7 +33,6 @@ namespace demfem::apps
     {
       PlotSeries all{"evaluations", {}, {}, "#999", true},
           front{"Pareto front", {}, {}, "#c00", true}, box{"tolerance", {}, {}, "#06c"};
-      std::vector<std::pair<double, double>> on_front;
       for (const auto &e : evaluations)
         {
           const auto a = e.relative_error.find(p.a), b = e.relative_error.find(p.b);
@@ -185,7 +184,9 @@ namespace demfem::apps
             .num("evaluation", b.evaluation)
             .str("reached", b.reached ? "yes" : "no");
         bests.push_back(j);
-        if (!b.reached)
+        if (b.evaluations == 0)
+          log << "demfem calibrate: " << b.name << " was measured in no evaluation\n";
+        else if (!b.reached)
           log << "demfem calibrate: " << b.name << " is outside its tolerance in every "
               << b.evaluations << " evaluation(s) that measured it (closest: evaluation "
               << b.evaluation << ", " << b.normalized_error << " tolerances)\n";
