@@ -9,6 +9,7 @@
 #include "apps/output_dir.h"
 
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <sstream>
@@ -117,6 +118,15 @@ namespace demfem::apps
                                   ": Fit/Targets: --front needs at least two "
                                   "targets to compare (it gives " +
                                   std::to_string(fit.targets.size()) + ")");
+    // The output directory is claimed as a run's (--overwrite deletes its
+    // results): never the one holding the log being analysed.
+    namespace fs = std::filesystem;
+    if (fs::weakly_canonical(fs::absolute(fit_csv)).parent_path() ==
+        fs::weakly_canonical(fs::absolute(out)))
+      throw std::invalid_argument(where + ": Problem/output directory = " + out +
+                                  " holds the log " + fit_csv +
+                                  " (--front writes a run directory of its own; give "
+                                  "another one)");
     const auto   evaluations = read_fit_evaluations(fit_csv, fit, "--front");
     RunDirectory run(out, prm);
     const auto   front = write_target_front(fit, evaluations, out, std::cout);

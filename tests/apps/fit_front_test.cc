@@ -191,6 +191,13 @@ TEST_CASE("calibrate --front refuses bad input naming the key or the file",
                  (work_dir() / "absent.csv").string());
   CHECK(r.exit_code == 1);
   CHECK(r.out.find("absent.csv: cannot be read") != std::string::npos);
+  // The log inside the output directory: refused (--overwrite would
+  // delete it with the directory's earlier results).
+  r = run_demfem("calibrate " + prm("inside.prm", work_dir(), ucs_bts) + " --front " +
+                 log.string() + " --overwrite");
+  CHECK(r.exit_code == 1);
+  CHECK(r.out.find("holds the log") != std::string::npos);
+  CHECK(fs::is_regular_file(log));
   // A damaged row names its line.
   r = run_demfem("calibrate " + prm("damaged.prm", out, ucs_bts) + " --front " +
                  write("damaged.csv", log_text + "5,all,1\n").string());
