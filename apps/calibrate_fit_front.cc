@@ -74,7 +74,8 @@ namespace demfem::apps
       const auto it = std::find(names.begin(), names.end(), n);
       return it == names.end() ? -1 : long(it - names.begin());
     };
-    const long number = column("evaluation"), error = column("error");
+    const long number = column("evaluation"), error = column("error"),
+               stage = column("stage");
     if (number < 0)
       throw std::invalid_argument(what + " " + file +
                                   ": no 'evaluation' column (not a fit.csv)");
@@ -114,6 +115,8 @@ namespace demfem::apps
           continue; // a failed measurement has no properties
         dem::TargetEvaluation e;
         e.number = int(fit_log_number(c[std::size_t(number)], at));
+        if (stage >= 0)
+          e.stage = c[std::size_t(stage)];
         for (std::size_t i = 0; i < targets.size(); ++i)
           {
             const double scale = std::abs(targets[i].value);

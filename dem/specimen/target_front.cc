@@ -116,7 +116,7 @@ namespace demfem::dem
           for (std::size_t b = a + 1; b < known.size(); ++b)
             {
               const auto &pa = known[a]->parameters, &pb = known[b]->parameters;
-              bool        only_k = pa[k] != pb[k];
+              bool        only_k = known[a]->stage == known[b]->stage && pa[k] != pb[k];
               for (std::size_t m = 0; m < P && only_k; ++m)
                 only_k = m == k || pa[m] == pb[m];
               if (only_k)

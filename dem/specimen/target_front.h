@@ -37,6 +37,9 @@ namespace demfem::dem
     std::map<std::string, double> relative_error;
     std::map<std::string, double> relative_sd;
     std::vector<double>           parameters;
+    /// The fit's stage (fit.csv `stage`): a stage may measure a target by
+    /// another test (the elastic stage's E, nu: a small-strain test).
+    std::string stage;
   };
 
   /// The best one target reaches alone, in tolerances: |error| / tolerance.
@@ -77,9 +80,9 @@ namespace demfem::dem
   };
 
   /// What one parameter alone does to one target, from the pairs of
-  /// evaluations that differ in that parameter only (every other one
-  /// bit-identical, as in BOBYQA's first model: the start, then each
-  /// parameter alone up and down).
+  /// evaluations of one stage that differ in that parameter only (every
+  /// other one bit-identical, as in BOBYQA's first model: the start, then
+  /// each parameter alone up and down).
   struct TargetLever
   {
     std::string parameter, target;

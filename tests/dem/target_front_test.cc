@@ -141,7 +141,13 @@ TEST_CASE("levers: what one parameter alone does to a target, from one-at-a-time
                                               ev(5, {2, 0.5}, -0.125, none),
                                               ev(6, {4, 2}, 3, 3),
                                               ev(7, {}, 9, 9)};
-  const auto                          l    = one_at_a_time_levers(params, specs, e);
+  // Evaluation 8 differs from 1 in p0 only but belongs to another stage
+  // (another test may measure A there): no pair.
+  auto other_stage  = ev(8, {0, 1}, 7, 7);
+  other_stage.stage = "elastic";
+  auto with_8       = e;
+  with_8.push_back(other_stage);
+  const auto l = one_at_a_time_levers(params, specs, with_8);
   REQUIRE(l.size() == 3); // p1 has no pair measuring B
   CHECK(l[0].parameter == "p0");
   CHECK(l[0].target == "A");
