@@ -52,6 +52,41 @@ namespace demfem::apps
                       p.a + ": relative error [%]", p.b + ": relative error [%]",
                       {box, all, front});
     }
+
+    // One pair of targets, as a fit_front.json "pairs" object and a
+    // fit_front.csv row.
+    Json pair_record(const dem::TargetPairFront &p)
+    {
+      Json j;
+      j.str("target_a", p.a)
+          .str("target_b", p.b)
+          .num("evaluations", p.evaluations)
+          .num("best_a", p.best_a)
+          .num("evaluation_a", p.evaluation_a)
+          .num("best_b", p.best_b)
+          .num("evaluation_b", p.evaluation_b)
+          .num("best_joint", p.best_joint)
+          .num("evaluation_joint", p.evaluation_joint)
+          .num("joint_excess", p.joint_excess)
+          .str("conflict", p.conflict ? "yes" : "no")
+          .nums("front", std::vector<double>(p.front.begin(), p.front.end()));
+      return j;
+    }
+
+    // One parameter-target lever, as a fit_front.json "levers" object and a
+    // fit_levers.csv row.
+    Json lever_record(const dem::TargetLever &l)
+    {
+      Json j;
+      j.str("parameter", l.parameter)
+          .str("target", l.target)
+          .num("pairs", l.pairs)
+          .num("change_per_range", l.change_per_range)
+          .num("largest_step", l.largest_step)
+          .num("change_at_largest_step", l.change_per_range * l.largest_step)
+          .num("seed_sd", l.seed_sd);
+      return j;
+    }
   } // namespace
 
   std::vector<dem::TargetEvaluation> read_fit_evaluations(const std::string &file,
@@ -144,34 +179,10 @@ namespace demfem::apps
       specs.push_back({t.name, t.tolerance});
     const dem::TargetFront f = dem::analyse_target_front(specs, evaluations);
 
-    std::ostringstream csv;
-    csv << std::setprecision(17)
-        << "target_a,target_b,evaluations,best_a,evaluation_a,best_b,evaluation_b,"
-           "best_joint,evaluation_joint,joint_excess,conflict,front\n";
     std::vector<Json> pairs, bests;
     for (const auto &p : f.pairs)
       {
-        std::ostringstream front;
-        for (std::size_t k = 0; k < p.front.size(); ++k)
-          front << (k ? " " : "") << p.front[k];
-        csv << p.a << ',' << p.b << ',' << p.evaluations << ',' << p.best_a << ','
-            << p.evaluation_a << ',' << p.best_b << ',' << p.evaluation_b << ','
-            << p.best_joint << ',' << p.evaluation_joint << ',' << p.joint_excess << ','
-            << (p.conflict ? "yes" : "no") << ',' << front.str() << '\n';
-        Json j;
-        j.str("target_a", p.a)
-            .str("target_b", p.b)
-            .num("evaluations", p.evaluations)
-            .num("best_a", p.best_a)
-            .num("evaluation_a", p.evaluation_a)
-            .num("best_b", p.best_b)
-            .num("evaluation_b", p.evaluation_b)
-            .num("best_joint", p.best_joint)
-            .num("evaluation_joint", p.evaluation_joint)
-            .num("joint_excess", p.joint_excess)
-            .str("conflict", p.conflict ? "yes" : "no")
-            .nums("front", std::vector<double>(p.front.begin(), p.front.end()));
-        pairs.push_back(j);
+        pairs.push_back(pair_record(p));
         if (p.conflict)
           log << "demfem calibrate: " << p.a << " and " << p.b
               << " conflict: each within tolerance alone (evaluations " << p.evaluation_a
@@ -198,35 +209,21 @@ namespace demfem::apps
     std::vector<dem::ParameterSpec> params;
     for (const auto &p : fit.parameters)
       params.push_back({p.name, p.lo, p.hi});
-    std::ostringstream levers_csv;
-    levers_csv << std::setprecision(17)
-               << "parameter,target,pairs,change_per_range,largest_step,"
-                  "change_at_largest_step,seed_sd\n";
     std::vector<Json> levers;
     for (const auto &l : dem::one_at_a_time_levers(params, specs, evaluations))
-      {
-        levers_csv << l.parameter << ',' << l.target << ',' << l.pairs << ','
-                   << l.change_per_range << ',' << l.largest_step << ','
-                   << l.change_per_range * l.largest_step << ',' << l.seed_sd << '\n';
-        Json j;
-        j.str("parameter", l.parameter)
-            .str("target", l.target)
-            .num("pairs", l.pairs)
-            .num("change_per_range", l.change_per_range)
-            .num("largest_step", l.largest_step)
-            .num("change_at_largest_step", l.change_per_range * l.largest_step)
-            .num("seed_sd", l.seed_sd);
-        levers.push_back(j);
-      }
+      levers.push_back(lever_record(l));
     Json j;
     j.num("evaluations", double(evaluations.size()))
         .str("errors_in", "tolerances: |value - target| / (tolerance x |target|)")
         .objs("targets", bests)
         .objs("pairs", pairs)
         .objs("levers", levers);
-    dem::vtkout::write_text_atomically(out + "/fit_front.csv", csv.str());
+    // The CSV files are the JSON's pair and lever records, row by row.
+    dem::vtkout::write_text_atomically(out + "/fit_front.csv",
+                                       Json::csv(pairs, pair_record({})));
     dem::vtkout::write_text_atomically(out + "/fit_front.json", j.text() + "\n");
-    dem::vtkout::write_text_atomically(out + "/fit_levers.csv", levers_csv.str());
+    dem::vtkout::write_text_atomically(out + "/fit_levers.csv",
+                                       Json::csv(levers, lever_record({})));
     // The plot: the pair with the largest trade-off (pairs come sorted).
     if (!f.pairs.empty() && f.pairs.front().evaluations > 0)
       dem::vtkout::write_text_atomically(out + "/fit_front.svg",

@@ -10,6 +10,7 @@
 #include <iostream>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace demfem::apps
 {
@@ -90,6 +91,52 @@ namespace demfem::apps
     return *this;
   }
   std::string Json::text() const { return j_.dump(2); }
+
+  std::string Json::csv(const std::vector<Json> &rows, const Json &header)
+  {
+    std::ostringstream s;
+    s << std::setprecision(17);
+    const auto cell = [&s](const nlohmann::ordered_json &v) {
+      if (v.is_null())
+        s << "nan";
+      else if (v.is_number())
+        s << v.get<double>();
+      else if (v.is_string())
+        s << v.get<std::string>();
+      else // an array of numbers or strings, space-separated
+        for (std::size_t k = 0; k < v.size(); ++k)
+          {
+            if (k)
+              s << ' ';
+            if (v[k].is_string())
+              s << v[k].get<std::string>();
+            else if (v[k].is_null())
+              s << "nan";
+            else
+              s << v[k].get<double>();
+          }
+    };
+    std::vector<std::string> keys;
+    for (const auto &item : header.j_.items())
+      s << (keys.empty() ? "" : ",") << item.key(), keys.push_back(item.key());
+    s << '\n';
+    for (const auto &r : rows)
+      {
+        std::size_t k = 0;
+        for (const auto &item : r.j_.items())
+          {
+            if (k >= keys.size() || item.key() != keys[k])
+              throw std::logic_error("Json::csv: a row's keys differ from the header's");
+            if (k++)
+              s << ',';
+            cell(item.value());
+          }
+        if (k != keys.size())
+          throw std::logic_error("Json::csv: a row's keys differ from the header's");
+        s << '\n';
+      }
+    return s.str();
+  }
 
   std::string history_csv(const std::vector<dem::HistoryRow> &h)
   {

@@ -52,6 +52,11 @@ namespace demfem::apps
     /// The object itself (to merge into another document without a text
     /// round trip).
     const nlohmann::ordered_json &value() const { return j_; }
+    /// The objects as CSV rows under a header of `header`'s keys (a record
+    /// of the same kind, so that a table without rows keeps its header):
+    /// numbers to 17 digits, null as nan, arrays space-separated. One record
+    /// then feeds both a CSV and a JSON output. Throws if a row's keys differ.
+    static std::string csv(const std::vector<Json> &rows, const Json &header);
 
   private:
     nlohmann::ordered_json j_ = nlohmann::ordered_json::object();

@@ -11,6 +11,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -94,6 +95,22 @@ TEST_CASE("calibrate --front finds the conflict in a fit's log", "[calibrate][fr
   CHECK(csv.rfind("target_a,target_b,evaluations,best_a,evaluation_a,best_b,", 0) == 0);
   CHECK(csv.find("\nucs,bts,3,0,1,0,2,") != std::string::npos);
   CHECK(csv.find(",yes,1 3 2\n") != std::string::npos);
+  // The CSV rows are the JSON records written cell by cell: a number to 17
+  // digits reads back as the same double.
+  std::istringstream rows(csv);
+  std::string        header, row, cell;
+  std::getline(rows, header);
+  std::getline(rows, row);
+  std::vector<std::string> cells;
+  for (std::istringstream in(row); std::getline(in, cell, ',');)
+    cells.push_back(cell);
+  REQUIRE(cells.size() == 12);
+  CHECK(std::stod(cells[7]) == p["best_joint"].get<double>());
+  const std::string levers = read(out / "fit_levers.csv");
+  CHECK(levers.rfind("parameter,target,pairs,change_per_range,largest_step,"
+                     "change_at_largest_step,seed_sd\n",
+                     0) == 0);
+  CHECK(std::count(levers.begin(), levers.end(), '\n') == 1 + long(j["levers"].size()));
   CHECK(read(out / "fit_front.svg").find("<svg") != std::string::npos);
   CHECK(nlohmann::json::parse(read(out / "manifest.json"))["status"] == "ok");
 }
