@@ -96,25 +96,23 @@ namespace demfem::apps
   {
     std::ostringstream s;
     s << std::setprecision(17);
-    const auto cell = [&s](const nlohmann::ordered_json &v) {
+    const auto scalar = [&s](const nlohmann::ordered_json &v) {
       if (v.is_null())
         s << "nan";
-      else if (v.is_number())
-        s << v.get<double>();
       else if (v.is_string())
         s << v.get<std::string>();
-      else // an array of numbers or strings, space-separated
-        for (std::size_t k = 0; k < v.size(); ++k)
-          {
-            if (k)
-              s << ' ';
-            if (v[k].is_string())
-              s << v[k].get<std::string>();
-            else if (v[k].is_null())
-              s << "nan";
-            else
-              s << v[k].get<double>();
-          }
+      else
+        s << v.get<double>();
+    };
+    const auto cell = [&](const nlohmann::ordered_json &v) {
+      if (!v.is_array())
+        return scalar(v);
+      for (std::size_t k = 0; k < v.size(); ++k) // space-separated
+        {
+          if (k)
+            s << ' ';
+          scalar(v[k]);
+        }
     };
     std::vector<std::string> keys;
     for (const auto &item : header.j_.items())
