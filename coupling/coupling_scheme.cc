@@ -533,13 +533,22 @@ namespace demfem::coupling
         res = en > 0 ? std::sqrt(rn / en) : (rn > 0 ? HUGE_VAL : 0.0);
       }
 
+      /// Below this many rows a parallel region costs more than the product.
+      static constexpr std::ptrdiff_t min_threaded_rows = 128;
+
       /// out = K_s (u - lambda u_far).
       void elastic_force(double load_factor, std::vector<double> &out) const
       {
         const std::size_t nf = dofs.size();
         for (std::size_t b = 0; b < nf; ++b)
           relative[b] = u[b] - load_factor * u_far[b];
-        for (std::size_t a = 0; a < nf; ++a)
+        // The dense product is the scheme's per-step cost (608 x 608 in the
+        // default example, thousands of rows for a 3D slab). Each row's sum
+        // is taken by one thread in the same order, so the forces do not
+        // depend on the thread count (tests/coupling/quasi_static_test.cc).
+        const auto rows = static_cast<std::ptrdiff_t>(nf);
+#pragma omp parallel for schedule(static) if (rows >= min_threaded_rows)
+        for (std::ptrdiff_t a = 0; a < rows; ++a)
           {
             const double *row = stiffness.data() + a * nf;
             double        t   = 0;

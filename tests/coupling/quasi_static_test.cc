@@ -12,6 +12,8 @@
 
 #include <cmath>
 
+#include <omp.h>
+
 using namespace demfem;
 using namespace demfem::coupling;
 
@@ -175,6 +177,31 @@ TEST_CASE("condensed: the equilibrium does not depend on the time step",
   // One elastic equilibrium, reached to the ratio and residual 1e-4.
   CHECK(diff < 2e-3);
   CHECK(std::abs(a.centre.trace() / b.centre.trace() - 1) < 2e-3);
+}
+
+// The condensed stiffness product is threaded by rows (coupling_scheme.cc):
+// one and two threads must give the same run to the last bit, as the grains
+// do (docs/architecture.md, "Threads and determinism").
+TEST_CASE("condensed: the run does not depend on the thread count",
+          "[coupling][condensed][threads]")
+{
+  test::ensure_mpi_coupling();
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const auto one = run("slaved-layer", "condensed", 12.7069e9, 1, 0.3, 0.8);
+  omp_set_num_threads(2);
+  const auto two = run("slaved-layer", "condensed", 12.7069e9, 1, 0.3, 0.8);
+  omp_set_num_threads(threads);
+  // The product is threaded from 128 rows on: the test region must reach it.
+  REQUIRE(2 * one.u.size() >= 128);
+  CHECK(one.settled);
+  CHECK(one.steps == two.steps);
+  CHECK(one.centre == two.centre);
+  REQUIRE(one.u.size() == two.u.size());
+  std::size_t differing = 0;
+  for (std::size_t i = 0; i < one.u.size(); ++i)
+    differing += one.u[i] != two.u[i];
+  CHECK(differing == 0);
 }
 
 TEST_CASE("condensed: a time-step safety far above 1 is detected as divergence",
