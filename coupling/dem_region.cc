@@ -52,8 +52,9 @@ namespace demfem::coupling
         dem::check_range(w, "DEM region/fj_Nal", fj_Nal, 3, 64);
         // At least two of the largest grains through the slab, so that the
         // slab is a granular layer and not a monolayer between the walls.
-        dem::check_range(w, "DEM region/slab thickness", slab_thickness, 2 * d_hi,
-                         4 * radius);
+        // Checked in the key's unit, mean grain diameters (tunnel_prm.cc).
+        dem::check_range(w, "DEM region/slab thickness", slab_thickness / d, 2 * d_hi / d,
+                         4 * radius / d);
       }
   }
 

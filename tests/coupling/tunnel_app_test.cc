@@ -118,7 +118,8 @@ TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing",
        "incompatible dimension"},
       {"--set \"Problem/dimension=3\" --set \"DEM region/material file=\" --set \"DEM "
        "region/slab thickness=1\"",
-       "DEM region/slab thickness"},
+       // reported in the key's unit, mean grain diameters
+       "'DEM region/slab thickness' = 1 is outside"},
       {"--set \"Continuum/poisson ratio=0.7\"", "poisson ratio"},
       {"--set \"Coupling/variant=glued\"", "Coupling/variant"},
       {"--set \"Coupling/overlap grains=0.1\"", "Coupling/overlap grains"},
