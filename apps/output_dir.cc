@@ -160,7 +160,12 @@ namespace demfem::apps
         if (::rename(lock_file_.c_str(), aside.c_str()) == 0)
           {
             if (json::parse(read_text(aside), nullptr, false) != other)
-              ::link(aside.c_str(), lock_file_.c_str()); // fails if taken: fine
+              {
+                // Fails if another run took the name meanwhile: then its
+                // lock stands, which is what we want.
+                [[maybe_unused]] const int relinked =
+                    ::link(aside.c_str(), lock_file_.c_str());
+              }
             else
               std::fprintf(stderr,
                            "demfem: taking over the stale lock of %s (that process "
