@@ -543,9 +543,10 @@ namespace demfem::coupling
         for (std::size_t b = 0; b < nf; ++b)
           relative[b] = u[b] - load_factor * u_far[b];
         // The dense product is the scheme's per-step cost (608 x 608 in the
-        // default example, thousands of rows for a 3D slab). Each row's sum
-        // is taken by one thread in the same order, so the forces do not
-        // depend on the thread count (tests/coupling/quasi_static_test.cc).
+        // default example; it grows with the square of the coupling nodes).
+        // Each row's sum is taken by one thread in the same order, so the
+        // forces do not depend on the thread count
+        // (tests/coupling/quasi_static_test.cc).
         const auto rows = static_cast<std::ptrdiff_t>(nf);
 #pragma omp parallel for schedule(static) if (rows >= min_threaded_rows)
         for (std::ptrdiff_t a = 0; a < rows; ++a)
