@@ -272,6 +272,12 @@ namespace demfem::apps
           "grain size (a box of that size, 3D: brazilian thickness deep); 0: the disk "
           "is carved from the vessel (diameter min(width, height)). A 3D disk needs "
           "about 20 grains across to split (>= 0)");
+      prm.declare_entry(
+          "brazilian flat angle", "0", Patterns::Double(),
+          "Flattened Brazilian disk: angle 2 alpha [deg] each loaded flat subtends "
+          "at the centre (the flats load a band 2 R sin alpha wide; strength "
+          "k F / (pi R t), k = sin 2 alpha / alpha - 1: 0.960 at 20 deg); 0: the "
+          "round disk of fistPkg (0 .. 20)");
       prm.declare_entry("brazilian thickness", "0", Patterns::Double(),
                         "3D Brazilian specimen of its own: thickness [m]; 0: half the "
                         "brazilian diameter (ISRM t/D = 0.5) (>= 0)");
@@ -603,6 +609,7 @@ namespace demfem::apps
       l.split_fraction            = prm.get_double("brazilian split fraction");
       l.brazilian_diameter        = prm.get_double("brazilian diameter");
       l.brazilian_thickness       = prm.get_double("brazilian thickness");
+      l.brazilian_flat_angle      = prm.get_double("brazilian flat angle");
       l.ratio_limit               = prm.get_double("seating ratio limit");
       l.seat_step_limit           = prm.get_integer("seating step limit");
       l.timestep_safety           = prm.get_double("time step safety");

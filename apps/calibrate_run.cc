@@ -612,6 +612,7 @@ namespace demfem::apps
         .num("split_fraction", s.lab.split_fraction)
         .num("time_step_safety", s.lab.timestep_safety)
         .num("brazilian_diameter_m", s.lab.brazilian_diameter)
+        .num("brazilian_flat_angle_deg", s.lab.brazilian_flat_angle)
         .num("brazilian_thickness_m",
              dim == 3 && dem::own_brazilian_specimen(s.lab) ? brazilian_vessel.D : 0.0);
     mat.obj("lab_tests", lab);

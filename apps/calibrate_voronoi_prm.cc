@@ -247,6 +247,9 @@ namespace demfem::apps
              "Tests/brazilian diameter, Tests/brazilian thickness: a Brazilian "
              "specimen of its own is not available for Voronoi grains (allowed: 0, "
              "the default: the disk is cut from the specimen)");
+    if (prm.get_double("brazilian flat angle") != 0)
+      refuse(where, "Tests/brazilian flat angle: the flattened Brazilian disk is not "
+                    "available for Voronoi grains (allowed: 0, the round disk)");
     if (prm.get("loading rate check") != "false")
       refuse(where, "Tests/loading rate check: the rate repeats are not available for "
                     "Voronoi grains (allowed: false)");

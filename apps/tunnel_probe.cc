@@ -112,6 +112,7 @@ namespace demfem::apps
           set("time_step_safety", lab.timestep_safety);        // 0 (absent): the genesis'
           set("brazilian_diameter_m", lab.brazilian_diameter); // 0 (absent): carved
           set("brazilian_thickness_m", lab.brazilian_thickness);
+          set("brazilian_flat_angle_deg", lab.brazilian_flat_angle); // 0 (absent): round
         }
       else if (const auto fw = j.find("fit_window"); fw != j.end() && fw->is_string())
         {

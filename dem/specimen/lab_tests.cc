@@ -28,6 +28,7 @@ namespace demfem::dem
     };
     check("brazilian diameter", brazilian_diameter, 0, inf);
     check("brazilian thickness", brazilian_thickness, 0, inf);
+    check("brazilian flat angle", brazilian_flat_angle, 0, max_brazilian_flat_angle);
     if (brazilian_thickness > 0 && !(dim == 3 && brazilian_diameter > 0))
       throw InputError(where + ": " + key_prefix +
                        "brazilian thickness: only for a 3D Brazilian specimen of its "
@@ -381,10 +382,13 @@ namespace demfem::dem
       void setup_brazilian()
       {
         // Carve the disk (2D) or the cylinder with its axis along y (3D) of
-        // radius R = min(W, H)/2 centred on the vessel (§5.6, Fig. 29).
+        // radius R = min(W, H)/2 centred on the vessel (§5.6, Fig. 29); a
+        // flattened disk also loses the grains beyond the flats
+        // |x_ax| = R cos alpha (LabTestParams::brazilian_flat_angle).
         const Vec<dim> c = s_.vessel.center;
         const double   R =
             0.5 * std::min(s_.vessel.length(m_.walls, 0), s_.vessel.length(m_.walls, ax));
+        const double cos_alpha = std::cos(0.5 * p_.brazilian_flat_angle * M_PI / 180);
         r_.t = dim == 2 ? 1.0 : s_.vessel.length(m_.walls, 1);
         std::vector<char> remove(m_.particles.size(), 0);
         for (std::size_t i = 0; i < m_.particles.size(); ++i)
@@ -392,7 +396,8 @@ namespace demfem::dem
             Vec<dim> d = m_.particles.x[i] - c;
             if (dim == 3)
               d[1] = 0;
-            remove[i] = d.norm() + m_.particles.radius[i] > R;
+            const double r = m_.particles.radius[i];
+            remove[i]      = d.norm() + r > R || std::abs(d[ax]) + r > R * cos_alpha;
           }
         m_.remove_particles(remove);
         for (int a = 0; a < dim - 1; ++a)
@@ -412,7 +417,9 @@ namespace demfem::dem
           m_.particles.x[i][ax] += shift;
         const double L = s_.vessel.length(m_.walls, ax);
         s_.vessel.translate_outward(m_.walls, ax, 0.5 * ((top - bottom) - L));
-        r_.R = 0.5 * (top - bottom);
+        // The disk's radius from the platen gap: the platens stand
+        // 2 R cos alpha apart (round disk: 2 R).
+        r_.R = 0.5 * (top - bottom) / cos_alpha;
         if (p_.platen_friction > 0)
           platen_friction();
         m_.invalidate_contacts();
@@ -579,7 +586,7 @@ namespace demfem::dem
             // Eq. 22: F_a = (F_bottom - F_top)/2 along y, tension positive.
             h.axial_force  = 0.5 * (W.wall_force(s_.vessel.lo[ax])[ax] -
                                    W.wall_force(s_.vessel.hi[ax])[ax]);
-            h.axial_stress = -brazilian_strength(-h.axial_force, r_.R, r_.t);
+            h.axial_stress = -brazilian_strength(-h.axial_force, r_.R, r_.t, p_.brazilian_flat_angle);
             h.load         = -h.axial_force;
           }
         else
@@ -809,7 +816,8 @@ namespace demfem::dem
         if (p_.kind == TestKind::brazilian)
           {
             r_.peak_force = -ps.axial_force;
-            r_.peak       = brazilian_strength(r_.peak_force, r_.R, r_.t); // Eq. 24
+            r_.peak       = brazilian_strength(r_.peak_force, r_.R, r_.t,
+                                             p_.brazilian_flat_angle); // Eq. 24
             classify_failure(pk.cracks_tension + pk.cracks_shear);
           }
         r_.cracks_tension_peak = pk.cracks_tension;

@@ -7,6 +7,7 @@
 // its peak or at a strain limit; and the properties of §5.2 (Eq. 18-20,
 // docs/architecture.md, "Plane-stress and plane-strain constants"). Sign convention:
 // tension positive in the history; reported strengths are magnitudes.
+#include "dem/specimen/brazilian_formula.h"
 #include "dem/specimen/genesis.h"
 #include "dem/specimen/servo.h"
 
@@ -113,6 +114,14 @@ namespace demfem::dem
     /// does not split (docs/calibrate_ldb.md, 3D): the split needs more
     /// grains across than the compression specimen's width holds.
     double brazilian_diameter = 0, brazilian_thickness = 0;
+    /// Flattened Brazilian disk: the angle 2 alpha [deg] each of the two
+    /// loaded flats subtends at the disk centre (grains beyond
+    /// |x_load| = R cos alpha are carved away; the flat platens then load a
+    /// band 2 R sin alpha wide instead of a line one or two grains wide).
+    /// 0: the round disk of fistPkg §5.6. The strength is
+    /// brazilian_strength with the arc-load factor k(alpha)
+    /// (docs/calibrate.md, "The flattened Brazilian disk").
+    double brazilian_flat_angle = 0;
     /// Window of the modulus fit, as fractions of the peak load (loading
     /// branch before the peak): E and nu are least-squares slopes in it.
     double fit_lo = 0.1, fit_hi = 0.5;
@@ -259,13 +268,6 @@ namespace demfem::dem
   inline bool own_brazilian_specimen(const LabTestParams &p)
   {
     return p.brazilian_diameter > 0;
-  }
-
-  /// Brazilian tensile strength, fistPkg Eq. 24: sigma_t = F_max / (pi R t)
-  /// (2D: t = 1).
-  inline double brazilian_strength(double F_max, double R, double t)
-  {
-    return F_max / (M_PI * R * t);
   }
 
   /// Least-squares slope of y(x) over the points (both of equal size >= 2).

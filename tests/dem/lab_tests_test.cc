@@ -8,6 +8,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -180,6 +181,9 @@ TEST_CASE("wall, measurement and gauge quantities agree on an elastic specimen",
 
 TEST_CASE("Brazilian test: Eq. 24 and measurement stress vs platen forces", "[labtests]")
 {
+  // The round disk (fistPkg §5.6) and the flattened one (flats of 20 deg,
+  // LabTestParams::brazilian_flat_angle): the identity below holds for any
+  // shape, the strength carries the arc-load factor.
   // Diametral compression of an unbreakable disk carved from a 2D box. In
   // static equilibrium the measurement stress over the whole disk,
   // -(1/V) sum F (x) l over the grain-grain contacts, equals
@@ -200,10 +204,39 @@ TEST_CASE("Brazilian test: Eq. 24 and measurement stress vs platen forces", "[la
   l.strain_limit        = 2e-4;
   l.platen_friction     = 0.5;
   l.history_interval    = 20;
-  const LabTestResult r = run_lab_test(s, l);
+  l.brazilian_flat_angle = GENERATE(0.0, 20.0);
+  INFO("flat angle " << l.brazilian_flat_angle << " deg");
+  const double        cos_alpha = std::cos(0.5 * l.brazilian_flat_angle * M_PI / 180);
+  const LabTestResult r         = run_lab_test(s, l);
   REQUIRE(r.R > 0);
-  CHECK(r.peak == Approx(brazilian_strength(r.peak_force, r.R, 1.0)).epsilon(1e-12));
-  CHECK(r.peak == Approx(r.peak_force / (M_PI * r.R)).epsilon(1e-12));
+  const double k = brazilian_arc_factor(0.5 * l.brazilian_flat_angle * M_PI / 180);
+  CHECK(r.peak == Approx(brazilian_strength(r.peak_force, r.R, 1.0, l.brazilian_flat_angle))
+                      .epsilon(1e-12));
+  CHECK(r.peak == Approx(k * r.peak_force / (M_PI * r.R)).epsilon(1e-12));
+  // The carved shape: every grain inside the circle of radius min(W, H)/2
+  // (up to the rigid shift along y that centres the disk between the
+  // platens, less than a grain radius: measured 2e-5 m here) and,
+  // flattened, between the flats R cos alpha from the centre (the loading
+  // moved the platens by 2e-4 of their gap: tolerance 1e-3 R); the radius
+  // from the platen gap lies within a grain of the circle's.
+  {
+    const double R0 = 0.5 * v.W, rmax = *std::max_element(s.model.particles.radius.begin(),
+                                                          s.model.particles.radius.end());
+    double       x_ext = 0, y_ext = 0;
+    for (std::size_t i = 0; i < s.model.particles.size(); ++i)
+      {
+        const Vec<2> d = s.model.particles.x[i] - s.vessel.center;
+        CHECK(d.norm() + s.model.particles.radius[i] < R0 + rmax);
+        x_ext = std::max(x_ext, std::abs(d[0]) + s.model.particles.radius[i]);
+        y_ext = std::max(y_ext, std::abs(d[1]) + s.model.particles.radius[i]);
+      }
+    CHECK(y_ext < R0 * cos_alpha * (1 + 1e-3));
+    CHECK(x_ext > R0 - 2 * rmax);
+    CHECK(r.R <= R0 * (1 + 1e-3));
+    CHECK(r.R > R0 - 2 * rmax / cos_alpha);
+    if (l.brazilian_flat_angle > 0)
+      CHECK(x_ext > y_ext + 0.5 * R0 * (1 - cos_alpha)); // the flats are there
+  }
   // Seating: the disk is loaded from a stable seat at the material
   // pressure, F = P_m pi R t (2D: t = 1), not from first touch (a coarse 3D
   // cylinder rocked on one grain per platen and the test ended at 0.11 MPa).
@@ -462,7 +495,9 @@ TEST_CASE("lab-test parameters are checked once, naming the key", "[labtests]")
       {"crack volumetric strain fraction",
        [](LabTestParams &q) { q.crack_volumetric_fraction = 1; }},
       {"seating ratio limit", [](LabTestParams &q) { q.ratio_limit = 0; }},
-      {"fit window high", [](LabTestParams &q) { q.fit_lo = 0.3, q.fit_hi = 0.2; }}};
+      {"fit window high", [](LabTestParams &q) { q.fit_lo = 0.3, q.fit_hi = 0.2; }},
+      {"brazilian flat angle", [](LabTestParams &q) { q.brazilian_flat_angle = 25; }},
+      {"brazilian flat angle", [](LabTestParams &q) { q.brazilian_flat_angle = -1; }}};
   for (const auto &[key, spoil] : bad)
     {
       LabTestParams q;
