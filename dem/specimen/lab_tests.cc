@@ -389,7 +389,7 @@ namespace demfem::dem
         const double   R =
             0.5 * std::min(s_.vessel.length(m_.walls, 0), s_.vessel.length(m_.walls, ax));
         const double cos_alpha = std::cos(0.5 * p_.brazilian_flat_angle * M_PI / 180);
-        r_.t = dim == 2 ? 1.0 : s_.vessel.length(m_.walls, 1);
+        r_.t                   = dim == 2 ? 1.0 : s_.vessel.length(m_.walls, 1);
         std::vector<char> remove(m_.particles.size(), 0);
         for (std::size_t i = 0; i < m_.particles.size(); ++i)
           {
@@ -584,10 +584,11 @@ namespace demfem::dem
             const double g = s_.vessel.length(W, ax);
             h.axial_strain = (g - L0_) / L0_; // Eq. 23
             // Eq. 22: F_a = (F_bottom - F_top)/2 along y, tension positive.
-            h.axial_force  = 0.5 * (W.wall_force(s_.vessel.lo[ax])[ax] -
+            h.axial_force = 0.5 * (W.wall_force(s_.vessel.lo[ax])[ax] -
                                    W.wall_force(s_.vessel.hi[ax])[ax]);
-            h.axial_stress = -brazilian_strength(-h.axial_force, r_.R, r_.t, p_.brazilian_flat_angle);
-            h.load         = -h.axial_force;
+            h.axial_stress =
+                -brazilian_strength(-h.axial_force, r_.R, r_.t, p_.brazilian_flat_angle);
+            h.load = -h.axial_force;
           }
         else
           {
@@ -817,7 +818,7 @@ namespace demfem::dem
           {
             r_.peak_force = -ps.axial_force;
             r_.peak       = brazilian_strength(r_.peak_force, r_.R, r_.t,
-                                             p_.brazilian_flat_angle); // Eq. 24
+                                               p_.brazilian_flat_angle); // Eq. 24
             classify_failure(pk.cracks_tension + pk.cracks_shear);
           }
         r_.cracks_tension_peak = pk.cracks_tension;

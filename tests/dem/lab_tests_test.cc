@@ -199,19 +199,20 @@ TEST_CASE("Brazilian test: Eq. 24 and measurement stress vs platen forces", "[la
   set_grain_count<2>(p, v, 350);
   Specimen<2>   s = build_specimen<2>(p, v);
   LabTestParams l;
-  l.kind                = TestKind::brazilian;
-  l.strain_rate         = 0.5;
-  l.strain_limit        = 2e-4;
-  l.platen_friction     = 0.5;
-  l.history_interval    = 20;
+  l.kind                 = TestKind::brazilian;
+  l.strain_rate          = 0.5;
+  l.strain_limit         = 2e-4;
+  l.platen_friction      = 0.5;
+  l.history_interval     = 20;
   l.brazilian_flat_angle = GENERATE(0.0, 20.0);
   INFO("flat angle " << l.brazilian_flat_angle << " deg");
   const double        cos_alpha = std::cos(0.5 * l.brazilian_flat_angle * M_PI / 180);
   const LabTestResult r         = run_lab_test(s, l);
   REQUIRE(r.R > 0);
   const double k = brazilian_arc_factor(0.5 * l.brazilian_flat_angle * M_PI / 180);
-  CHECK(r.peak == Approx(brazilian_strength(r.peak_force, r.R, 1.0, l.brazilian_flat_angle))
-                      .epsilon(1e-12));
+  CHECK(r.peak ==
+        Approx(brazilian_strength(r.peak_force, r.R, 1.0, l.brazilian_flat_angle))
+            .epsilon(1e-12));
   CHECK(r.peak == Approx(k * r.peak_force / (M_PI * r.R)).epsilon(1e-12));
   // The carved shape: every grain inside the circle of radius min(W, H)/2
   // (up to the rigid shift along y that centres the disk between the
@@ -220,9 +221,10 @@ TEST_CASE("Brazilian test: Eq. 24 and measurement stress vs platen forces", "[la
   // moved the platens by 2e-4 of their gap: tolerance 1e-3 R); the radius
   // from the platen gap lies within a grain of the circle's.
   {
-    const double R0 = 0.5 * v.W, rmax = *std::max_element(s.model.particles.radius.begin(),
-                                                          s.model.particles.radius.end());
-    double       x_ext = 0, y_ext = 0;
+    const double R0   = 0.5 * v.W,
+                 rmax = *std::max_element(s.model.particles.radius.begin(),
+                                          s.model.particles.radius.end());
+    double x_ext = 0, y_ext = 0;
     for (std::size_t i = 0; i < s.model.particles.size(); ++i)
       {
         const Vec<2> d = s.model.particles.x[i] - s.vessel.center;

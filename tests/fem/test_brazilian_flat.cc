@@ -57,8 +57,8 @@ namespace
   FlatDiskResult solve_flat_disk(const double alpha, const FlatLoad load,
                                  const unsigned int refinements)
   {
-    const double       R = 1, E = 1, nu = 0.25, flat = R * std::cos(alpha);
-    Triangulation<2>   tria;
+    const double     R = 1, E = 1, nu = 0.25, flat = R * std::cos(alpha);
+    Triangulation<2> tria;
     GridGenerator::hyper_ball(tria, Point<2>(), R);
     tria.refine_global(refinements);
     tria.reset_all_manifolds();
@@ -70,17 +70,19 @@ namespace
           // Angles from the load axis y: the quarter circles around the
           // poles (|phi| < 45 deg) become the flats (|phi| < alpha), so the
           // flats' ends are vertices; the side quarters fill the arcs.
-          const double phi   = std::atan2(p[0], p[1]); // 0 at the top pole
-          const double fold  = std::abs(phi) > M_PI / 2 ? M_PI - std::abs(phi) : std::abs(phi);
-          const double q     = M_PI / 4;
-          const double fold2 = fold < q ? fold * alpha / q
-                                        : alpha + (fold - q) * (M_PI / 2 - alpha) / q;
-          const double phi2  = std::copysign(std::abs(phi) > M_PI / 2 ? M_PI - fold2 : fold2, phi);
-          const double rho   = fold2 < alpha ? std::cos(alpha) / std::cos(fold2) : 1.0;
+          const double phi = std::atan2(p[0], p[1]); // 0 at the top pole
+          const double fold =
+              std::abs(phi) > M_PI / 2 ? M_PI - std::abs(phi) : std::abs(phi);
+          const double q = M_PI / 4;
+          const double fold2 =
+              fold < q ? fold * alpha / q : alpha + (fold - q) * (M_PI / 2 - alpha) / q;
+          const double phi2 =
+              std::copysign(std::abs(phi) > M_PI / 2 ? M_PI - fold2 : fold2, phi);
+          const double rho = fold2 < alpha ? std::cos(alpha) / std::cos(fold2) : 1.0;
           return Point<2>(r * rho * std::sin(phi2), r * rho * std::cos(phi2));
         },
         tria);
-    const double tol = 1e-9 * R;
+    const double tol     = 1e-9 * R;
     const auto   on_flat = [&](const Point<2> &p) { return std::abs(p[1]) > flat - tol; };
 
     const FESystem<2> fe(FE_Q<2>(2), 2);
@@ -111,11 +113,11 @@ namespace
     }
     for (types::global_dof_index i = 0; i < dofs.n_dofs(); ++i)
       {
-        const Point<2> &x        = support[i];
-        const bool      at_centre = x.norm() < tol;
-        const bool top_middle = std::abs(x[0]) < tol && std::abs(x[1] - flat) < tol;
-        if (component[i] == 0 && (at_centre || (load == FlatLoad::uniform_pressure &&
-                                               top_middle)))
+        const Point<2> &x          = support[i];
+        const bool      at_centre  = x.norm() < tol;
+        const bool      top_middle = std::abs(x[0]) < tol && std::abs(x[1] - flat) < tol;
+        if (component[i] == 0 &&
+            (at_centre || (load == FlatLoad::uniform_pressure && top_middle)))
           constraints.add_line(i);
         if (component[i] == 1 && load == FlatLoad::uniform_pressure && at_centre)
           constraints.add_line(i);
@@ -135,17 +137,18 @@ namespace
     Vector<double>       f(dofs.n_dofs()), u(dofs.n_dofs());
 
     // Plane strain, uniform pressure p = 1 on the flats.
-    const double      lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
-    const QGauss<2>   q(3);
-    const QGauss<1>   qf(3);
-    FEValues<2>       fv(fe, q, update_gradients | update_JxW_values);
-    FEFaceValues<2>   ff(fe, qf, update_values | update_quadrature_points |
-                                   update_normal_vectors | update_JxW_values);
-    const unsigned    n = fe.dofs_per_cell;
-    FullMatrix<double> Kc(n, n);
-    Vector<double>     fc(n);
+    const double    lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+    const QGauss<2> q(3);
+    const QGauss<1> qf(3);
+    FEValues<2>     fv(fe, q, update_gradients | update_JxW_values);
+    FEFaceValues<2> ff(fe, qf,
+                       update_values | update_quadrature_points | update_normal_vectors |
+                           update_JxW_values);
+    const unsigned  n = fe.dofs_per_cell;
+    FullMatrix<double>                   Kc(n, n);
+    Vector<double>                       fc(n);
     std::vector<types::global_dof_index> ids(n);
-    double applied = 0;
+    double                               applied = 0;
     for (const auto &cell : dofs.active_cell_iterators())
       {
         fv.reinit(cell);
@@ -175,8 +178,8 @@ namespace
                     for (unsigned int i = 0; i < n; ++i)
                       {
                         const unsigned ci = fe.system_to_component_index(i).first;
-                        fc(i) -= ff.normal_vector(qp)[ci] * ff.shape_value(i, qp) *
-                                 ff.JxW(qp);
+                        fc(i) -=
+                            ff.normal_vector(qp)[ci] * ff.shape_value(i, qp) * ff.JxW(qp);
                       }
                     if (ff.quadrature_point(qp)[1] > 0)
                       applied += ff.JxW(qp);
@@ -193,7 +196,8 @@ namespace
     const auto stress = [&](const Point<2> &x) {
       std::vector<Tensor<1, 2>> grad(2);
       VectorTools::point_gradient(dofs, u, x, grad);
-      const double exx = grad[0][0], eyy = grad[1][1], exy = 0.5 * (grad[0][1] + grad[1][0]);
+      const double exx = grad[0][0], eyy = grad[1][1],
+                   exy = 0.5 * (grad[0][1] + grad[1][0]);
       return std::array<double, 3>{lambda * (exx + eyy) + 2 * mu * exx,
                                    lambda * (exx + eyy) + 2 * mu * eyy, 2 * mu * exy};
     };
@@ -213,7 +217,8 @@ namespace
           for (unsigned int qp = 0; qp < line.size(); ++qp)
             {
               const double x = -R + (k + line.point(qp)[0]) * 2 * R / panels;
-              r.load -= stress(Point<2>(x, 1e-7 * R))[1] * line.weight(qp) * 2 * R / panels;
+              r.load -=
+                  stress(Point<2>(x, 1e-7 * R))[1] * line.weight(qp) * 2 * R / panels;
             }
       }
     return r;
@@ -241,8 +246,8 @@ TEST_CASE("flattened Brazilian disk: the centre stress is the arc-load factor's"
       CHECK(k == Approx(std::sin(2 * alpha) / alpha - 1).epsilon(1e-15));
       const FlatDiskResult p = solve_flat_disk(alpha, FlatLoad::uniform_pressure, 5);
       const FlatDiskResult q = solve_flat_disk(alpha, FlatLoad::rigid_punch, 5);
-      const double k_pressure = p.centre_sxx * M_PI / p.load; // R = t = 1
-      const double k_punch    = q.centre_sxx * M_PI / q.load;
+      const double         k_pressure = p.centre_sxx * M_PI / p.load; // R = t = 1
+      const double         k_punch    = q.centre_sxx * M_PI / q.load;
       INFO("2 alpha " << two_alpha_deg << " deg: k(pressure) " << k_pressure
                       << ", k(punch) " << k_punch << ", k(arc) " << k);
       CHECK(k_pressure == Approx(k).epsilon(0.006));
