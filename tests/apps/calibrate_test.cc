@@ -494,6 +494,44 @@ TEST_CASE("calibrate: a Brazilian disk that splits gives the BTS",
             .epsilon(1e-12));
 }
 
+TEST_CASE("calibrate: a flattened Brazilian disk", "[calibrate][brazilian]")
+{
+  // The disk of the split test above with flats of 2 alpha = 20 deg
+  // (Tests/brazilian flat angle): the BTS is k F / (pi R t) with the
+  // arc-load factor k = sin 2 alpha / alpha - 1 = 0.9596 from the summary's
+  // force, radius and thickness; the angle is recorded in material.json for
+  // the probe; out of its range (0 .. 20) it is refused naming the key and
+  // nothing is written.
+  const auto [out, r] = run_splitting(
+      "flat_disk",
+      " --set \"Vessel/width=0.04\" --set \"Vessel/height=0.04\""
+      " --set \"Material/number of grains=350\""
+      " --set \"Tests/tests=brazilian\" --set \"Tests/brazilian flat angle=20\"");
+  INFO(r.out);
+  REQUIRE(r.exit_code == 0);
+  const auto  mat = nlohmann::json::parse(read(out / "material.json"));
+  const auto  sum = nlohmann::json::parse(read(out / "summary.json"));
+  const auto &b   = sum["tests"]["brazilian"];
+  CHECK(b["failure_mode"] == "split");
+  const double k = std::sin(M_PI / 9) / (M_PI / 18) - 1;
+  CHECK(b["peak_Pa"].get<double>() ==
+        Approx(k * b["peak_force_N"].get<double>() /
+               (M_PI * b["disk_radius_m"].get<double>() * b["thickness_m"].get<double>()))
+            .epsilon(1e-12));
+  CHECK(mat["bts"].get<double>() == b["peak_Pa"].get<double>());
+  CHECK(mat["lab_tests"]["brazilian_flat_angle_deg"].get<double>() == 20);
+
+  const fs::path bad = work_dir() / "bad_flat_angle";
+  fs::remove_all(bad);
+  const auto r2 =
+      run_demfem("calibrate " + write("bad_flat.prm", tiny_prm(bad)).string() +
+                 " --set \"Tests/brazilian flat angle=25\"");
+  CHECK(r2.exit_code == 1);
+  CHECK(r2.out.find("Tests/brazilian flat angle") != std::string::npos);
+  CHECK(r2.out.find("allowed") != std::string::npos);
+  CHECK_FALSE(fs::exists(bad / "material.json"));
+}
+
 TEST_CASE("calibrate: a Brazilian specimen of its own, packed at the grain size",
           "[calibrate][brazilian]")
 {
