@@ -220,6 +220,9 @@ namespace demfem::apps
       if (dem::own_brazilian_specimen(lab))
         out << "probe: Brazilian specimen of its own, " << lab.brazilian_diameter
             << " m across (the file's Tests/brazilian diameter x " << r.k << ")\n";
+      if (lab.brazilian_flat_angle > 0)
+        out << "probe: flattened Brazilian disk, flats of " << lab.brazilian_flat_angle
+            << " deg (the file's Tests/brazilian flat angle)\n";
       if (!keys && !ref.lab_recorded)
         out << "probe: the material file does not record its test settings "
                "(lab_tests; written by demfem calibrate since the probe exists): "

@@ -96,6 +96,24 @@ namespace
     s << f.rdbuf();
     return s.str();
   }
+
+  // `demfem calibrate` of the tiny material with `args` is refused where
+  // the value enters: exit 1, the message names `key` (and `also`), and
+  // nothing is written.
+  void check_refused(const std::string &name, const std::string &args,
+                     const std::string &key, const std::string &also = "")
+  {
+    const fs::path out = work_dir() / ("bad_" + name);
+    fs::remove_all(out);
+    const auto r = run_demfem(
+        "calibrate " + write("bad_" + name + ".prm", tiny_prm(out)).string() + args);
+    INFO(r.out);
+    CHECK(r.exit_code == 1);
+    CHECK(r.out.find(key) != std::string::npos);
+    if (!also.empty())
+      CHECK(r.out.find(also) != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+  }
 } // namespace
 
 TEST_CASE("calibrate: tiny 2D material end to end", "[calibrate]")
@@ -521,15 +539,8 @@ TEST_CASE("calibrate: a flattened Brazilian disk", "[calibrate][brazilian]")
   CHECK(mat["bts"].get<double>() == b["peak_Pa"].get<double>());
   CHECK(mat["lab_tests"]["brazilian_flat_angle_deg"].get<double>() == 20);
 
-  const fs::path bad = work_dir() / "bad_flat_angle";
-  fs::remove_all(bad);
-  const auto r2 =
-      run_demfem("calibrate " + write("bad_flat.prm", tiny_prm(bad)).string() +
-                 " --set \"Tests/brazilian flat angle=25\"");
-  CHECK(r2.exit_code == 1);
-  CHECK(r2.out.find("Tests/brazilian flat angle") != std::string::npos);
-  CHECK(r2.out.find("allowed") != std::string::npos);
-  CHECK_FALSE(fs::exists(bad / "material.json"));
+  check_refused("flat_angle", " --set \"Tests/brazilian flat angle=25\"",
+                "Tests/brazilian flat angle", "allowed");
 }
 
 TEST_CASE("calibrate: a Brazilian specimen of its own, packed at the grain size",
@@ -570,20 +581,12 @@ TEST_CASE("calibrate: a Brazilian specimen of its own, packed at the grain size"
   CHECK_FALSE(fs::exists(out / "specimen_brazilian.h5"));
 
   // A thickness is a 3D key: refused in 2D naming it, nothing written.
-  const fs::path bad = work_dir() / "bad_disk_thickness";
-  fs::remove_all(bad);
-  const auto r2 =
-      run_demfem("calibrate " + write("bad_disk.prm", tiny_prm(bad)).string() +
-                 " --set \"Tests/brazilian diameter=0.04\""
-                 " --set \"Tests/brazilian thickness=0.02\"");
-  CHECK(r2.exit_code == 1);
-  CHECK(r2.out.find("Tests/brazilian thickness") != std::string::npos);
-  CHECK_FALSE(fs::exists(bad / "material.json"));
-  const auto r3 =
-      run_demfem("calibrate " + write("bad_disk2.prm", tiny_prm(bad)).string() +
-                 " --set \"Tests/brazilian diameter=-1\"");
-  CHECK(r3.exit_code == 1);
-  CHECK(r3.out.find("Tests/brazilian diameter") != std::string::npos);
+  check_refused("disk_thickness",
+                " --set \"Tests/brazilian diameter=0.04\""
+                " --set \"Tests/brazilian thickness=0.02\"",
+                "Tests/brazilian thickness");
+  check_refused("disk_diameter", " --set \"Tests/brazilian diameter=-1\"",
+                "Tests/brazilian diameter");
 }
 
 TEST_CASE("calibrate: a Brazilian disk that does not split gives no BTS",
@@ -624,13 +627,6 @@ TEST_CASE("calibrate: a Brazilian disk that does not split gives no BTS",
   CHECK(manifest["exit_code"] == 3);
 
   // The threshold is checked where it enters, naming the key and range.
-  const fs::path bad = work_dir() / "bad_split_fraction";
-  fs::remove_all(bad);
-  const auto r2 =
-      run_demfem("calibrate " + write("bad_split.prm", tiny_prm(bad)).string() +
-                 " --set \"Tests/brazilian split fraction=0\"");
-  CHECK(r2.exit_code == 1);
-  CHECK(r2.out.find("Tests/brazilian split fraction") != std::string::npos);
-  CHECK(r2.out.find("allowed range") != std::string::npos);
-  CHECK_FALSE(fs::exists(bad));
+  check_refused("split_fraction", " --set \"Tests/brazilian split fraction=0\"",
+                "Tests/brazilian split fraction", "allowed range");
 }
