@@ -3,9 +3,11 @@
 // radius R with two opposite flats, each subtending 2 alpha at the centre,
 // loaded across the flats by a total force P, against the arc-load factor
 // k(alpha) = sin(2 alpha) / alpha - 1 of sigma_t = k P / (pi R t) that
-// dem::brazilian_strength uses. Two loadings bound what the DEM's rigid,
-// frictionless platens do: a uniform pressure on the flats, and a rigid
-// frictionless punch (uniform normal displacement, free tangential). In-plane
+// dem::brazilian_strength uses. Two loadings between which we expect the
+// DEM's rigid platens on a rough grain layer to lie: a uniform pressure on
+// the flats, and a rigid frictionless punch (uniform normal displacement,
+// free tangential). The stiffness is the continuum's own
+// (fem/isotropic_elasticity.h). In-plane
 // stresses of a traction-loaded disk do not depend on E and nu (Michell), so
 // plane strain with any constants serves.
 #include <catch2/catch.hpp>
@@ -29,7 +31,9 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include "dem/specimen/brazilian_formula.h"
+#include "fem/isotropic_elasticity.h"
 
+#include <array>
 #include <cmath>
 
 using namespace dealii;
@@ -137,14 +141,16 @@ namespace
     Vector<double>       f(dofs.n_dofs()), u(dofs.n_dofs());
 
     // Plane strain, uniform pressure p = 1 on the flats.
-    const double    lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
-    const QGauss<2> q(3);
-    const QGauss<1> qf(3);
-    FEValues<2>     fv(fe, q, update_gradients | update_JxW_values);
-    FEFaceValues<2> ff(fe, qf,
-                       update_values | update_quadrature_points | update_normal_vectors |
-                           update_JxW_values);
-    const unsigned  n = fe.dofs_per_cell;
+    const demfem::fem::LameConstants     c      = demfem::fem::lame_constants(E, nu);
+    const double                         lambda = c.lambda, mu = c.mu;
+    std::vector<SymmetricTensor<2, 2>>   eps;
+    const QGauss<2>                      q(3);
+    const QGauss<1>                      qf(3);
+    FEValues<2>                          fv(fe, q, update_gradients | update_JxW_values);
+    FEFaceValues<2>                      ff(fe, qf,
+                                            update_values | update_quadrature_points | update_normal_vectors |
+                                                update_JxW_values);
+    const unsigned                       n = fe.dofs_per_cell;
     FullMatrix<double>                   Kc(n, n);
     Vector<double>                       fc(n);
     std::vector<types::global_dof_index> ids(n);
@@ -153,19 +159,7 @@ namespace
       {
         fv.reinit(cell);
         Kc = 0, fc = 0;
-        for (unsigned int qp = 0; qp < q.size(); ++qp)
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              const unsigned ci = fe.system_to_component_index(i).first;
-              for (unsigned int j = 0; j < n; ++j)
-                {
-                  const unsigned cj = fe.system_to_component_index(j).first;
-                  const auto     gi = fv.shape_grad(i, qp), gj = fv.shape_grad(j, qp);
-                  Kc(i, j) += (lambda * gi[ci] * gj[cj] + mu * gi[cj] * gj[ci] +
-                               (ci == cj ? mu * (gi * gj) : 0.0)) *
-                              fv.JxW(qp);
-                }
-            }
+        demfem::fem::add_isotropic_stiffness(fv, c, eps, Kc);
         if (load == FlatLoad::uniform_pressure)
           for (const auto face : cell->face_indices())
             if (cell->face(face)->at_boundary() && on_flat(cell->face(face)->vertex(0)) &&
@@ -198,8 +192,8 @@ namespace
       VectorTools::point_gradient(dofs, u, x, grad);
       const double exx = grad[0][0], eyy = grad[1][1],
                    exy = 0.5 * (grad[0][1] + grad[1][0]);
-      return std::array<double, 3>{lambda * (exx + eyy) + 2 * mu * exx,
-                                   lambda * (exx + eyy) + 2 * mu * eyy, 2 * mu * exy};
+      return std::array<double, 3>{{lambda * (exx + eyy) + 2 * mu * exx,
+                                    lambda * (exx + eyy) + 2 * mu * eyy, 2 * mu * exy}};
     };
     FlatDiskResult r;
     // The centre is a vertex: read just off it along the load axis (the
