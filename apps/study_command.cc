@@ -537,7 +537,7 @@ namespace demfem::apps
                 // the most conservative swept safety, at most 0.8
                 q.safety = std::min(0.8, *std::min_element(ss.begin(), ss.end()));
                 q.ratio_tolerance       = base.ratio_tolerance;
-                q.ramp_steps            = base.ramp_steps;
+                q.ramp_crossing_times   = base.ramp_crossing_times;
                 q.damage_link_diameters = base.damage_link_diameters;
                 q.phase_step_limit      = base.phase_step_limit;
                 q.history_interval      = base.history_interval;

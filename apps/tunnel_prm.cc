@@ -190,8 +190,11 @@ namespace demfem::apps
                       "explicit)");
     prm.declare_entry("equilibrium ratio", "1e-3", Patterns::Double(),
                       "Equilibrium: unbalanced-force ratio below this");
-    prm.declare_entry("ramp steps", "2000", Patterns::Integer(1),
-                      "Steps of the in-situ load ramp");
+    prm.declare_entry("ramp crossing times", "4", Patterns::Double(),
+                      "Duration of the in-situ load ramp in crossing times of the DEM "
+                      "region, 2 R / sqrt(E* / rho) (R its radius, E* the flat joints' "
+                      "effective modulus, rho the grain density): a physical time, the "
+                      "same for every time step; in (0, 1000]");
     prm.declare_entry("step limit", "20000", Patterns::Integer(1),
                       "Step limit of each equilibrium phase / excavation stage (the "
                       "cost budget)");
@@ -385,7 +388,7 @@ namespace demfem::apps
                            "(Study/timestep safety factors may exceed 1 to map that "
                            "limit)"));
     s.ratio_tolerance  = prm.get_double("equilibrium ratio");
-    s.ramp_steps       = prm.get_integer("ramp steps");
+    s.ramp_crossing_times = prm.get_double("ramp crossing times");
     s.phase_step_limit = prm.get_integer("step limit");
     s.phase_time_limit = prm.get_double("phase time limit");
     AssertThrow(s.ratio_tolerance > 0,

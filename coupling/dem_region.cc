@@ -90,6 +90,20 @@ namespace demfem::coupling
     return m;
   }
 
+  double RegionParams::crossing_time() const
+  {
+    const dem::MaterialParams m = genesis_material();
+    return 2 * radius / std::sqrt(m.emod / m.density);
+  }
+
+  std::int64_t ramp_steps(double duration, double dt)
+  {
+    // The ramp's model time is steps x dt; a relative 1e-12 absorbs the
+    // round-off of duration / dt when the duration is a whole number of steps.
+    const double n = std::ceil(duration / dt * (1 - 1e-12));
+    return std::max<std::int64_t>(1, static_cast<std::int64_t>(n));
+  }
+
   namespace
   {
     // Distance from the origin to the segment [a, b] (2D points).

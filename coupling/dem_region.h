@@ -108,7 +108,23 @@ namespace demfem::coupling
     {
       return material ? *material : keys_material();
     }
+    /// A physical time scale of the region [s]: 2 R / sqrt(E* / rho), the
+    /// time a wave at the bonded contacts' bar speed takes to cross it (R
+    /// its radius, E* the flat joints' effective modulus, rho the grain
+    /// density of genesis_material()). The in-situ ramp lasts Coupling/ramp
+    /// crossing times of it (docs/tunnel.md, "In-situ stress installation"),
+    /// whatever the time step.
+    double crossing_time() const;
   };
+
+  /// Upper bound of Coupling/ramp crossing times: a longer ramp only adds
+  /// cost (the slaved layer installs the same state for any length, and a
+  /// wall-facet ramp of a few crossing times is already quasi-static).
+  constexpr double max_ramp_crossing_times = 1000;
+
+  /// Steps of a load ramp lasting `duration` [s] at the time step dt: the
+  /// fewest whose model time reaches the duration, at least one.
+  std::int64_t ramp_steps(double duration, double dt);
 
   /// Law groups of the built region.
   struct RegionGroups

@@ -279,7 +279,8 @@ namespace demfem::coupling
                      DamageZone::max_link_grain_diameters);
     dem::check_range(w, "timestep safety", safety, 0, 1, true);
     dem::check_range(w, "equilibrium ratio", ratio_tolerance, 0, 1, true);
-    dem::check_range(w, "ramp steps", double(ramp_steps), 1, 1e12);
+    dem::check_range(w, "ramp crossing times", ramp_crossing_times, 0,
+                     max_ramp_crossing_times, true);
     dem::check_range(w, "step limit", double(phase_step_limit), 1, 1e12);
     dem::check_range(w, "history interval", double(history_interval), 1, 1e12);
     dem::check_range(w, "servo alpha", servo.alpha, 0, 1, true);
@@ -496,8 +497,10 @@ namespace demfem::coupling
             // docs/tunnel.md "In-situ stress installation").
             phase = "in-situ";
             m.suspend_bond_breakage(true);
-            cycle(p.ramp_steps, p.ramp_steps + p.phase_step_limit, [&](std::int64_t n) {
-              load_factor = std::min(1.0, double(n) / p.ramp_steps);
+            const std::int64_t n_ramp = ramp_steps(
+                p.ramp_crossing_times * p.region.crossing_time(), m.timestep());
+            cycle(n_ramp, n_ramp + p.phase_step_limit, [&](std::int64_t n) {
+              load_factor = std::min(1.0, double(n) / n_ramp);
             });
             phase = "in-situ cracking";
             m.suspend_bond_breakage(false);

@@ -84,6 +84,10 @@ namespace demfem::coupling
     std::size_t  n_particles = 0, n_contacts = 0, n_fem_dofs = 0;
     std::int64_t steps = 0, packing_steps = 0;
     double       timestep = 0, critical_timestep = 0; ///< coupled dt, DEM critical
+    /// The in-situ ramp: its duration [s], the region's crossing time it is
+    /// measured in [s] (RegionParams::crossing_time) and its steps at dt.
+    double       ramp_duration = 0, ramp_crossing_time = 0;
+    std::int64_t ramp_steps    = 0;
     double       wall_time_s  = 0;
     std::size_t  cracks_total = 0, cracks_tensile = 0, cracks_shear = 0;
     nlohmann::ordered_json cracks_by_type;

@@ -59,6 +59,8 @@ namespace demfem::coupling
     dem::check_range(w, "Tunnel/damage link length", damage_link_diameters,
                      DamageZone::min_link_grain_diameters,
                      DamageZone::max_link_grain_diameters);
+    dem::check_range(w, "Coupling/ramp crossing times", ramp_crossing_times, 0,
+                     max_ramp_crossing_times, true);
     if (coupling.variant == "slaved-layer" &&
         tunnel_radius + 3 * region.d_hi >
             region.radius - coupling.overlap_grains * region.mean_diameter())
@@ -263,6 +265,7 @@ namespace demfem::coupling
       bool                                  warned_isolated_near_interface = false;
       std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
       std::int64_t budget = 0; // expected coupled steps for the ETA (upper bound)
+      std::int64_t n_ramp = 0; // steps of the in-situ ramp (its duration / dt)
       std::int64_t step0  = 0; // steps of the packing
 
       // ---- the algorithm --------------------------------------------------
@@ -300,7 +303,15 @@ namespace demfem::coupling
               << min_free_section_diameters << " free diameters" << std::endl;
         m.set_insitu(p.sigma0);
         r.n_fem_dofs = m.n_fem_dofs();
-        budget       = p.ramp_steps + p.phase_step_limit * (2 + p.stages);
+        // The ramp's duration is physical; its step count follows from dt.
+        r.ramp_crossing_time = p.region.crossing_time();
+        r.ramp_duration      = p.ramp_crossing_times * r.ramp_crossing_time;
+        n_ramp               = ramp_steps(r.ramp_duration, m.dt());
+        r.ramp_steps         = n_ramp;
+        out << "in-situ ramp: " << r.ramp_duration << " s (" << p.ramp_crossing_times
+            << " crossing times of the region, 2 R / sqrt(E*/rho) = "
+            << r.ramp_crossing_time << " s), " << n_ramp << " steps" << std::endl;
+        budget = n_ramp + p.phase_step_limit * (2 + p.stages);
         step0        = m.dem.step_count();
         if (!p.restart_file.empty())
           restore(p.restart_file);
@@ -312,7 +323,8 @@ namespace demfem::coupling
       }
 
       /// The in-situ stress (docs/tunnel.md, "In-situ stress installation"):
-      /// phase "in-situ" installs it over Tunnel/ramp steps (coupled_model.h)
+      /// phase "in-situ" installs it over Coupling/ramp crossing times
+      /// (coupled_model.h)
       /// and relaxes it to equilibrium with bond breakage suspended, so the
       /// region reaches sigma0 as the elastic equilibrium a quasi-static
       /// loading path would reach (the bonded material is linear elastic
@@ -328,10 +340,10 @@ namespace demfem::coupling
           {
             phase = "in-situ";
             m.dem.suspend_bond_breakage(true);
-            run_and_record(PhaseLimits{p.ramp_steps, p.ramp_steps + p.phase_step_limit,
+            run_and_record(PhaseLimits{n_ramp, n_ramp + p.phase_step_limit,
                                        p.phase_time_limit, p.ratio_tolerance},
                            [&](std::int64_t n) {
-                             m.set_load_factor(std::min(1.0, double(n) / p.ramp_steps));
+                             m.set_load_factor(std::min(1.0, double(n) / n_ramp));
                            });
           }
         phase = "in-situ cracking";

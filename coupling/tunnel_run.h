@@ -35,7 +35,10 @@ namespace demfem::coupling
     /// The damage zone's link length L in mean grain diameters of the
     /// region (coupling/damage_zone.h; Tunnel/damage link length).
     double       damage_link_diameters = DamageZone::default_link_grain_diameters;
-    std::int64_t ramp_steps            = 2000;  ///< in-situ load ramp
+    /// Duration of the in-situ load ramp in crossing times of the region
+    /// (RegionParams::crossing_time, 2 R / sqrt(E* / rho)): a physical
+    /// time, the same for every time step (Coupling/ramp crossing times).
+    double       ramp_crossing_times   = 4;
     std::int64_t phase_step_limit      = 20000; ///< per equilibrium phase / stage
     /// Model time an equilibrium phase / stage may take [s] (0: no limit):
     /// the physical limit, independent of the time step; the step limit

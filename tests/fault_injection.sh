@@ -32,7 +32,7 @@ small=(--set "DEM region/material file=" --set "Continuum/young modulus=16.3e9"
        --set "DEM region/radius=1.0" --set "Tunnel/radius=0.4"
        --set "DEM region/grain diameter min=0.08" --set "DEM region/grain diameter max=0.12"
        --set "Continuum/outer radius=10" --set "Output/interval=0"
-       --set "Coupling/step limit=300" --set "Coupling/ramp steps=300"
+       --set "Coupling/step limit=300" --set "Coupling/ramp crossing times=3"
        --set "Output/checkpoint interval=200")
 prm="$src/apps/examples/tunnel_2d.prm"
 out="$work/run"

@@ -2,12 +2,13 @@
 // docs/tunnel.md "In-situ stress installation"): the whole model follows the
 // homogeneous in-situ strain while the load factor rises, the grains held on
 // the affine path, then relaxes. The installed state must not depend on the
-// time step or on the number of ramp steps, and a stress below the
+// time step or on the ramp's length, and a stress below the
 // material's crack-initiation stress must not crack the region, while one
 // well above its strength must.
 #include <catch2/catch.hpp>
 
 #include "coupling/coupled_model.h"
+#include "coupling/tunnel_run.h"
 #include "dem/specimen/genesis.h"
 #include "dem/specimen/lab_tests.h"
 #include "helpers.h"
@@ -165,4 +166,41 @@ TEST_CASE("in-situ installation: no crack below the material's crack-initiation 
   const Installed o = install(over, 0.8, 1000);
   INFO("cracks above the strength: " << o.cracks);
   CHECK(o.cracks > 10);
+}
+
+TEST_CASE("in-situ ramp: a physical duration, its steps from the time step",
+          "[coupling][in-situ]")
+{
+  // The crossing time 2 R / sqrt(E* / rho) of the keys' region (5 m, the
+  // default example's E* and density), to round-off.
+  RegionParams r;
+  r.radius  = 5;
+  r.emod    = 133e9;
+  r.density = 2650;
+  const double crossing = 10 / std::sqrt(133e9 / 2650);
+  CHECK(r.crossing_time() == Approx(crossing).epsilon(1e-14));
+  // The fewest steps whose model time reaches the duration, at least one:
+  // a whole number of steps exactly, one more for any remainder.
+  CHECK(ramp_steps(1e-3, 1e-5) == 100);
+  CHECK(ramp_steps(1.005e-3, 1e-5) == 101);
+  CHECK(ramp_steps(1e-9, 1e-5) == 1);
+  // At any time step the ramp lasts the same model time, to one step.
+  const double duration = 4 * crossing;
+  for (const double dt : {3.014e-6, 1.2e-6, 0.37e-6})
+    {
+      const auto n = ramp_steps(duration, dt);
+      CHECK(double(n) * dt >= duration * (1 - 1e-12));
+      CHECK(double(n - 1) * dt < duration);
+    }
+  // The key's range is refused naming it.
+  TunnelParams p;
+  for (const double bad : {0.0, -1.0, max_ramp_crossing_times * 1.01})
+    {
+      p.ramp_crossing_times = bad;
+      CHECK_THROWS_WITH(p.validate("test.prm"),
+                        Catch::Contains("Coupling/ramp crossing times") &&
+                            Catch::Contains("test.prm"));
+    }
+  p.ramp_crossing_times = 4;
+  CHECK_NOTHROW(p.validate("test.prm"));
 }

@@ -45,7 +45,6 @@ namespace
     p.continuum.poisson_ratio = 0.11;
     p.continuum.outer_radius  = 10;
     p.stages                  = 2;
-    p.ramp_steps              = 2000;
     p.phase_step_limit        = 1000;
     p.vtk_interval            = 0;
     p.write_vtk               = false;
@@ -102,10 +101,13 @@ TEST_CASE("tunnel restart: stopped and continued run equals the uninterrupted on
   REQUIRE_FALSE(ra.diverged);
   REQUIRE_FALSE(ra.interrupted);
 
-  // Stopped after 3300 coupled steps: inside the first excavation stage
-  // (2000 ramp steps + at most 1000 in-situ equilibrium steps before it).
-  auto pb         = small(db);
-  pb.stop_at_step = 3300;
+  // Stopped halfway through the first excavation stage (phases: in-situ,
+  // in-situ cracking, stage 1, ...; their steps are the coupled steps).
+  REQUIRE(ra.phases.size() == 5);
+  REQUIRE(ra.phases[2].steps >= 2);
+  auto pb = small(db);
+  pb.stop_at_step =
+      ra.phases[0].steps + ra.phases[1].steps + ra.phases[2].steps / 2;
   const auto rb   = coupling::run_tunnel(pb, log);
   REQUIRE(rb.interrupted);
   REQUIRE(std::filesystem::exists(db + "/checkpoint.h5"));

@@ -385,7 +385,7 @@ TEST_CASE("3D section: demfem tunnel runs a tunnel section in a 3D continuum",
                       "--set \"DEM region/breakable=false\" --set \"Continuum/outer radius=8\" "
                       "--set \"Continuum/young modulus=15.1e9\" --set \"Continuum/poisson ratio=0.12\" "
                       "--set \"Continuum/axial extension=1.2\" --set \"DEM region/slab thickness=6\" "
-                      "--set \"Coupling/ramp steps=500\" --set \"Coupling/step limit=1000\" "
+                      "--set \"Coupling/ramp crossing times=3.5\" --set \"Coupling/step limit=1000\" "
                       "--set \"Output/interval=500\" --accept not_equilibrated");
   INFO(read_file(dir + ".log"));
   REQUIRE(WIFEXITED(status));
@@ -428,7 +428,7 @@ TEST_CASE("3D section: a stopped and restarted run equals the uninterrupted one"
     p.continuum.outer_radius    = 8;
     p.continuum.axial_extension = 1.2;
     p.stages                    = 2;
-    p.ramp_steps                = 500;
+    p.ramp_crossing_times       = 3.5; // about 500 steps
     p.phase_step_limit          = 600;
     p.write_vtk                 = false;
     p.vtk_interval              = 0;

@@ -202,7 +202,7 @@ TEST_CASE("3D slab: demfem tunnel runs the slab and writes readable 3D output",
               "tunnel_3d.prm", dir,
               "--set \"DEM region/radius=0.9\" --set \"Tunnel/radius=0.3\" "
                       "--set \"DEM region/breakable=false\" --set \"Continuum/outer "
-                      "radius=8\" --set \"Coupling/ramp steps=1000\" --set "
+                      "radius=8\" --set \"Coupling/ramp crossing times=7\" --set "
                       "\"Coupling/step limit=2000\" --set \"Output/interval=500\" "
                       "--accept not_equilibrated");
   const auto read = test::read_file;
