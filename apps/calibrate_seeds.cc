@@ -174,12 +174,15 @@ namespace demfem::apps
                                         {"standard_error", std::isfinite(c.standard_error)
                                                                ? json(c.standard_error)
                                                                : json(nullptr)},
+                                        {"critical_t", std::isfinite(c.critical)
+                                                           ? json(c.critical)
+                                                           : json(nullptr)},
                                         {"packings", c.n},
                                         {"verdict", c.verdict}};
               std::cerr << "demfem calibrate: " << name << " at " << which
                         << " rate, on the seed means: " << 100 * c.change << " % +- "
                         << 100 * c.standard_error << " % (standard error, " << c.n
-                        << " packings): " << c.verdict << "\n";
+                        << " packings, t " << c.critical << "): " << c.verdict << "\n";
             }
           if (!entry.empty())
             out[name] = entry;

@@ -387,10 +387,10 @@ namespace demfem::apps
                            "critical one and the explicit integration diverges "
                            "(Study/timestep safety factors may exceed 1 to map that "
                            "limit)"));
-    s.ratio_tolerance  = prm.get_double("equilibrium ratio");
+    s.ratio_tolerance     = prm.get_double("equilibrium ratio");
     s.ramp_crossing_times = prm.get_double("ramp crossing times");
-    s.phase_step_limit = prm.get_integer("step limit");
-    s.phase_time_limit = prm.get_double("phase time limit");
+    s.phase_step_limit    = prm.get_integer("step limit");
+    s.phase_time_limit    = prm.get_double("phase time limit");
     AssertThrow(s.ratio_tolerance > 0,
                 ExcMessage("Coupling/equilibrium ratio must be > 0"));
     prm.leave_subsection();

@@ -116,15 +116,15 @@ namespace demfem::coupling
     double boundary_band = 3;
     /// The damage zone's link length in mean grain diameters (as the
     /// embedded run's Tunnel/damage link length: both measured alike).
-    double              damage_link_diameters = DamageZone::default_link_grain_diameters;
-    double              safety                = 0.8; ///< dt = safety x DEM critical
-    double              ratio_tolerance       = 1e-3;
+    double damage_link_diameters = DamageZone::default_link_grain_diameters;
+    double safety                = 0.8; ///< dt = safety x DEM critical
+    double ratio_tolerance       = 1e-3;
     /// The in-situ ramp's duration in crossing times of the reference
     /// region, 2 R / sqrt(E* / rho) (RegionParams::crossing_time, R the
     /// reference radius): physical, as the embedded run's.
-    double              ramp_crossing_times   = 4;
-    std::int64_t        phase_step_limit      = 20000;
-    std::int64_t        history_interval      = 100;
+    double              ramp_crossing_times = 4;
+    std::int64_t        phase_step_limit    = 20000;
+    std::int64_t        history_interval    = 100;
     MembraneServoParams servo;
 
     /// Throws dem::InputError naming the key (prefixed by `where`).

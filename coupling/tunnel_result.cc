@@ -177,9 +177,9 @@ namespace demfem::coupling
     j["grain_resolution_a_over_d"]       = json_number(r.grain_resolution_a_over_d);
     j["timestep_s"]                      = json_number(r.timestep);
     j["dem_critical_timestep_s"]         = json_number(r.critical_timestep);
-    j["in_situ_ramp"] = {{"duration_s", json_number(r.ramp_duration)},
-                         {"crossing_time_s", json_number(r.ramp_crossing_time)},
-                         {"steps", r.ramp_steps}};
+    j["in_situ_ramp"]                    = {{"duration_s", json_number(r.ramp_duration)},
+                                            {"crossing_time_s", json_number(r.ramp_crossing_time)},
+                                            {"steps", r.ramp_steps}};
     j["wall_time_s"]                     = json_number(r.wall_time_s);
     j["cracks_total"]                    = r.cracks_total;
     j["cracks_tensile"]                  = r.cracks_tensile;

@@ -86,10 +86,10 @@ namespace demfem::coupling
     double       timestep = 0, critical_timestep = 0; ///< coupled dt, DEM critical
     /// The in-situ ramp: its duration [s], the region's crossing time it is
     /// measured in [s] (RegionParams::crossing_time) and its steps at dt.
-    double       ramp_duration = 0, ramp_crossing_time = 0;
-    std::int64_t ramp_steps    = 0;
-    double       wall_time_s  = 0;
-    std::size_t  cracks_total = 0, cracks_tensile = 0, cracks_shear = 0;
+    double                 ramp_duration = 0, ramp_crossing_time = 0;
+    std::int64_t           ramp_steps   = 0;
+    double                 wall_time_s  = 0;
+    std::size_t            cracks_total = 0, cracks_tensile = 0, cracks_shear = 0;
     nlohmann::ordered_json cracks_by_type;
     std::size_t            cracks_before_excavation = 0;
     /// Excavation cracks within two mean diameters of the coupling boundary:

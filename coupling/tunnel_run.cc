@@ -312,7 +312,7 @@ namespace demfem::coupling
             << " crossing times of the region, 2 R / sqrt(E*/rho) = "
             << r.ramp_crossing_time << " s), " << n_ramp << " steps" << std::endl;
         budget = n_ramp + p.phase_step_limit * (2 + p.stages);
-        step0        = m.dem.step_count();
+        step0  = m.dem.step_count();
         if (!p.restart_file.empty())
           restore(p.restart_file);
         else

@@ -34,12 +34,12 @@ namespace demfem::coupling
     double in_situ_tolerance = 0.1;
     /// The damage zone's link length L in mean grain diameters of the
     /// region (coupling/damage_zone.h; Tunnel/damage link length).
-    double       damage_link_diameters = DamageZone::default_link_grain_diameters;
+    double damage_link_diameters = DamageZone::default_link_grain_diameters;
     /// Duration of the in-situ load ramp in crossing times of the region
     /// (RegionParams::crossing_time, 2 R / sqrt(E* / rho)): a physical
     /// time, the same for every time step (Coupling/ramp crossing times).
-    double       ramp_crossing_times   = 4;
-    std::int64_t phase_step_limit      = 20000; ///< per equilibrium phase / stage
+    double       ramp_crossing_times = 4;
+    std::int64_t phase_step_limit    = 20000; ///< per equilibrium phase / stage
     /// Model time an equilibrium phase / stage may take [s] (0: no limit):
     /// the physical limit, independent of the time step; the step limit
     /// is the cost budget.

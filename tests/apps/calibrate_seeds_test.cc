@@ -111,6 +111,8 @@ TEST_CASE("calibrate: Problem/seeds = 2 writes the seed means, their scatter and
   CHECK(rc["relative_change_of_the_mean"].get<double>() ==
         Approx((half - full) / full).epsilon(1e-12));
   CHECK(rc["standard_error"].get<double>() >= 0);
+  CHECK(rc["critical_t"].get<double>() ==
+        Approx(12.706205).epsilon(1e-6)); // t_{0.975, 1}
   const std::string verdict = rc["verdict"];
   CHECK((verdict == "moves" || verdict == "does not move" || verdict == "undecided"));
   CHECK_THAT(r.out, Catch::Contains("ucs at half rate, on the seed means"));

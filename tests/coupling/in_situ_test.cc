@@ -174,9 +174,9 @@ TEST_CASE("in-situ ramp: a physical duration, its steps from the time step",
   // The crossing time 2 R / sqrt(E* / rho) of the keys' region (5 m, the
   // default example's E* and density), to round-off.
   RegionParams r;
-  r.radius  = 5;
-  r.emod    = 133e9;
-  r.density = 2650;
+  r.radius              = 5;
+  r.emod                = 133e9;
+  r.density             = 2650;
   const double crossing = 10 / std::sqrt(133e9 / 2650);
   CHECK(r.crossing_time() == Approx(crossing).epsilon(1e-14));
   // The fewest steps whose model time reaches the duration, at least one:

@@ -105,9 +105,8 @@ TEST_CASE("tunnel restart: stopped and continued run equals the uninterrupted on
   // in-situ cracking, stage 1, ...; their steps are the coupled steps).
   REQUIRE(ra.phases.size() == 5);
   REQUIRE(ra.phases[2].steps >= 2);
-  auto pb = small(db);
-  pb.stop_at_step =
-      ra.phases[0].steps + ra.phases[1].steps + ra.phases[2].steps / 2;
+  auto pb         = small(db);
+  pb.stop_at_step = ra.phases[0].steps + ra.phases[1].steps + ra.phases[2].steps / 2;
   const auto rb   = coupling::run_tunnel(pb, log);
   REQUIRE(rb.interrupted);
   REQUIRE(std::filesystem::exists(db + "/checkpoint.h5"));

@@ -85,12 +85,28 @@ TEST_CASE(
   // (docs/calibrate_ldb.md): differences -18.7, -29.6, -20.7 MPa, mean
   // -23.0 MPa on a mean of 201.3 MPa: -11.4 %; sd of the differences 5.80
   // MPa, standard error 5.80 / sqrt(3) / 201.3 = 1.66 %. -11.4 % lies more
-  // than two of them beyond 2 %: the peak moves.
+  // than t_{0.975, 2} = 4.303 of them beyond 2 %: the peak moves.
   const auto slow = paired_change({151.3, 228.4, 224.2}, {132.6, 198.8, 203.5}, 0.02);
   CHECK(slow.n == 3);
   CHECK(slow.change == Approx(-23.0 / 201.3).epsilon(1e-3));
   CHECK(slow.standard_error == Approx(5.8026 / std::sqrt(3.0) / 201.3).epsilon(1e-3));
+  CHECK(slow.critical == Approx(4.302653).epsilon(1e-6)); // t table
   CHECK(std::string(slow.verdict) == "moves");
+  // -6 % on a mean of 100 with differences -3, -6, -9 (sd 3, standard
+  // error 1.73 %): beyond 2 % by 2.3 standard errors, which a normal z = 2
+  // called "moves"; with three packings Student's t (4.30) cannot tell.
+  const auto few = paired_change({100, 100, 100}, {97, 94, 91}, 0.02);
+  CHECK(few.change == Approx(-0.06).epsilon(1e-12));
+  CHECK(few.standard_error == Approx(0.03 / std::sqrt(3.0)).epsilon(1e-12));
+  CHECK(std::string(few.verdict) == "undecided");
+  // The same changes on six packings (t_{0.975, 5} = 2.570582, standard
+  // error sqrt(36 / 5) / sqrt(6) = 1.10 %): -6 % +- 2.8 % lies beyond 2 %.
+  const auto six =
+      paired_change({100, 100, 100, 100, 100, 100}, {97, 94, 91, 97, 94, 91}, 0.02);
+  CHECK(six.critical == Approx(2.570582).epsilon(1e-6));
+  CHECK(six.standard_error ==
+        Approx(std::sqrt(36.0 / 5) / std::sqrt(6.0) / 100).epsilon(1e-12));
+  CHECK(std::string(six.verdict) == "moves");
   // 0.125 /s against 0.0625 /s: +22 % and -18 % on two packings, the mean
   // +0.6 %, standard error 13 %: three packings cannot tell 2 % apart.
   const auto chaotic = paired_change({132.6, 198.8, 203.5}, {128.8, 242.9, 166.6}, 0.02);
@@ -106,5 +122,6 @@ TEST_CASE(
   const auto one = paired_change({100}, {90}, 0.02);
   CHECK(one.change == Approx(-0.1).epsilon(1e-15));
   CHECK(std::isnan(one.standard_error));
+  CHECK(std::isnan(one.critical));
   CHECK(std::string(one.verdict) == "undecided");
 }
