@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -140,6 +141,19 @@ TEST_CASE("tunnel restart: stopped and continued run equals the uninterrupted on
   const auto sa = nlohmann::json::parse(read(da + "/summary.json"));
   const auto sb = nlohmann::json::parse(read(db + "/summary.json"));
   CHECK(sa["region_too_small"] == ra.region_too_small);
+  // The in-situ ramp lasts its physical duration, Coupling/ramp crossing
+  // times (default 4) x the region's 2 R / sqrt(E* / rho): its steps at
+  // this dt are the fewest reaching it, and the in-situ phase holds them.
+  const auto  &ramp     = sa["in_situ_ramp"];
+  const double duration = ramp["duration_s"].get<double>();
+  const double dt       = sa["timestep_s"].get<double>();
+  const auto   n_ramp   = ramp["steps"].get<std::int64_t>();
+  CHECK(ramp["crossing_time_s"].get<double>() ==
+        Approx(2 * 1.0 / std::sqrt(20e9 / 2650)).epsilon(1e-12));
+  CHECK(duration == Approx(4 * ramp["crossing_time_s"].get<double>()).epsilon(1e-14));
+  CHECK(double(n_ramp) * dt >= duration * (1 - 1e-12));
+  CHECK(double(n_ramp - 1) * dt < duration);
+  CHECK(ra.phases[0].steps >= n_ramp);
   CHECK(ra.region_too_small == (ra.zone_cracks_near_interface > 0));
   CHECK(ra.zone_cracks_near_interface <= ra.cracks_near_interface);
   CHECK((log.str().find("DEM region is too small") != std::string::npos) ==
