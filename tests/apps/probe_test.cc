@@ -30,7 +30,8 @@ namespace
   // vessel, about 250 grains; UCS and Brazilian at 0.25 /s, about 10 s): its
   // material.json in a directory of the test's own (ctest runs the test
   // cases in parallel processes).
-  std::string small_material(const std::string &tag, const std::string &extra = "")
+  std::string small_material(const std::string &tag, const std::string &extra = "",
+                             int expected_exit = 0)
   {
     {
       const std::string dir =
@@ -45,7 +46,7 @@ namespace
           "\"Problem/output directory=" +
           dir + "\" " + extra);
       INFO(r.out);
-      REQUIRE(r.exit_code == 0);
+      REQUIRE(r.exit_code == expected_exit);
       return dir + "/material.json";
     }
   }
@@ -303,4 +304,34 @@ TEST_CASE("probe: DEM region/seed picks the packing, by default the material fil
   INFO(bad.out);
   CHECK(bad.exit_code == 1);
   CHECK(bad.out.find("DEM region/seed") != std::string::npos);
+}
+
+TEST_CASE("probe: a Brazilian disk that did not split gives no BTS", "[probe][app]")
+{
+  // Packing 4242's 250-grain disk with the example's 20 deg flats does not
+  // split (demfem calibrate: bts null, exit 3). At 32 times the grain size
+  // the probe's disk of the same packing is the same disk: its peak is
+  // reported, but it is no tensile strength, so the BTS row has no value
+  // (as calibrate's seed mean leaves it out) and the split row fails.
+  const std::string file = small_material("not_split", "--set Material/seed=4242", 3);
+  const json        m    = read_json(file);
+  REQUIRE(m["bts"].is_null());
+  REQUIRE(m["bts_failure_mode"] == "not_split");
+  const std::string dir = probe_dir("not_split");
+  const auto        r   = probe(file, diameter_times_32(m), dir);
+  INFO(r.out);
+  CHECK(r.exit_code == 3);
+  const json p = read_json(dir + "/probe.json");
+  REQUIRE(p["rows"][3]["property"] == "BTS");
+  CHECK(p["rows"][3]["probe_values"].empty());
+  CHECK(p["rows"][3]["verdict"] == "-");
+  CHECK(p["brazilian_split"] == 0);
+  REQUIRE(p["brazilian_failure_modes"].size() == 1);
+  CHECK(p["brazilian_failure_modes"][0] == "not_split");
+  // The disk's peak, kept beside: calibrate's own (summary.json) to round-off.
+  const json s =
+      read_json((std::filesystem::path(file).parent_path() / "summary.json").string());
+  CHECK(p["brazilian_peaks_Pa"][0].get<double>() ==
+        Approx(s["tests"]["brazilian"]["peak_Pa"].get<double>()).epsilon(1e-9));
+  CHECK(r.out.find("Brazilian disks split: 0 of 1  FAIL") != std::string::npos);
 }
