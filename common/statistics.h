@@ -14,6 +14,13 @@
 
 namespace demfem::statistics
 {
+  /// The two-sided critical value t_{(1 + level)/2, dof} of Student's t
+  /// distribution (dof > 0, not necessarily whole: Welch's dof is not).
+  inline double student_t_critical(double dof, double level)
+  {
+    return boost::math::quantile(boost::math::students_t(dof), 0.5 * (1 + level));
+  }
+
   struct Interval
   {
     double      mean       = std::numeric_limits<double>::quiet_NaN();
@@ -41,9 +48,8 @@ namespace demfem::statistics
     for (double x : values)
       ss += (x - r.mean) * (x - r.mean);
     r.sd = std::sqrt(ss / (r.n - 1));
-    const boost::math::students_t t(static_cast<double>(r.n - 1));
     r.half_width =
-        boost::math::quantile(t, 0.5 * (1 + level)) * r.sd / std::sqrt(double(r.n));
+        student_t_critical(double(r.n - 1), level) * r.sd / std::sqrt(double(r.n));
     return r;
   }
 
@@ -89,8 +95,7 @@ namespace demfem::statistics
     else
       c.degrees_of_freedom =
           (va + vb) * (va + vb) / (va * va / double(n_a - 1) + vb * vb / double(n_b - 1));
-    const boost::math::students_t t(c.degrees_of_freedom);
-    c.critical = boost::math::quantile(t, 0.5 * (1 + level));
+    c.critical = student_t_critical(c.degrees_of_freedom, level);
     c.agree    = std::abs(c.difference) <= c.critical * c.standard_error;
     return c;
   }
@@ -132,9 +137,8 @@ namespace demfem::statistics
     if (c.n < 2)
       return c;
     c.standard_error = di.sd / std::sqrt(double(c.n)) / std::abs(mean_a);
-    const boost::math::students_t t(static_cast<double>(c.n - 1));
-    c.critical      = boost::math::quantile(t, 0.5 * (1 + level));
-    const double hw = c.critical * c.standard_error;
+    c.critical       = student_t_critical(double(c.n - 1), level);
+    const double hw  = c.critical * c.standard_error;
     if (std::abs(c.change) - hw > tolerance)
       c.verdict = "moves";
     else if (std::abs(c.change) + hw <= tolerance)
