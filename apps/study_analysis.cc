@@ -2,6 +2,7 @@
 #include "apps/study.h"
 #include "common/atomic_file.h"
 #include "common/statistics.h"
+#include "coupling/kirsch.h"
 #include "dem/engine/types.h"
 
 #include <algorithm>
@@ -16,20 +17,6 @@
 
 namespace demfem::apps::study
 {
-  namespace
-  {
-    // Principal stresses S1 >= S2 of the in-plane in-situ stress and the
-    // angle of the S1 axis from x.
-    void principal(const Eigen::Matrix2d &s, double &s1, double &s2, double &phi)
-    {
-      const double c = 0.5 * (s(0, 0) + s(1, 1));
-      const double r = std::hypot(0.5 * (s(0, 0) - s(1, 1)), s(0, 1));
-      s1             = c + r;
-      s2             = c - r;
-      phi            = 0.5 * std::atan2(2 * s(0, 1), s(0, 0) - s(1, 1));
-    }
-  } // namespace
-
   double kirsch_mean_convergence(const Eigen::Matrix2d &sigma0, double a, double E,
                                  double nu)
   {
@@ -47,16 +34,15 @@ namespace demfem::apps::study
                                double                                    nu,
                                const std::vector<std::array<double, 2>> &points)
   {
-    double s1, s2, phi;
-    principal(sigma0, s1, s2, phi);
+    const auto   p = coupling::kirsch::principal(sigma0);
     const double G = E / (2 * (1 + nu));
     double       u = 0;
     for (const auto &x : points)
       {
         const double r = std::hypot(x[0], x[1]), q = a * a / (r * r);
-        const double t = std::atan2(x[1], x[0]) - phi;
+        const double t = std::atan2(x[1], x[0]) - p.phi;
         u += a * a / (4 * G * r) *
-             ((s1 + s2) + (s1 - s2) * (4 * (1 - nu) - q) * std::cos(2 * t));
+             ((p.s1 + p.s2) + (p.s1 - p.s2) * (4 * (1 - nu) - q) * std::cos(2 * t));
       }
     return points.empty() ? 0.0 : -u / double(points.size()); // inward positive
   }
@@ -64,54 +50,23 @@ namespace demfem::apps::study
   double kirsch_differential_stress(const Eigen::Matrix2d &sigma0, double a, double r,
                                     double theta)
   {
-    double s1, s2, phi;
-    principal(sigma0, s1, s2, phi);
-    const double m = 0.5 * (s1 + s2), d = 0.5 * (s1 - s2);
-    const double p2 = (a / r) * (a / r), p4 = p2 * p2, t = 2 * (theta - phi);
-    // Kirsch field (tension positive), S1 along the rotated x axis.
-    const double srr = m * (1 - p2) + d * (1 - 4 * p2 + 3 * p4) * std::cos(t);
-    const double stt = m * (1 + p2) - d * (1 + 3 * p4) * std::cos(t);
-    const double srt = -d * (1 + 2 * p2 - 3 * p4) * std::sin(t);
-    return std::hypot(srr - stt, 2 * srt); // sigma1 - sigma3 in the plane
+    return coupling::kirsch::differential_stress(sigma0, a, r, theta);
   }
 
   double kirsch_damage_radius(const Eigen::Matrix2d &sigma0, double a, double threshold)
   {
-    double s1, s2, phi;
-    principal(sigma0, s1, s2, phi);
-    if (s1 - s2 >= threshold)
-      throw dem::InputError(
-          "Study/damage threshold: the far-field differential stress " +
-          std::to_string(s1 - s2) + " Pa already reaches the damage threshold " +
-          std::to_string(threshold) +
-          " Pa: the whole rock mass is damaged and no finite DEM region encloses "
-          "it; set 'DEM region/radius' to a number");
-    auto g = [&](double r) {
-      double mx = 0;
-      for (int k = 0; k <= 180; ++k) // theta in [phi, phi + pi/2] covers cos, sin
-        mx = std::max(mx,
-                      kirsch_differential_stress(sigma0, a, r, phi + k * M_PI / 360.0));
-      return mx - threshold;
-    };
-    // The field tends to s1 - s2 < threshold: scan outward on a geometric grid
-    // up to 1000 a, then bisect the last crossing.
-    const int n    = 4000;
-    double    last = -1;
-    for (int i = 0; i <= n; ++i)
+    const double R = coupling::kirsch::damage_radius(sigma0, a, threshold);
+    if (!(R < HUGE_VAL))
       {
-        const double r = a * std::pow(1000.0, double(i) / n);
-        if (g(r) >= 0)
-          last = r;
+        const double far = coupling::kirsch::far_field_differential_stress(sigma0);
+        throw dem::InputError(
+            "Study/damage threshold: the far-field differential stress " +
+            std::to_string(far) + " Pa already reaches the damage threshold " +
+            std::to_string(threshold) +
+            " Pa: the whole rock mass is damaged and no finite DEM region encloses "
+            "it; set 'DEM region/radius' to a number");
       }
-    if (last < 0)
-      return a;
-    double lo = last, hi = last * std::pow(1000.0, 1.0 / n);
-    for (int it = 0; it < 60; ++it)
-      {
-        const double mid        = 0.5 * (lo + hi);
-        (g(mid) >= 0 ? lo : hi) = mid;
-      }
-    return 0.5 * (lo + hi);
+    return R;
   }
 
   AutoRadius auto_region_radius(const Eigen::Matrix2d &sigma0, double a, double ucs,

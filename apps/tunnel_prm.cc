@@ -350,6 +350,19 @@ namespace demfem::apps
         r.fj_fa    = m.fj_fa;
         if (cmat.empty())
           cmat = dmat;
+        // The lab's crack-initiation stresses, for the elastic zones the
+        // excavation cracks are compared with (coupling/initiation_zone.h);
+        // a file without them (older, or no compression test) gives none.
+        for (const std::string key : {"crack_initiation", "crack_initiation_crack_count"})
+          {
+            const double v = dem::read_material_number(dmat, key, false);
+            if (std::isnan(v))
+              continue;
+            AssertThrow(v > 0 && std::isfinite(v),
+                        ExcMessage("material file '" + dmat + "': key '" + key +
+                                   "' = " + std::to_string(v) + " Pa; must be > 0"));
+            s.crack_initiation.emplace_back(key, v);
+          }
       }
     if (!gd.empty())
       {

@@ -8,6 +8,7 @@
 // checkpoints (dem/io/state_archive.h).
 #include "coupling/coupled_model.h"
 #include "coupling/excavation_measures.h"
+#include "coupling/initiation_zone.h"
 #include "coupling/tunnel_result.h"
 
 #include <array>
@@ -15,6 +16,7 @@
 #include <iomanip>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace demfem::coupling
@@ -33,6 +35,19 @@ namespace demfem::coupling
         , d_mean(model.region_params().mean_diameter())
         , link_diameters(link_diameters)
     {
+    }
+
+    /// The elastic prediction the excavation cracks are compared with
+    /// (coupling/initiation_zone.h): the in-situ stress, the material's
+    /// crack-initiation stresses by material.json key (none: no comparison)
+    /// and, in 3D, the Poisson ratio of the plane-strain sigma_zz (2D: < 0).
+    void compare_with_elastic_initiation(
+        const Eigen::Matrix2d                             &sigma0,
+        const std::vector<std::pair<std::string, double>> &crack_initiation, double nu_zz)
+    {
+      sigma0_           = sigma0;
+      crack_initiation_ = crack_initiation;
+      nu_zz_            = nu_zz;
     }
 
     /// The excavation: the grains of the core are removed (their forces on
@@ -145,6 +160,11 @@ namespace demfem::coupling
       r.damage                = measure_damage_zone(x, a, link, zone, link_diameters);
       r.damage_zone_depth     = r.damage.depth;
       r.damage_zone_depth_max = r.damage.depth_max;
+      r.initiation_zones.clear();
+      if (excavated)
+        for (const auto &[key, threshold] : crack_initiation_)
+          r.initiation_zones.push_back(measure_initiation_zone(
+              x, zone, sigma0_, a, key, threshold, d_mean, nu_zz_));
       std::vector<std::array<double, 6>> rows;
       r.wall_convergence_mean = convergence(&r.n_wall_particles, &rows);
       r.wall_points.clear();
@@ -169,5 +189,8 @@ namespace demfem::coupling
     bool                            excavated = false;
     Eigen::Matrix<double, dim, dim> stress_before =
         Eigen::Matrix<double, dim, dim>::Zero();
+    Eigen::Matrix2d                             sigma0_ = Eigen::Matrix2d::Zero();
+    std::vector<std::pair<std::string, double>> crack_initiation_;
+    double                                      nu_zz_ = -1;
   };
 } // namespace demfem::coupling

@@ -4,6 +4,7 @@
 // "Outputs and run status"). No deal.II here: the study, the summary writer
 // and the tests read results without the continuum's headers.
 #include "coupling/damage_zone.h"
+#include "coupling/initiation_zone.h"
 #include "dem/engine/types.h"
 
 #include <nlohmann/json.hpp>
@@ -101,9 +102,13 @@ namespace demfem::coupling
     bool        region_too_small           = false;
     double      dem_region_radius          = 0;
     /// 90th-percentile crack distance of the zone connected to the wall [m]
-    double      damage_zone_depth     = 0;
-    double      damage_zone_depth_max = 0; ///< largest crack distance, all cracks [m]
-    DamageZone  damage; ///< the excavation's damage zone (summary "damage")
+    double     damage_zone_depth     = 0;
+    double     damage_zone_depth_max = 0; ///< largest crack distance, all cracks [m]
+    DamageZone damage; ///< the excavation's damage zone (summary "damage")
+    /// The excavation cracks against the elastic zones of the material's
+    /// crack-initiation stresses (summary "elastic_initiation_zones";
+    /// empty without a material file or before the excavation).
+    std::vector<InitiationZone> initiation_zones;
     double      wall_convergence_mean = 0; ///< mean inward radial displacement [m]
     double      interface_force_imbalance_max = 0;
     std::size_t n_wall_particles              = 0;

@@ -126,6 +126,8 @@ namespace demfem::coupling
           , history(dir + "/history.csv")
           , frames(dir)
       {
+        measures.compare_with_elastic_initiation(
+            pp.sigma0, pp.crack_initiation, dim == 3 ? pp.continuum.poisson_ratio : -1.0);
       }
 
       TunnelResult run()

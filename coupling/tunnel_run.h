@@ -13,6 +13,8 @@
 #include <cstdint>
 #include <ostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace demfem::coupling
 {
@@ -35,6 +37,11 @@ namespace demfem::coupling
     /// The damage zone's link length L in mean grain diameters of the
     /// region (coupling/damage_zone.h; Tunnel/damage link length).
     double damage_link_diameters = DamageZone::default_link_grain_diameters;
+    /// The material file's crack-initiation stresses [Pa] by key
+    /// ("crack_initiation", "crack_initiation_crack_count"): the excavation
+    /// cracks are compared with the elastic zones where sigma1 - sigma3
+    /// reaches them (coupling/initiation_zone.h); empty: no comparison.
+    std::vector<std::pair<std::string, double>> crack_initiation;
     /// Duration of the in-situ load ramp in crossing times of the region
     /// (RegionParams::crossing_time, 2 R / sqrt(E* / rho)): a physical
     /// time, the same for every time step (Coupling/ramp crossing times).

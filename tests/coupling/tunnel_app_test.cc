@@ -4,6 +4,8 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include "coupling/kirsch.h"
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -194,6 +196,41 @@ TEST_CASE("tunnel: the in-situ stress is installed with bond breakage suspended 
     in.stress        = j["region_stress_before_excavation"].get<std::vector<double>>();
     CHECK(j["phases"][0]["name"] == "in-situ");
     CHECK(j["phases"][1]["name"] == "in-situ cracking");
+    // The excavation cracks against the elastic zones of the material
+    // file's two crack-initiation stresses (coupling/initiation_zone.h).
+    const auto mat =
+        nlohmann::json::parse(read(std::string(DEMFEM_SOURCE_DIR) +
+                                   "/apps/examples/lac_du_bonnet_2d.material.json"));
+    const auto &zones = j["elastic_initiation_zones"];
+    REQUIRE(zones.size() == 2);
+    CHECK(zones[0]["crack_initiation_key"] == "crack_initiation");
+    CHECK(zones[1]["crack_initiation_key"] == "crack_initiation_crack_count");
+    CHECK(zones[0]["crack_initiation_Pa"].get<double>() ==
+          mat["crack_initiation"].get<double>());
+    CHECK(zones[1]["crack_initiation_Pa"].get<double>() ==
+          mat["crack_initiation_crack_count"].get<double>());
+    // sigma0 = (-10, -40) MPa around the example's 1 m tunnel: the volumetric
+    // crack initiation (68 MPa) is reached within 0.19 m of the sidewalls;
+    // the first cracks' stress (28.5 MPa) lies below the far field's 30 MPa.
+    const Eigen::Matrix2d sigma0 = (Eigen::Matrix2d() << -10e6, 0, 0, -40e6).finished();
+    CHECK(zones[0]["far_field_exceeds"] == false);
+    CHECK(zones[0]["depth_m"].get<double>() ==
+          Approx(demfem::coupling::kirsch::damage_radius(
+                     sigma0, 1.0, mat["crack_initiation"].get<double>()) -
+                 1.0)
+              .epsilon(1e-12));
+    CHECK(zones[1]["far_field_exceeds"] == true);
+    CHECK(zones[1]["depth_m"].is_null());
+    for (const auto &z : zones)
+      {
+        CHECK(z["cracks"] == j["damage"]["cracks"]);
+        CHECK(z["connected_cracks"] == j["damage"]["connected_cracks"]);
+        CHECK(z["cracks_inside"].get<std::size_t>() <=
+              z["cracks_within_near"].get<std::size_t>());
+        CHECK(z["cracks_within_near"].get<std::size_t>() <=
+              z["cracks"].get<std::size_t>());
+        CHECK(z["near_m"].get<double>() == Approx(0.2)); // one mean grain diameter
+      }
     CHECK(j["phases"][0]["equilibrated"] == true);
     CHECK(j["phases"][1]["equilibrated"] == true);
     return in;
