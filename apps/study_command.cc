@@ -539,6 +539,8 @@ namespace demfem::apps
                 q.ratio_tolerance       = base.ratio_tolerance;
                 q.ramp_crossing_times   = base.ramp_crossing_times;
                 q.damage_link_diameters = base.damage_link_diameters;
+                q.crack_initiation      = base.crack_initiation;
+                q.poisson_ratio         = base.continuum.poisson_ratio;
                 q.phase_step_limit      = base.phase_step_limit;
                 q.history_interval      = base.history_interval;
                 q.servo.tolerance       = st.servo_tolerance;

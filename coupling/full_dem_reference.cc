@@ -285,6 +285,11 @@ namespace demfem::coupling
     dem::check_range(w, "history interval", double(history_interval), 1, 1e12);
     dem::check_range(w, "servo alpha", servo.alpha, 0, 1, true);
     dem::check_range(w, "servo tolerance", servo.tolerance, 0, 1, true);
+    if (dimension == 3 && !crack_initiation.empty())
+      dem::check_range(w, "Continuum/poisson ratio (the plane-strain sigma_zz)",
+                       poisson_ratio, 0, 0.5, true, true);
+    for (const auto &[key, v] : crack_initiation)
+      dem::check_range(w, "material file's " + key, v, 0, inf, true);
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j)
         if (!std::isfinite(sigma0(i, j)))
@@ -567,6 +572,13 @@ namespace demfem::coupling
                                         p.damage_link_diameters, r.evaluation_radius);
             r.damage_zone_depth     = r.damage.depth;
             r.damage_zone_depth_max = r.damage.depth_max;
+            const auto x =
+                excavation::crack_positions(m, exc.cracks_before, r.evaluation_radius);
+            const auto zone = connected_to_wall(x, a, p.damage_link_diameters * d());
+            for (const auto &[key, threshold] : p.crack_initiation)
+              r.initiation_zones.push_back(
+                  measure_initiation_zone(x, zone, p.sigma0, a, key, threshold, d(),
+                                          dim == 3 ? p.poisson_ratio : -1.0));
             std::vector<double> all;
             for (const auto &x : excavation::crack_positions(m, exc.cracks_before))
               all.push_back(std::max(0.0, std::hypot(x[0], x[1]) - a));
@@ -660,6 +672,9 @@ namespace demfem::coupling
         j["damage_zone_depth_max"]    = json_number(r.damage_zone_depth_max);
         j["damage_zone_depth_all"]    = json_number(r.damage_zone_depth_all);
         j["damage"]                   = r.damage.to_json();
+        j["elastic_initiation_zones"] = nlohmann::ordered_json::array();
+        for (const auto &z : r.initiation_zones)
+          j["elastic_initiation_zones"].push_back(z.to_json());
         j["evaluation_radius_m"]      = json_number(r.evaluation_radius);
         j["cracks_beyond_evaluation"] = r.cracks_beyond_evaluation;
         j["wall_convergence_mean"]    = json_number(r.wall_convergence_mean);

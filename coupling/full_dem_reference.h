@@ -30,6 +30,7 @@
 // (floor: one grain-wall contact, 2 E*), the step limited to max_step.
 #include "coupling/damage_zone.h"
 #include "coupling/dem_region.h"
+#include "coupling/initiation_zone.h"
 #include "coupling/tunnel_result.h"
 
 #include <Eigen/Dense>
@@ -37,6 +38,7 @@
 #include <cstdint>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace demfem::coupling
@@ -117,8 +119,14 @@ namespace demfem::coupling
     /// The damage zone's link length in mean grain diameters (as the
     /// embedded run's Tunnel/damage link length: both measured alike).
     double damage_link_diameters = DamageZone::default_link_grain_diameters;
-    double safety                = 0.8; ///< dt = safety x DEM critical
-    double ratio_tolerance       = 1e-3;
+    /// The material's crack-initiation stresses [Pa] by material.json key
+    /// and, in 3D, the Poisson ratio of the plane-strain sigma_zz: the
+    /// excavation cracks are compared with their elastic zones as in the
+    /// embedded run (coupling/initiation_zone.h; empty: no comparison).
+    std::vector<std::pair<std::string, double>> crack_initiation;
+    double                                      poisson_ratio = 0.25;
+    double safety          = 0.8; ///< dt = safety x DEM critical
+    double ratio_tolerance = 1e-3;
     /// The in-situ ramp's duration in crossing times of the reference
     /// region, 2 R / sqrt(E* / rho) (RegionParams::crossing_time, R the
     /// reference radius): physical, as the embedded run's.
@@ -152,8 +160,10 @@ namespace demfem::coupling
     /// from the wall at r = 0.83 R, at a spot cracked during the in-situ ramp, broken by
     /// the excavation's unloading wave); the 90th percentile of all excavation cracks at
     /// any radius (damage_zone_depth_all) and the count of those beyond R/2.
-    DamageZone  damage;
-    double      damage_zone_depth        = 0;
+    DamageZone damage;
+    /// The same cracks against the elastic crack-initiation zones.
+    std::vector<InitiationZone> initiation_zones;
+    double                      damage_zone_depth = 0;
     double      damage_zone_depth_max    = 0; ///< largest crack distance (r <= R/2)
     double      damage_zone_depth_all    = 0;
     std::size_t cracks_beyond_evaluation = 0;

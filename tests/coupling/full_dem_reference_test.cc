@@ -282,6 +282,11 @@ TEST_CASE("full-DEM reference 3D: breakable slab, the membrane's band stays inta
   const double d  = p.region.mean_diameter();
   p.region.fj_ten = 8e6;
   p.region.fj_coh = 40e6;
+  // Compared with the elastic zone of a 30 MPa crack-initiation stress, as
+  // the embedded run is (coupling/initiation_zone.h; plane-strain sigma_zz
+  // with nu 0.25: the far field's 12.5 MPa of differential stress is below).
+  p.crack_initiation = {{"crack_initiation", 30e6}};
+  p.poisson_ratio    = 0.25;
   std::ostringstream log;
   const auto         r = coupling::run_full_dem_reference(p, log);
   INFO(log.str());
@@ -301,6 +306,16 @@ TEST_CASE("full-DEM reference 3D: breakable slab, the membrane's band stays inta
   CHECK(r.damage.connected_cracks >= exc / 2);
   CHECK(r.damage_zone_depth >= 0.5 * d);
   CHECK(r.damage_zone_depth <= 0.5 * p.region.radius - p.tunnel_radius);
+  REQUIRE(r.initiation_zones.size() == 1);
+  const auto &z = r.initiation_zones[0];
+  CHECK(z.cracks == r.damage.cracks);
+  CHECK(z.zone_cracks == r.damage.connected_cracks);
+  CHECK(!z.far_field_exceeds);
+  CHECK(z.depth ==
+        Approx(coupling::kirsch::damage_radius(p.sigma0, p.tunnel_radius, 30e6, 0.25) -
+               p.tunnel_radius)
+            .epsilon(1e-12));
+  CHECK(z.cracks_inside <= z.cracks_near);
   // cracks.csv has the z column in 3D
   std::ifstream in(p.output_directory + "/cracks.csv");
   std::string   header;
@@ -332,7 +347,11 @@ TEST_CASE("full-DEM reference: bad parameters are refused before any output",
   p.boundary_band = 1e3; // wider than R / 4
   CHECK_THROWS_WITH(coupling::run_full_dem_reference(p, log),
                     Catch::Contains("reference boundary band"));
-  p.boundary_band         = 3;
+  p.boundary_band    = 3;
+  p.crack_initiation = {{"crack_initiation", -1.0}};
+  CHECK_THROWS_WITH(coupling::run_full_dem_reference(p, log),
+                    Catch::Contains("material file's crack_initiation"));
+  p.crack_initiation.clear();
   p.dimension             = 3; // a slab needs its thickness
   p.region.slab_thickness = 0;
   CHECK_THROWS_WITH(coupling::run_full_dem_reference(p, log),

@@ -196,6 +196,11 @@ TEST_CASE("tunnel: the in-situ stress is installed with bond breakage suspended 
     in.stress        = j["region_stress_before_excavation"].get<std::vector<double>>();
     CHECK(j["phases"][0]["name"] == "in-situ");
     CHECK(j["phases"][1]["name"] == "in-situ cracking");
+    // 0.2 m grains against an elastic crack-initiation zone 0.19 m deep:
+    // the run warns that the damage depth would count grain layers.
+    CHECK(r.text.find("warning: the elastic zone where sigma1 - sigma3 reaches the "
+                      "material's crack_initiation (68.1767 MPa) is 0.187437 m deep, "
+                      "0.937187 mean grain diameters") != std::string::npos);
     // The excavation cracks against the elastic zones of the material
     // file's two crack-initiation stresses (coupling/initiation_zone.h).
     const auto mat =
@@ -230,6 +235,9 @@ TEST_CASE("tunnel: the in-situ stress is installed with bond breakage suspended 
         CHECK(z["cracks_within_near"].get<std::size_t>() <=
               z["cracks"].get<std::size_t>());
         CHECK(z["near_m"].get<double>() == Approx(0.2)); // one mean grain diameter
+        if (!z["far_field_exceeds"].get<bool>())
+          CHECK(z["depth_grain_diameters"].get<double>() ==
+                Approx(z["depth_m"].get<double>() / 0.2));
       }
     CHECK(j["phases"][0]["equilibrated"] == true);
     CHECK(j["phases"][1]["equilibrated"] == true);
