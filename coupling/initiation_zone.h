@@ -48,12 +48,12 @@ namespace demfem::coupling
       j["depth_m"] =
           far_field_exceeds ? nlohmann::ordered_json() : nlohmann::ordered_json(depth);
       j["area_m2"] =
-          // The zone's depth in mean grain diameters: below about 3 the measured
-          // damage depth counts grain layers (docs/tunnel.md, "Damage measures").
-          j["depth_grain_diameters"] =
-              far_field_exceeds || !(near > 0) ? nlohmann::ordered_json()
-                                               : nlohmann::ordered_json(depth / near);
-      far_field_exceeds ? nlohmann::ordered_json() : nlohmann::ordered_json(area);
+          far_field_exceeds ? nlohmann::ordered_json() : nlohmann::ordered_json(area);
+      // The zone's depth in mean grain diameters: below about 3 the measured
+      // damage depth counts grain layers (docs/tunnel.md, "Damage measures").
+      j["depth_grain_diameters"]        = far_field_exceeds || !(near > 0)
+                                              ? nlohmann::ordered_json()
+                                              : nlohmann::ordered_json(depth / near);
       j["cracks"]                       = cracks;
       j["cracks_inside"]                = cracks_inside;
       j["cracks_outside"]               = cracks - cracks_inside;

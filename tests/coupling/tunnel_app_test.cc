@@ -224,8 +224,14 @@ TEST_CASE("tunnel: the in-situ stress is installed with bond breakage suspended 
                      sigma0, 1.0, mat["crack_initiation"].get<double>()) -
                  1.0)
               .epsilon(1e-12));
+    CHECK(zones[0]["area_m2"].get<double>() ==
+          Approx(demfem::coupling::kirsch::zone_area(
+                     sigma0, 1.0, mat["crack_initiation"].get<double>()))
+              .epsilon(1e-12));
+    CHECK(zones[0]["area_m2"].get<double>() == Approx(0.3589).epsilon(1e-3)); // by hand
     CHECK(zones[1]["far_field_exceeds"] == true);
     CHECK(zones[1]["depth_m"].is_null());
+    CHECK(zones[1]["area_m2"].is_null());
     for (const auto &z : zones)
       {
         CHECK(z["cracks"] == j["damage"]["cracks"]);
