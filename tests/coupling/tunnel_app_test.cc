@@ -53,7 +53,7 @@ namespace
       " --set \"DEM region/material file=\" --set \"DEM region/lnm emod=20e9\" "
       "--set \"DEM region/fj ten=8e6\" --set \"DEM region/fj coh=40e6\" "
       "--set \"DEM region/radius=1.0\" --set \"Tunnel/radius=0.4\" "
-      "--set \"DEM region/grain diameter min=0.08\" "
+      "--set \"DEM region/grain diameter=\" --set \"DEM region/grain diameter min=0.08\" "
       "--set \"DEM region/grain diameter max=0.12\" "
       "--set \"Continuum/outer radius=10\" --set \"Output/interval=0\" ";
 } // namespace
