@@ -57,7 +57,7 @@ TEST_CASE("tunnel restart: the hint repeats the command line, a new directory ge
   const std::string prm = std::string(DEMFEM_SOURCE_DIR) + "/apps/examples/tunnel_2d.prm";
   std::vector<std::string> args = {
       DEMFEM_EXE, "tunnel", prm, "--set", "DEM region/radius=1.0", "--set",
-      "Tunnel/radius=0.4", "--set", "DEM region/grain diameter=", "--set",
+      "Tunnel/radius=0.4", "--set", "DEM region/grain diameter=0.1", "--set",
       "DEM region/grain diameter min=0.08", "--set",
       "DEM region/grain diameter max=0.12", "--set", "Continuum/outer radius=10", "--set",
       "Output/interval=0", "--set", "Output/checkpoint interval=0", "--set",
