@@ -285,6 +285,22 @@ namespace demfem::apps
                     << r.wall_convergence_mean << " m, interface force imbalance "
                     << r.interface_force_imbalance_max << "; output in "
                     << s.output_directory << std::endl;
+        // Where the damage zone lies against the elastic prediction
+        // (summary.json elastic_initiation_zones).
+        for (const auto &z : r.initiation_zones)
+          {
+            std::cout << "demfem tunnel: " << z.zone_cracks_inside << " of the "
+                      << z.zone_cracks << " damage-zone cracks (" << z.cracks_inside
+                      << " of all " << z.cracks
+                      << " excavation cracks) lie where the elastic sigma1 - sigma3 "
+                         "reaches the material's "
+                      << z.name << " (" << z.threshold / 1e6 << " MPa; ";
+            if (z.far_field_exceeds)
+              std::cout << "the in-situ stress already does";
+            else
+              std::cout << "a zone " << z.depth << " m deep";
+            std::cout << ")" << std::endl;
+          }
         for (const auto &[status, what] : r.problems)
           if (status != coupling::RunStatus::diverged)
             std::cerr << "demfem tunnel: " << coupling::status_name(status) << ": "
