@@ -672,9 +672,7 @@ namespace demfem::coupling
         j["damage_zone_depth_max"]    = json_number(r.damage_zone_depth_max);
         j["damage_zone_depth_all"]    = json_number(r.damage_zone_depth_all);
         j["damage"]                   = r.damage.to_json();
-        j["elastic_initiation_zones"] = nlohmann::ordered_json::array();
-        for (const auto &z : r.initiation_zones)
-          j["elastic_initiation_zones"].push_back(z.to_json());
+        j["elastic_initiation_zones"] = to_json(r.initiation_zones);
         j["evaluation_radius_m"]      = json_number(r.evaluation_radius);
         j["cracks_beyond_evaluation"] = r.cracks_beyond_evaluation;
         j["wall_convergence_mean"]    = json_number(r.wall_convergence_mean);

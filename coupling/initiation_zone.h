@@ -67,6 +67,15 @@ namespace demfem::coupling
     }
   };
 
+  /// summary.json's "elastic_initiation_zones": one object per zone.
+  inline nlohmann::ordered_json to_json(const std::vector<InitiationZone> &zones)
+  {
+    nlohmann::ordered_json a = nlohmann::ordered_json::array();
+    for (const auto &z : zones)
+      a.push_back(z.to_json());
+    return a;
+  }
+
   /// The elastic zone of `threshold` (named `name`) around the opening r = a
   /// under the in-plane in-situ stress sigma0, and how many of the cracks at
   /// positions x (z ignored; `connected` marks the damage zone's,

@@ -164,33 +164,31 @@ namespace demfem::coupling
         j["embedding"]       = r.embedding;
         j["axial_extension"] = json_number(r.axial_extension);
       }
-    j["variant"]                   = r.variant;
-    j["scheme"]                    = r.scheme;
-    j["n_particles"]               = r.n_particles;
-    j["n_contacts"]                = r.n_contacts;
-    j["n_fem_dofs"]                = r.n_fem_dofs;
-    j["steps"]                     = r.steps - r.packing_steps;
-    j["packing_steps"]             = r.packing_steps;
-    j["genesis_steps"]             = r.genesis_steps;
-    j["genesis_reused"]            = r.genesis_reused;
-    j["genesis_wall_time_s"]       = json_number(r.genesis_wall_time_s);
-    j["grain_resolution_a_over_d"] = json_number(r.grain_resolution_a_over_d);
-    j["timestep_s"]                = json_number(r.timestep);
-    j["dem_critical_timestep_s"]   = json_number(r.critical_timestep);
-    j["in_situ_ramp"]              = {{"duration_s", json_number(r.ramp_duration)},
-                                      {"crossing_time_s", json_number(r.ramp_crossing_time)},
-                                      {"steps", r.ramp_steps}};
-    j["wall_time_s"]               = json_number(r.wall_time_s);
-    j["cracks_total"]              = r.cracks_total;
-    j["cracks_tensile"]            = r.cracks_tensile;
-    j["cracks_shear"]              = r.cracks_shear;
-    j["cracks_by_type"]            = r.cracks_by_type;
-    j["damage_zone_depth"]         = json_number(r.damage_zone_depth);
-    j["damage_zone_depth_max"]     = json_number(r.damage_zone_depth_max);
-    j["damage"]                    = r.damage.to_json();
-    j["elastic_initiation_zones"]  = nlohmann::ordered_json::array();
-    for (const auto &z : r.initiation_zones)
-      j["elastic_initiation_zones"].push_back(z.to_json());
+    j["variant"]                         = r.variant;
+    j["scheme"]                          = r.scheme;
+    j["n_particles"]                     = r.n_particles;
+    j["n_contacts"]                      = r.n_contacts;
+    j["n_fem_dofs"]                      = r.n_fem_dofs;
+    j["steps"]                           = r.steps - r.packing_steps;
+    j["packing_steps"]                   = r.packing_steps;
+    j["genesis_steps"]                   = r.genesis_steps;
+    j["genesis_reused"]                  = r.genesis_reused;
+    j["genesis_wall_time_s"]             = json_number(r.genesis_wall_time_s);
+    j["grain_resolution_a_over_d"]       = json_number(r.grain_resolution_a_over_d);
+    j["timestep_s"]                      = json_number(r.timestep);
+    j["dem_critical_timestep_s"]         = json_number(r.critical_timestep);
+    j["in_situ_ramp"]                    = {{"duration_s", json_number(r.ramp_duration)},
+                                            {"crossing_time_s", json_number(r.ramp_crossing_time)},
+                                            {"steps", r.ramp_steps}};
+    j["wall_time_s"]                     = json_number(r.wall_time_s);
+    j["cracks_total"]                    = r.cracks_total;
+    j["cracks_tensile"]                  = r.cracks_tensile;
+    j["cracks_shear"]                    = r.cracks_shear;
+    j["cracks_by_type"]                  = r.cracks_by_type;
+    j["damage_zone_depth"]               = json_number(r.damage_zone_depth);
+    j["damage_zone_depth_max"]           = json_number(r.damage_zone_depth_max);
+    j["damage"]                          = r.damage.to_json();
+    j["elastic_initiation_zones"]        = to_json(r.initiation_zones);
     j["cracks_before_excavation"]        = r.cracks_before_excavation;
     j["cracks_near_interface"]           = r.cracks_near_interface;
     j["zone_cracks_near_interface"]      = r.zone_cracks_near_interface;
