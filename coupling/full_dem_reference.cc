@@ -567,14 +567,15 @@ namespace demfem::coupling
           {
             // The zone within R/2; the percentile of all excavation cracks'
             // distances, wherever they are, on its own (no zone needed).
-            r.damage =
-                excavation::damage_zone(m, exc.cracks_before, a, d(),
-                                        p.damage_link_diameters, r.evaluation_radius);
-            r.damage_zone_depth     = r.damage.depth;
-            r.damage_zone_depth_max = r.damage.depth_max;
+            // The cracks and their zone are found once for the damage
+            // zone and the elastic initiation zones.
             const auto x =
                 excavation::crack_positions(m, exc.cracks_before, r.evaluation_radius);
-            const auto zone = connected_to_wall(x, a, p.damage_link_diameters * d());
+            const double link = p.damage_link_diameters * d();
+            const auto   zone = connected_to_wall(x, a, link);
+            r.damage = measure_damage_zone(x, a, link, zone, p.damage_link_diameters);
+            r.damage_zone_depth     = r.damage.depth;
+            r.damage_zone_depth_max = r.damage.depth_max;
             for (const auto &[key, threshold] : p.crack_initiation)
               r.initiation_zones.push_back(
                   measure_initiation_zone(x, zone, p.sigma0, a, key, threshold, d(),

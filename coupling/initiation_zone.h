@@ -106,7 +106,7 @@ namespace demfem::coupling
     if (!z.far_field_exceeds)
       {
         z.depth = R - a;
-        z.area  = kirsch::zone_area(sigma0, a, threshold, nu_zz);
+        z.area  = kirsch::zone_area_within(sigma0, a, threshold, R, nu_zz);
       }
     z.cracks = x.size();
     for (std::size_t i = 0; i < x.size(); ++i)

@@ -110,14 +110,15 @@ namespace demfem::coupling::kirsch
   }
 
   /// Area [m^2 per unit length] of {r >= a: differential_stress >=
-  /// threshold}, bounded by damage_radius R (HUGE_VAL when unbounded):
-  /// midpoint rule on a polar grid of n_r x n_theta cells between a and R,
-  /// whose boundary cells make the error O((R - a) / n_r) of the zone's
-  /// width (tests/coupling/initiation_zone_test.cc bounds it).
-  inline double zone_area(const Eigen::Matrix2d &sigma0, double a, double threshold,
-                          double nu_zz = -1, int n_r = 400, int n_theta = 720)
+  /// threshold}, bounded by R = damage_radius(sigma0, a, threshold, nu_zz)
+  /// (HUGE_VAL when unbounded): midpoint rule on a polar grid of n_r x
+  /// n_theta cells between a and R, whose boundary cells make the error
+  /// O((R - a) / n_r) of the zone's width (tests/coupling/
+  /// initiation_zone_test.cc bounds it). A caller that has R passes it.
+  inline double zone_area_within(const Eigen::Matrix2d &sigma0, double a,
+                                 double threshold, double R, double nu_zz = -1,
+                                 int n_r = 400, int n_theta = 720)
   {
-    const double R = damage_radius(sigma0, a, threshold, nu_zz);
     if (!(R < HUGE_VAL))
       return HUGE_VAL;
     const double dr = (R - a) / n_r, dt = 2 * M_PI / n_theta;
@@ -130,5 +131,13 @@ namespace demfem::coupling::kirsch
             area += r * dr * dt;
       }
     return area;
+  }
+
+  /// The same, R found here.
+  inline double zone_area(const Eigen::Matrix2d &sigma0, double a, double threshold,
+                          double nu_zz = -1)
+  {
+    return zone_area_within(sigma0, a, threshold,
+                            damage_radius(sigma0, a, threshold, nu_zz), nu_zz);
   }
 } // namespace demfem::coupling::kirsch

@@ -134,8 +134,8 @@ namespace demfem::coupling
           , history(dir + "/history.csv")
           , frames(dir)
       {
-        measures.compare_with_elastic_initiation(
-            pp.sigma0, pp.crack_initiation, dim == 3 ? pp.continuum.poisson_ratio : -1.0);
+        measures.compare_with_elastic_initiation(pp.sigma0, pp.crack_initiation,
+                                                 plane_strain_nu_zz());
       }
 
       TunnelResult run()
@@ -284,14 +284,21 @@ namespace demfem::coupling
       // the damage-zone depth may count grain layers: measured on the
       // default example at a/d = 10, 0.235 m at five in-situ stresses whose
       // zones are 0.09-0.19 m deep (docs/tunnel.md, "Default example").
+      // The Poisson ratio of a 3D model's plane-strain sigma_zz for the
+      // elastic zones (coupling/kirsch.h); 2D: none (< 0).
+      double plane_strain_nu_zz() const
+      {
+        return dim == 3 ? p.continuum.poisson_ratio : -1.0;
+      }
+
       void warn_if_initiation_zone_unresolved() const
       {
         if (!p.region.breakable || p.crack_initiation.empty())
           return;
         const auto &[key, ci] = p.crack_initiation.front();
         const double d        = p.region.mean_diameter();
-        const double R        = kirsch::damage_radius(
-                   p.sigma0, p.tunnel_radius, ci, dim == 3 ? p.continuum.poisson_ratio : -1.0);
+        const double R =
+            kirsch::damage_radius(p.sigma0, p.tunnel_radius, ci, plane_strain_nu_zz());
         const double depth = R - p.tunnel_radius;
         if (R < HUGE_VAL && depth > 0 && depth < min_initiation_zone_grains * d)
           out << "warning: the elastic zone where sigma1 - sigma3 reaches the material's "
