@@ -235,6 +235,25 @@ TEST_CASE("calibrate: bad parameter files write nothing", "[calibrate]")
   CHECK_FALSE(fs::exists(out));
 }
 
+TEST_CASE("calibrate: bonded and gapped fractions that add up to one are accepted",
+          "[calibrate]")
+{
+  // 1 - 0.9 is below 0.1 in binary: the range of the gapped fraction is
+  // [0, 1 - B] up to round-off, so B 0.9 with G 0.1 (no slits) is the
+  // material asked for, not an error.
+  const auto t = run_tiny(
+      "bonded_gapped", "--set \"Problem/vtk=false\" --set \"Tests/tests=direct tension\""
+                       " --set \"Material/Flat joint/bonded fraction=0.9\""
+                       " --set \"Material/Flat joint/gapped fraction=0.1\""
+                       " --set \"Material/Flat joint/gap mean=1e-6\"");
+  INFO(t.r.out);
+  REQUIRE(t.r.exit_code == 0);
+  const auto  m  = nlohmann::json::parse(read(t.out / "material.json"));
+  const auto &mp = m.at("microparameters");
+  CHECK(mp.at("fj_B").get<double>() == 0.9);
+  CHECK(mp.at("fj_G").get<double>() == 0.1);
+}
+
 TEST_CASE("calibrate: a specimen with a smooth-jointed interface is weaker",
           "[calibrate][joint]")
 {
