@@ -522,11 +522,11 @@ namespace demfem::apps
       m.fj_coh             = read_dist(prm, where, fj, "cohesion");
       m.fj_fa              = prm.get_double("friction angle");
       check(where, fj + "bonded fraction", m.fj_B, 0, 1);
-      // B + G <= 1 (the rest slit) up to round-off, so that bonded 0.9 and
-      // gapped 0.1 are accepted (1 - 0.9 < 0.1 in binary); the counts are
-      // clamped to the joints there are (dem/specimen/property_rules.cc).
+      // B + G <= 1 (the rest slit) up to the round-off MaterialParams
+      // allows, so that bonded 0.9 with gapped 0.1 is accepted; the counts
+      // are clamped to the joints there are (dem/specimen/property_rules.cc).
       check(where, fj + "gapped fraction", m.fj_G, 0,
-            1 - m.fj_B + 4 * std::numeric_limits<double>::epsilon());
+            1 - m.fj_B + dem::fraction_sum_tolerance);
       check(where, fj + "radius multiplier", m.fj_rmul, 0, 1, true);
       check(where, fj + "friction angle", m.fj_fa, 0, 90, false, true);
       prm.leave_subsection();

@@ -110,7 +110,7 @@ namespace demfem::dem
       {
         check_range(where, "fj_B", fj_B, 0, 1);
         check_range(where, "fj_G", fj_G, 0, 1);
-        if (fj_B + fj_G > 1 + 1e-12)
+        if (fj_B + fj_G > 1 + fraction_sum_tolerance)
           {
             std::ostringstream m;
             m << "(fj_B + fj_G = " << fj_B + fj_G

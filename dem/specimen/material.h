@@ -37,6 +37,10 @@ namespace demfem::dem
     double min  = 0; ///< draws at or below it are redrawn (0 <= min < mean)
   };
 
+  /// Round-off allowed on phi_B + phi_G <= 1 (the rest slit): 0.9 and 0.1
+  /// add up to more than one in binary.
+  constexpr double fraction_sum_tolerance = 1e-12;
+
   struct MaterialParams
   {
     // ---- common (fistPkg Table 1) -----------------------------------------
