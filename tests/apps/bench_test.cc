@@ -97,14 +97,14 @@ TEST_CASE("bench dem --material builds the scene of a material file", "[bench]")
   CHECK_THAT(r.out, Catch::Contains("lac_du_bonnet_2d.material.json"));
   CHECK(json_number(r.out, "dim") == 2); // from the file
   CHECK(json_number(r.out, "n_particles") == 500);
-  // The LdB material's joints: bonded, fj_B = 0.98979, and slit, fj_S =
-  // 0.01021, none gapped; the genesis bonds round(B n) of the n joints
+  // The LdB material's joints: bonded, fj_B = 0.925, and slit, fj_S =
+  // 0.075, none gapped; the genesis bonds round(B n) of the n joints
   // (designate_microstructure, dem/specimen/property_rules.cc), so the slit
   // count is S n to half a joint.
   const double n_fj = json_number(r.out, "n_flatjoints");
   CHECK(json_number(r.out, "n_bonded") + json_number(r.out, "n_slit") == n_fj);
   CHECK(json_number(r.out, "n_gapped") == 0);
-  CHECK(std::abs(json_number(r.out, "n_slit") - 0.010212117649018637 * n_fj) <= 0.51);
+  CHECK(std::abs(json_number(r.out, "n_slit") - 0.075 * n_fj) <= 0.51);
   CHECK(json_number(r.out, "n_flatjoints") > 500);
   // Elements per joint from the file (fj_Nr = 2 in 2D).
   CHECK(json_number(r.out, "elements_per_contact") == 2);
