@@ -283,7 +283,7 @@ TEST_CASE("probe: DEM region/seed picks the packing, by default the material fil
   // with the example's 20 deg flats splits (7 of its 9 failure
   // cracks in the split zone), so the probe's one seed passes.
   const std::string file = small_material("seed", "--set Material/seed=4242");
-  const json m = read_json(file);
+  const json        m    = read_json(file);
   REQUIRE(m["microparameters"]["seed"].get<long long>() == 4242);
   const std::string dir =
       (std::filesystem::temp_directory_path() / "demfem_probe_seed").string();
