@@ -263,6 +263,12 @@ namespace demfem::apps
           "strain rate x height (fistPkg Table 10), in seating at most P_c / "
           "(rho c), in loading at least 2 P_c / (rho c) (docs/calibrate.md)");
       prm.declare_entry(
+          "lateral wall segments", "1", Patterns::Integer(1),
+          "Confined compression, 2D: the lateral walls as flexible chains of this "
+          "many facets between the platens, each vertex servo-controlled to P_c on "
+          "its own (a membrane); 1: rigid walls. Each facet at least two mean grain "
+          "diameters long (docs/calibrate.md, \"Confining servo\")");
+      prm.declare_entry(
           "platen friction", "0.5", Patterns::Double(),
           "Brazilian platen friction (fistPkg: frictionless; a small 2D disk "
           "between frictionless platens can slide out sideways) (>= 0)");
@@ -603,6 +609,7 @@ namespace demfem::apps
       l.grip_thickness            = prm.get_double("grip thickness");
       l.platen_friction           = prm.get_double("platen friction");
       l.servo.v_limit             = prm.get_double("servo velocity limit");
+      l.lateral_segments          = prm.get_integer("lateral wall segments");
       l.fit_lo                    = prm.get_double("fit window low");
       l.fit_hi                    = prm.get_double("fit window high");
       l.crack_initiation_fraction = prm.get_double("crack initiation fraction");

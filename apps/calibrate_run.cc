@@ -164,7 +164,8 @@ namespace demfem::apps
               .num("confining_deviation_to_peak", r.confining_deviation_to_peak)
               .num("confining_spike_to_peak", r.confining_spike_to_peak)
               .num("confining_window_s", r.confining_window)
-              .num("confining_velocity_limit_m_s", r.confining_velocity_limit);
+              .num("confining_velocity_limit_m_s", r.confining_velocity_limit)
+              .num("lateral_wall_segments", double(r.lateral_wall_segments));
           if (dim == 2)
             j.num("E_plane_stress_Pa", r.E_ps).num("nu_plane_stress", r.nu_ps);
         }
@@ -419,8 +420,12 @@ namespace demfem::apps
       if (r.confining_deviation_to_peak > 0.01)
         std::cerr << "demfem calibrate: warning: " << label
                   << ": the confining pressure (averaged over a wave's crossing time) "
-                     "deviated by more than 1 % before the peak (crack bursts next to "
-                     "the walls; docs/calibrate.md, \"What the tests do\")\n";
+                     "deviated by "
+                  << 100 * r.confining_deviation_to_peak
+                  << " % (more than 1 %) before the peak (crack bursts next to the "
+                  << (r.lateral_wall_segments > 1 ? "flexible" : "rigid")
+                  << " walls; 2D: Tests/lateral wall segments makes them flexible; "
+                     "docs/calibrate.md, \"What the tests do\")\n";
       if (s.rate_check > 0)
         {
           // A quasi-static peak does not move when the rate is halved
@@ -610,6 +615,8 @@ namespace demfem::apps
         .num("seating_step_limit", double(s.lab.seat_step_limit))
         .num("platen_friction", s.lab.platen_friction)
         .num("split_fraction", s.lab.split_fraction)
+        .num("servo_velocity_limit_m_s", s.lab.servo.v_limit)
+        .num("lateral_wall_segments", s.lab.lateral_segments)
         .num("time_step_safety", s.lab.timestep_safety)
         .num("brazilian_diameter_m", s.lab.brazilian_diameter)
         .num("brazilian_flat_angle_deg", s.lab.brazilian_flat_angle)

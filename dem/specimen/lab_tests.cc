@@ -45,6 +45,11 @@ namespace demfem::dem
     check("grip thickness", grip_thickness, 0, 0.5, true, true);
     check("platen friction", platen_friction, 0, inf);
     check("servo velocity limit", servo.v_limit, 0, inf);
+    check("lateral wall segments", lateral_segments, 1, 1e6);
+    if (dim == 3 && lateral_segments > 1)
+      throw InputError(where + ": " + key_prefix +
+                       "lateral wall segments = " + std::to_string(lateral_segments) +
+                       ": flexible lateral walls are 2D only; allowed in 3D: 1");
     check("fit window low", fit_lo, 0, 1, false, true);
     check("fit window high", fit_hi, fit_lo, 1, true, false);
     check("fit window stress low", fit_stress_lo, 0, inf);
@@ -225,6 +230,11 @@ namespace demfem::dem
         // limit would break (at 3 m/s a tiny specimen seated to 6 MPa failed
         // the energy check), and takes a smaller one.
         const double given = sp.v_limit;
+        // A flexible wall's vertex without a contact closes at the seating's
+        // speed: 10 eps_rate H, P_c / (rho c) at most (below).
+        sp.v_free = 10 * p_.strain_rate * H;
+        if (wave_speed() > 0 && p_.Pc > 0)
+          sp.v_free = std::min(sp.v_free, p_.Pc / (s_.material.density * wave_speed()));
         if (loading && given > 0)
           return sp;
         sp.v_limit = 10 * p_.strain_rate * H; // Table 10 default: 10 eps_rate H
@@ -287,6 +297,8 @@ namespace demfem::dem
           for (int a = 0; a < dim - 1; ++a)
             remove_walls(a);
         m_.reset_energy_baseline();
+        if (p_.ctype == CompressionType::confined && p_.lateral_segments > 1)
+          make_lateral_walls_flexible(H);
         if (p_.Pc > 0 || p_.ctype == CompressionType::confined)
           {
             // Seating: every wall present (unconfined: the platens only)
@@ -310,6 +322,7 @@ namespace demfem::dem
             // dilates, with the integral term that removes the lag.
             const ServoParams sp        = servo_params(H, true);
             r_.confining_velocity_limit = sp.v_limit;
+            r_.lateral_wall_segments    = s_.vessel.flexible(0) ? p_.lateral_segments : 1;
             servo_                      = std::make_unique<Servo<dim>>(s_.vessel, sp);
             for (int a = 0; a < dim - 1; ++a)
               servo_->set_pressure(a, p_.Pc);
@@ -317,6 +330,26 @@ namespace demfem::dem
           }
         else
           servo_.reset(); // lateral walls fixed (uniaxial strain) or removed
+      }
+
+      // Flexible lateral walls before the seating, which settles the new
+      // wall contacts; each facet at least two mean grain diameters long,
+      // so that a vertex cannot wedge between two grains.
+      void make_lateral_walls_flexible(double H)
+      {
+        double d = 0;
+        for (std::size_t i = 0; i < m_.particles.size(); ++i)
+          d += 2 * m_.particles.radius[i];
+        d /= std::max<std::size_t>(1, m_.particles.size());
+        const int n_max = std::max(1, static_cast<int>(H / (2 * d)));
+        if (p_.lateral_segments > n_max)
+          throw InputError(
+              "lab test: lateral wall segments = " + std::to_string(p_.lateral_segments) +
+              " makes facets of " + std::to_string(H / p_.lateral_segments) +
+              " m, below two mean grain diameters (" + std::to_string(2 * d) +
+              " m); allowed for this specimen: 1 to " + std::to_string(n_max));
+        for (int a = 0; a < dim - 1; ++a)
+          s_.vessel.make_flexible(m_.walls, a, p_.lateral_segments, far_);
       }
 
       bool servo_holds_confinement() const
@@ -647,8 +680,21 @@ namespace demfem::dem
         ConfinementGauge confinement;
         if (track_pc)
           confinement = confinement_gauge();
+        // Automatic loading limit of the confining servo (servo_params):
+        // besides P_c, a crack burst can unload the specimen locally by up
+        // to the axial stress, which a surface then leaves at
+        // 2 |sigma_a| / (rho c); the walls must be able to follow
+        // (docs/calibrate.md, "Confining servo"). Updated every step from
+        // the previous step's axial stress.
+        const bool   auto_limit = track_pc && !(p_.servo.v_limit > 0) && wave_speed() > 0;
+        const double base_limit = track_pc ? servo_->velocity_limit() : 0;
+        double       axial_now  = 0;
         for (std::int64_t n = 1; n <= nmax; ++n)
           {
+            if (auto_limit)
+              servo_->set_velocity_limit(
+                  std::max(base_limit, 2 * std::abs(axial_now) /
+                                           (s_.material.density * wave_speed())));
             if (servo_holds_confinement())
               servo_->update(m_);
             m_.step();
@@ -658,6 +704,7 @@ namespace demfem::dem
             // history rows: it must not depend on Tests/history interval
             // (rows every 50 steps read a 2D UCS 0.08 % low, measured).
             const HistoryRow now = load_state();
+            axial_now            = now.axial_stress;
             if (now.load > peak_state_.load)
               {
                 peak_state_ = now;
@@ -665,6 +712,7 @@ namespace demfem::dem
                   {
                     r_.confining_deviation_to_peak = confinement.averaged;
                     r_.confining_spike_to_peak     = confinement.spike;
+                    r_.confining_velocity_limit    = servo_->velocity_limit();
                   }
               }
             // The post-peak end and the strain limit are judged every step

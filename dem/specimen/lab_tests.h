@@ -93,14 +93,22 @@ namespace demfem::dem
     int          history_interval = 50;    ///< steps between history rows
     // seating (compression) / set-up (Brazilian) equilibrium
     /// Confining servo. v_limit 0: automatic, Table 10's 10 eps_rate H, in
-    /// seating at most Pc / (rho c), in loading at least 2 Pc / (rho c)
+    /// seating at most Pc / (rho c), in loading at least
+    /// 2 max(Pc, |sigma_a|) / (rho c), sigma_a the axial stress of the step
     /// (docs/calibrate.md); given (> 0), the loading limit and an upper
     /// bound of the seating's automatic one; the integral gain acts in
     /// loading only.
-    ServoParams  servo;
-    double       ratio_limit     = 1e-4; ///< ft_eq ratio limit for seating
-    std::int64_t seat_step_limit = 100000;
-    double       grip_thickness  = 0.1; ///< direct tension: t_g / H
+    ServoParams servo;
+    /// Confined compression, 2D: the lateral walls as flexible chains of
+    /// this many facets between the platens, each vertex servo-controlled
+    /// on its own (a membrane: a crack burst next to the wall moves the
+    /// facets it touches, not the whole wall); 1: rigid lateral walls.
+    /// Each facet at least two mean grain diameters long
+    /// (docs/calibrate.md, "Confining servo").
+    int          lateral_segments = 1;
+    double       ratio_limit      = 1e-4; ///< ft_eq ratio limit for seating
+    std::int64_t seat_step_limit  = 100000;
+    double       grip_thickness   = 0.1; ///< direct tension: t_g / H
     /// Brazilian platen friction. fistPkg §5.6 uses frictionless platens;
     /// a small 2D disk between frictionless platens can slide out sideways
     /// (neutral equilibrium), so a friction coefficient may be given.
@@ -207,9 +215,13 @@ namespace demfem::dem
     /// averaging window [s].
     double confining_spike_to_peak = std::numeric_limits<double>::quiet_NaN();
     double confining_window        = std::numeric_limits<double>::quiet_NaN();
-    /// The loading servo's wall velocity limit [m/s] (Tests/servo velocity
-    /// limit, or the automatic one); NaN for the other tests.
+    /// The loading servo's wall velocity limit [m/s] at the peak step
+    /// (Tests/servo velocity limit, or the automatic one, which grows with
+    /// the axial stress); NaN for the other tests.
     double confining_velocity_limit = std::numeric_limits<double>::quiet_NaN();
+    /// Facets of each lateral wall between the platens (1: rigid walls; 0
+    /// for the other tests).
+    int lateral_wall_segments = 0;
     /// Crack-damage stress (Martin & Chandler): axial-stress magnitude at the
     /// reversal of the volumetric strain (gauge based), i.e. at the most
     /// compacted state before the peak; NaN if the volume only grows.

@@ -30,6 +30,12 @@ namespace demfem::dem
     /// pair moves both walls for the mean pressure and closes half of that
     /// (poles 0.86 +- 0.08i: damped). docs/calibrate.md, "What the tests do".
     double integral_gain = 0.05;
+    /// Flexible walls: speed [m/s] at which a vertex between the platens
+    /// without a contact closes on the specimen (0: v_limit). A membrane
+    /// under pressure closes on a void; at a large v_limit (40 m/s) a
+    /// vertex driven in at the limit wedged grains between two facets and
+    /// broke the energy balance (docs/calibrate.md, "Confining servo").
+    double v_free = 0;
   };
 
   template <int dim>
@@ -49,12 +55,23 @@ namespace demfem::dem
     /// All servo-controlled pressures within tol of their targets.
     bool within_tolerance(const Model<dim> &m) const;
     void stop(Model<dim> &m); ///< zero wall velocities and the integral term
+    /// A new velocity limit (> 0) for the next updates [m/s].
+    void   set_velocity_limit(double v_limit) { p_.v_limit = v_limit; }
+    double velocity_limit() const { return p_.v_limit; }
 
   private:
+    /// Flexible walls of lateral axis a: each vertex closes alpha of its own
+    /// pressure error per step (docs/calibrate.md, "Confining servo").
+    void update_flexible(Model<dim> &m, int a, double dt);
+
     Vessel<dim>             vessel_; // a copy: ids only, positions live in the walls
     ServoParams             p_;
     std::array<bool, dim>   on_;
     std::array<double, dim> target_, velocity_;
     std::array<double, dim> integral_velocity_; // G / T_i int e dt, per axis
+    // Flexible walls: per wall vertex, the summed stiffness of its contacts
+    // (each weighted by the vertex's barycentric weight) and the integral
+    // velocity; indexed by wall vertex.
+    std::vector<double> vertex_kn_, vertex_integral_;
   };
 } // namespace demfem::dem

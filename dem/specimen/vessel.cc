@@ -55,8 +55,100 @@ namespace demfem::dem
   }
 
   template <int dim>
+  std::vector<double> Vessel<dim>::tributary_areas(const Walls<dim>       &w,
+                                                   const std::vector<int> &chain) const
+  {
+    // Hat function of vertex k: 1 at y_k, 0 at its neighbours; on the facet
+    // [y_k, y_k+1] the weight of y_k is (y_k+1 - y) / (y_k+1 - y_k), and
+    // its integral over [lo, hi] is (u(lo) - u(hi)) with
+    // u(y) = (y_k+1 - y)^2 / (2 (y_k+1 - y_k)), both limits clipped.
+    const int    ax  = dim - 1;
+    const double ylo = coord(w, lo_vertex[ax], ax), yhi = coord(w, hi_vertex[ax], ax);
+    std::vector<double> A(chain.size(), 0.0);
+    for (std::size_t k = 0; k + 1 < chain.size(); ++k)
+      {
+        const double y0 = coord(w, chain[k], ax), y1 = coord(w, chain[k + 1], ax);
+        const double a = std::clamp(ylo, y0, y1), b = std::clamp(yhi, y0, y1);
+        if (b <= a)
+          continue;
+        const double L = y1 - y0;
+        A[k] += ((y1 - a) * (y1 - a) - (y1 - b) * (y1 - b)) / (2 * L);
+        A[k + 1] += ((a - y0) * (a - y0) - (b - y0) * (b - y0)) / (-2 * L);
+      }
+    return A;
+  }
+
+  namespace
+  {
+    // Tributary-area weighted mean coordinate a of a flexible wall.
+    template <int dim>
+    double mean_position(const Vessel<dim> &v, const Walls<dim> &w,
+                         const std::vector<int> &chain, int a)
+    {
+      const auto A   = v.tributary_areas(w, chain);
+      double     sum = 0, x = 0;
+      for (std::size_t k = 0; k < chain.size(); ++k)
+        {
+          sum += A[k];
+          x += A[k] * w.vertex[chain[k]][a];
+        }
+      return sum > 0 ? x / sum : w.vertex[chain[chain.size() / 2]][a];
+    }
+  } // namespace
+
+  template <int dim>
+  void Vessel<dim>::make_flexible(Walls<dim> &w, int a, int segments, double park)
+  {
+    if (dim != 2 || cylinder() || a == dim - 1 || flexible(a))
+      throw InputError("vessel: flexible lateral walls are made once, for the lateral "
+                       "axis of a 2D box");
+    if (segments < 1)
+      throw InputError("vessel: parameter 'segments' = " + std::to_string(segments) +
+                       " is not >= 1");
+    const int    ax  = dim - 1;
+    const double ylo = coord(w, lo_vertex[ax], ax), yhi = coord(w, hi_vertex[ax], ax);
+    const double margin = 0.5 * (params.expand - 1) * (yhi - ylo);
+    std::vector<double> y{ylo - margin};
+    for (int k = 0; k <= segments; ++k)
+      y.push_back(ylo + (yhi - ylo) * k / segments);
+    if (margin > 0)
+      y.push_back(yhi + margin);
+    else
+      y.erase(y.begin());
+    const double xlo = coord(w, lo_vertex[a], a), xhi = coord(w, hi_vertex[a], a);
+    translate_outward(w, a, park);
+    static const char *axis_name[3] = {"x", "y", "z"};
+    for (int s = 0; s < 2; ++s)
+      {
+        const int id =
+            w.add_wall(std::string(axis_name[a]) + (s ? "+" : "-") + " flexible");
+        std::vector<int> chain;
+        for (double yk : y)
+          {
+            Vec<dim> x = Vec<dim>::Zero();
+            x[a]       = s ? xhi : xlo;
+            x[ax]      = yk;
+            chain.push_back(w.add_vertex(x));
+          }
+        for (std::size_t k = 0; k + 1 < chain.size(); ++k)
+          {
+            std::array<int, dim> f{};
+            f[0] = chain[k];
+            f[1] = chain[k + 1];
+            w.add_facet(id, f);
+          }
+        (s ? hi : lo)[a]               = id;
+        (s ? hi_vertex : lo_vertex)[a] = chain[margin > 0 ? 1 : 0];
+        (s ? hi_chain : lo_chain)[a]   = chain;
+      }
+  }
+
+  template <int dim>
   double Vessel<dim>::length(const Walls<dim> &w, int a) const
   {
+    if (flexible(a))
+      return mean_position(*this, w, hi_chain[a], a) -
+             mean_position(*this, w, lo_chain[a], a);
     if (lo[a] >= 0)
       return coord(w, hi_vertex[a], a) - coord(w, lo_vertex[a], a);
     return 2 * radius(w);

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 namespace demfem::dem
 {
@@ -52,8 +53,29 @@ namespace demfem::dem
     std::array<double, dim>    initial_length;      ///< lengths at creation
     std::array<Region<dim>, 3> regions; ///< three regions along the axial direction
 
+    /// Flexible lateral walls (2D confined compression; docs/calibrate.md,
+    /// "Confining servo"): the walls of lateral axis a as chains of vertices
+    /// ordered along the axial axis, each vertex servo-controlled on its
+    /// own; empty: the rigid wall of lo[a], hi[a].
+    std::array<std::vector<int>, dim> lo_chain, hi_chain;
+
     bool cylinder() const { return side >= 0; }
-    /// Current inner length along axis a (cylinder lateral: diameter).
+    bool flexible(int a) const { return !lo_chain[a].empty(); }
+    /// Replaces the rigid walls of lateral axis a (2D: a = 0) by flexible
+    /// walls at the same places: `segments` facets of equal length between
+    /// the platens and one more beyond each platen (the vessel's expansion
+    /// factor). The rigid walls are parked `park` outward (their contacts
+    /// end at the next contact detection), so facet indices of existing
+    /// contacts stay valid.
+    void make_flexible(Walls<dim> &w, int a, int segments, double park);
+    /// Tributary length of each vertex of `chain` between the platens: the
+    /// integral of its hat function over the platen gap (2D, unit depth:
+    /// the area of the lateral boundary the vertex carries) [m^2].
+    std::vector<double> tributary_areas(const Walls<dim>       &w,
+                                        const std::vector<int> &chain) const;
+    /// Current inner length along axis a (cylinder lateral: diameter;
+    /// flexible walls: between their tributary-area weighted mean
+    /// positions).
     double length(const Walls<dim> &w, int a) const;
     double radius(const Walls<dim> &w) const; ///< cylinder radius
     /// Current volume (2D: area x unit thickness).
