@@ -423,9 +423,11 @@ namespace demfem::apps
                      "deviated by "
                   << 100 * r.confining_deviation_to_peak
                   << " % (more than 1 %) before the peak (crack bursts next to the "
-                  << (r.lateral_wall_segments > 1 ? "flexible" : "rigid")
-                  << " walls; 2D: Tests/lateral wall segments makes them flexible; "
-                     "docs/calibrate.md, \"What the tests do\")\n";
+                  << (r.lateral_wall_segments > 1
+                          ? "flexible walls"
+                          : "rigid walls; in 2D Tests/lateral wall segments makes them "
+                            "flexible")
+                  << "; docs/calibrate.md, \"What the tests do\")\n";
       if (s.rate_check > 0)
         {
           // A quasi-static peak does not move when the rate is halved

@@ -128,17 +128,7 @@ namespace demfem::dem
               {
                 // Each wall of a pair moves by v: the pair's stiffness halves.
                 const double G = p_.alpha * vessel_.area(m.walls, a) / (kn[a] * dt);
-                v              = G * err;
-                if (p_.integral_gain > 0)
-                  {
-                    // Conditional integration (anti-windup): the integral
-                    // stops growing while the velocity limit holds the wall.
-                    const double vi =
-                        integral_velocity_[a] + (p_.integral_gain / p_.alpha) * v;
-                    if (std::abs(v + vi) < p_.v_limit)
-                      integral_velocity_[a] = vi;
-                    v += integral_velocity_[a];
-                  }
+                v              = with_integral(G * err, integral_velocity_[a]);
               }
             else
               v = err > 0 ? p_.v_limit : -p_.v_limit;
@@ -146,6 +136,19 @@ namespace demfem::dem
           }
         vessel_.set_velocity(m.walls, a, v);
       }
+  }
+
+  template <int dim>
+  double Servo<dim>::with_integral(double v, double &integral) const
+  {
+    if (!(p_.integral_gain > 0))
+      return v;
+    // Conditional integration (anti-windup): the integral stops growing
+    // while the velocity limit holds the wall.
+    const double vi = integral + (p_.integral_gain / p_.alpha) * v;
+    if (std::abs(v + vi) < p_.v_limit)
+      integral = vi;
+    return v + integral;
   }
 
   template <int dim>
@@ -193,17 +196,10 @@ namespace demfem::dem
               }
             const double P   = outward * W.vertex_force[v][a] / A[k];
             const double err = P - target_[a]; // > 0: too much, open
-            double       vel = p_.alpha * A[k] * err / (vertex_kn_[v] * dt);
-            if (p_.integral_gain > 0)
-              {
-                // Conditional integration (anti-windup), as for a wall.
-                const double vi =
-                    vertex_integral_[v] + (p_.integral_gain / p_.alpha) * vel;
-                if (std::abs(vel + vi) < p_.v_limit)
-                  vertex_integral_[v] = vi;
-                vel += vertex_integral_[v];
-              }
-            vel                     = std::clamp(vel, -p_.v_limit, p_.v_limit);
+            const double vel =
+                std::clamp(with_integral(p_.alpha * A[k] * err / (vertex_kn_[v] * dt),
+                                         vertex_integral_[v]),
+                           -p_.v_limit, p_.v_limit);
             W.vertex_velocity[v][a] = outward * vel;
           }
         if (!any_loaded) // the platens closed past every vertex: keep still

@@ -63,6 +63,9 @@ namespace demfem::dem
     /// Flexible walls of lateral axis a: each vertex closes alpha of its own
     /// pressure error per step (docs/calibrate.md, "Confining servo").
     void update_flexible(Model<dim> &m, int a, double dt);
+    /// Proportional velocity v plus the integral term, whose running sum
+    /// `integral` it updates (beta / alpha of v per step).
+    double with_integral(double v, double &integral) const;
 
     Vessel<dim>             vessel_; // a copy: ids only, positions live in the walls
     ServoParams             p_;
