@@ -62,7 +62,11 @@ namespace demfem::dem
     // 2008 §3.10.5: G = alpha A / (k_n N_c dt)).
     std::array<double, dim> kn;
     kn.fill(0);
-    vertex_kn_.assign(m.walls.vertex.size(), 0.0);
+    bool any_flexible = false;
+    for (int a = 0; a < dim; ++a)
+      any_flexible = any_flexible || vessel_.flexible(a);
+    if (any_flexible)
+      vertex_kn_.assign(m.walls.vertex.size(), 0.0);
     for (int g = 0; g < m.n_groups(); ++g)
       {
         const auto &grp = m.group(g);
@@ -177,15 +181,16 @@ namespace demfem::dem
         double A_max = 0;
         for (double Ak : A)
           A_max = std::max(A_max, Ak);
-        std::vector<char> loaded(chain.size(), 0);
-        bool              any_loaded = false;
+        // The vertices between the platens are a contiguous run
+        // [first, last] of the chain.
+        std::size_t first = chain.size(), last = 0;
         for (std::size_t k = 0; k < chain.size(); ++k)
           {
             const int v = chain[k];
             if (!(A[k] > 1e-3 * A_max))
               continue;
-            loaded[k]            = 1;
-            any_loaded           = true;
+            first                = std::min(first, k);
+            last                 = k;
             W.vertex_velocity[v] = Vec<dim>::Zero();
             if (!(vertex_kn_[v] > 0 && dt > 0))
               {
@@ -202,7 +207,7 @@ namespace demfem::dem
                            -p_.v_limit, p_.v_limit);
             W.vertex_velocity[v][a] = outward * vel;
           }
-        if (!any_loaded) // the platens closed past every vertex: keep still
+        if (first == chain.size()) // the platens closed past every vertex
           {
             for (int v : chain)
               W.vertex_velocity[v] = Vec<dim>::Zero();
@@ -210,17 +215,10 @@ namespace demfem::dem
           }
         // Vertices beyond the platens: the velocity of the nearest one
         // between them.
-        for (std::size_t k = 0; k < chain.size(); ++k)
-          if (!loaded[k])
-            {
-              std::size_t best = chain.size();
-              for (std::size_t j = 0; j < chain.size(); ++j)
-                if (loaded[j] &&
-                    (best == chain.size() ||
-                     (j > k ? j - k : k - j) < (best > k ? best - k : k - best)))
-                  best = j;
-              W.vertex_velocity[chain[k]] = W.vertex_velocity[chain[best]];
-            }
+        for (std::size_t k = 0; k < first; ++k)
+          W.vertex_velocity[chain[k]] = W.vertex_velocity[chain[first]];
+        for (std::size_t k = last + 1; k < chain.size(); ++k)
+          W.vertex_velocity[chain[k]] = W.vertex_velocity[chain[last]];
       }
   }
 

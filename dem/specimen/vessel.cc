@@ -41,6 +41,13 @@ namespace demfem::dem
     {
       return w.vertex[v][a];
     }
+
+    // "x-", "x+", ... : the wall bounding axis a below (s = 0) or above.
+    std::string wall_name(int a, int s)
+    {
+      static const char *axis_name[3] = {"x", "y", "z"};
+      return std::string(axis_name[a]) + (s ? "+" : "-");
+    }
   } // namespace
 
   template <int dim>
@@ -117,11 +124,9 @@ namespace demfem::dem
       y.erase(y.begin());
     const double xlo = coord(w, lo_vertex[a], a), xhi = coord(w, hi_vertex[a], a);
     translate_outward(w, a, park);
-    static const char *axis_name[3] = {"x", "y", "z"};
     for (int s = 0; s < 2; ++s)
       {
-        const int id =
-            w.add_wall(std::string(axis_name[a]) + (s ? "+" : "-") + " flexible");
+        const int        id = w.add_wall(wall_name(a, s) + " flexible");
         std::vector<int> chain;
         for (double yk : y)
           {
@@ -285,11 +290,10 @@ namespace demfem::dem
     h[dim - 1] = p.H / 2;
     if (dim == 3)
       h[1] = p.shape == "cylinder" ? p.W / 2 : p.D / 2;
-    static const char *axis_name[3] = {"x", "y", "z"};
-    auto               planar       = [&](int a) {
+    auto planar = [&](int a) {
       for (int s = 0; s < 2; ++s)
         {
-          const int id = w.add_wall(std::string(axis_name[a]) + (s ? "+" : "-"));
+          const int id         = w.add_wall(wall_name(a, s));
           (s ? v.hi : v.lo)[a] = id;
           const double pos     = s ? h[a] : -h[a];
           if constexpr (dim == 2)
