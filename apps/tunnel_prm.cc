@@ -65,6 +65,15 @@ namespace demfem::apps
                       "centre-disk stress before excavation is within this fraction of "
                       "the largest |in situ stress principal| (every component), in "
                       "(0, 1]; else the run ends with status in_situ_not_reached");
+    prm.declare_entry("in situ servo tolerance", "0.005", Patterns::Double(),
+                      "Stress-controlled end of the in-situ installation: with the "
+                      "continuum held at sigma0, the DEM region's boundary is moved "
+                      "(an interface strain, the region's eigenstrain against the "
+                      "continuum) until its centre-disk stress is within this "
+                      "fraction of sigma0 (the in situ tolerance's measure), then the "
+                      "continuum is released; in [0, in situ tolerance), 0: off. Slaved "
+                      "layer with the explicit or condensed scheme only (docs/tunnel.md, "
+                      "\"In-situ stress servo\")");
     prm.declare_entry("damage link length", "2", Patterns::Double(),
                       "Link length L of the damage zone in mean grain diameters of the "
                       "region, in [1, 10]: an excavation crack belongs to the zone "
@@ -225,9 +234,10 @@ namespace demfem::apps
     s.tunnel_radius = prm.get_double("radius");
     s.sigma0 << prm.get_double("in situ stress xx"), prm.get_double("in situ stress xy"),
         prm.get_double("in situ stress xy"), prm.get_double("in situ stress yy");
-    s.stages                = prm.get_integer("excavation stages");
-    s.in_situ_tolerance     = prm.get_double("in situ tolerance");
-    s.damage_link_diameters = prm.get_double("damage link length");
+    s.stages                  = prm.get_integer("excavation stages");
+    s.in_situ_tolerance       = prm.get_double("in situ tolerance");
+    s.in_situ_servo_tolerance = prm.get_double("in situ servo tolerance");
+    s.damage_link_diameters   = prm.get_double("damage link length");
     AssertThrow(s.in_situ_tolerance > 0 && s.in_situ_tolerance <= 1,
                 ExcMessage(key_name("Tunnel/in situ tolerance") + " = " +
                            prm.get("in situ tolerance") + " is outside (0, 1]"));

@@ -294,6 +294,30 @@ namespace demfem::coupling
   }
 
   template <int dim>
+  bool CoupledModel<dim>::follows_affine_path() const
+  {
+    return scheme_->follows_affine_path();
+  }
+
+  template <int dim>
+  void CoupledModel<dim>::set_interface_strain(const Eigen::Matrix2d &E)
+  {
+    if (!follows_affine_path() && !E.isZero())
+      throw dem::InputError("the in-situ servo's interface strain needs an interface on "
+                            "the affine in-situ path (Coupling/variant = slaved-layer, "
+                            "Coupling/scheme = explicit or condensed); this model is " +
+                            checkpoint_tag());
+    interface_eps.setZero();
+    interface_eps.template topLeftCorner<2, 2>() = 0.5 * (E + E.transpose());
+  }
+
+  template <int dim>
+  Eigen::Matrix2d CoupledModel<dim>::interface_strain() const
+  {
+    return interface_eps.template topLeftCorner<2, 2>();
+  }
+
+  template <int dim>
   dealii::Tensor<2, dim> CoupledModel<dim>::insitu_strain() const
   {
     dealii::Tensor<2, dim> e;
@@ -331,12 +355,27 @@ namespace demfem::coupling
     imb_max  = std::max(imb_max, imb_last);
     // Grains follow the affine installation path only where the
     // continuum does (coupling_scheme.h).
-    const double dl = load_factor - applied_factor;
+    const double                          dl     = load_factor - applied_factor;
+    const Eigen::Matrix<double, dim, dim> dE     = interface_eps - applied_interface_eps;
+    const double                          length = kp.subcycles * dt_;
     if (scheme_->follows_affine_path())
-      hold_grains_on_affine_path(dl);
-    scheme_->advance({f, load_factor, dl, release, kp.subcycles * dt_, n_steps}, window_u,
+      hold_grains_on_affine_path(dl, dE);
+    scheme_->advance({f, load_factor, dl, release, length, n_steps, hold}, window_u,
                      window_v);
     applied_factor = load_factor;
+    // The DEM side of the interface sits at u + E X (the in-situ servo's
+    // interface strain, applied at the window's start) and moves with the
+    // increment dE over the window, as the free grains do.
+    if (!interface_eps.isZero() || !applied_interface_eps.isZero())
+      for (std::size_t k = 0; k < window_u.size(); ++k)
+        {
+          Vec<dim> X;
+          for (int c = 0; c < dim; ++c)
+            X[c] = points[k][c];
+          window_u[k] += applied_interface_eps * X;
+          window_v[k] += dE * X / length;
+        }
+    applied_interface_eps = interface_eps;
     move_interface(window_u, window_v);
     for (auto &a : accum)
       a.setZero();
@@ -346,13 +385,16 @@ namespace demfem::coupling
   }
 
   template <int dim>
-  void CoupledModel<dim>::hold_grains_on_affine_path(const double dl)
+  void CoupledModel<dim>::hold_grains_on_affine_path(
+      const double dl, const Eigen::Matrix<double, dim, dim> &dE)
   {
-    // The load-factor increment dl is applied over this continuum window
-    // (k DEM steps); the grains follow the same affine strain rate.
-    auto &P      = dem.particles;
-    install_rate = dl / (kp.subcycles * dt_) * eps0;
-    if (dl != 0 && installing_grains.empty())
+    // The load-factor increment dl (and the servo's interface-strain
+    // increment dE) is applied over this continuum window (k DEM steps);
+    // the grains follow the same affine strain rate.
+    auto &P           = dem.particles;
+    install_rate      = (dl * eps0 + dE) / (kp.subcycles * dt_);
+    const bool moving = dl != 0 || !dE.isZero();
+    if (moving && installing_grains.empty())
       {
         for (std::size_t i = 0; i < P.size(); ++i)
           if (P.fixity[i] == dem::fix_none)
@@ -361,7 +403,7 @@ namespace demfem::coupling
               P.fixity[i] = dem::fix_translation;
             }
       }
-    if (dl == 0 && !installing_grains.empty())
+    if (!moving && !installing_grains.empty())
       {
         // Released at rest: the relaxation from the affine state starts
         // without the installation's (quasi-static) velocities.
@@ -441,6 +483,9 @@ namespace demfem::coupling
     ar.io("coupling.interface_force", last_force);
     ar.io("coupling.install_rate", install_rate);
     ar.io("coupling.installing_grains", installing_grains);
+    ar.io("coupling.continuum_held", hold);
+    ar.io("coupling.interface_strain", interface_eps);
+    ar.io("coupling.applied_interface_strain", applied_interface_eps);
     scheme_->serialize(ar);
   }
 

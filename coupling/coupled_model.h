@@ -212,6 +212,31 @@ namespace demfem::coupling
     /// changing): no equilibrium can be declared before.
     bool installing() const { return !installing_grains.empty(); }
 
+    /// In-situ stress servo (docs/tunnel.md, "In-situ stress servo";
+    /// coupling/in_situ_servo.h). While held, the continuum stays on the
+    /// affine in-situ path (lambda eps0 x, kinematic; at rest once lambda
+    /// stops), so that the DEM side alone answers the interface strain.
+    void hold_continuum(bool on) { hold = on; }
+    bool continuum_held() const { return hold; }
+    /// Whether the interface follows the affine in-situ path (the slaved
+    /// layer with the explicit or condensed scheme): the servo needs it.
+    bool follows_affine_path() const;
+    /// Interface strain E (in plane; 3D: E_zz = E_xz = E_yz = 0): the DEM
+    /// side of the interface sits at u + E X instead of u (u the
+    /// continuum's coupling-node displacement, X the reference position),
+    /// an eigenstrain of the region relative to the continuum. A change is
+    /// applied over the next continuum window with the free grains held on
+    /// its affine path (as the load factor), so nothing is shocked; the
+    /// continuum's own displacement and stress do not change.
+    void            set_interface_strain(const Eigen::Matrix2d &E);
+    Eigen::Matrix2d interface_strain() const;
+    /// The in-situ stress (in plane) and the continuum's in-situ strain.
+    const Eigen::Matrix2d &insitu_stress() const { return sigma0; }
+    Eigen::Matrix2d        insitu_strain_in_plane() const
+    {
+      return eps0.template topLeftCorner<2, 2>();
+    }
+
     /// One DEM step (and a continuum update every `subcycles` DEM steps).
     /// Throws dem::InstabilityError with a diagnosis on divergence.
     void step();
@@ -325,14 +350,14 @@ namespace demfem::coupling
     // allocates nothing.
     std::vector<dealii::Tensor<1, dim>> window_forces;
     std::vector<dem::Vec<dim>>          window_u, window_v;
-    dem::Vec<dim>              accum_contacts = dem::Vec<dim>::Zero();
-    dem::Vec<dim>              last_force     = dem::Vec<dim>::Zero();
-    double                     accum_abs      = 0;
-    unsigned int               n_accum        = 0;
-    double                     load_factor = 0, dt_ = 0, dem_crit = 0, fem_crit = 0;
-    double                     release = 1; // section: tunnel-wall traction left
-    double                     imb_max = 0, imb_last = 0;
-    std::int64_t               n_steps = 0;
+    dem::Vec<dim>                       accum_contacts = dem::Vec<dim>::Zero();
+    dem::Vec<dim>                       last_force     = dem::Vec<dim>::Zero();
+    double                              accum_abs      = 0;
+    unsigned int                        n_accum        = 0;
+    double       load_factor = 0, dt_ = 0, dem_crit = 0, fem_crit = 0;
+    double       release = 1; // section: tunnel-wall traction left
+    double       imb_max = 0, imb_last = 0;
+    std::int64_t n_steps = 0;
     /// In-situ stress (in plane) and the continuum's far-field strain (3D:
     /// plane strain, e_zz = e_xz = e_yz = 0).
     Eigen::Matrix2d                 sigma0 = Eigen::Matrix2d::Zero();
@@ -344,8 +369,15 @@ namespace demfem::coupling
     /// when lambda stops changing).
     Eigen::Matrix<double, dim, dim> install_rate =
         Eigen::Matrix<double, dim, dim>::Zero();
-    std::vector<double>    installing_grains;
-    void                   hold_grains_on_affine_path(double dl);
+    std::vector<double> installing_grains;
+    /// In-situ servo: the continuum held, the interface strain asked and
+    /// the one applied so far (coupled_model.h above).
+    bool                            hold = false;
+    Eigen::Matrix<double, dim, dim> interface_eps =
+        Eigen::Matrix<double, dim, dim>::Zero();
+    Eigen::Matrix<double, dim, dim> applied_interface_eps =
+        Eigen::Matrix<double, dim, dim>::Zero();
+    void hold_grains_on_affine_path(double dl, const Eigen::Matrix<double, dim, dim> &dE);
     dealii::Tensor<2, dim> insitu_strain() const;
     void                   continuum_step();
     /// How the continuum answers over a window (coupling_scheme.h), chosen

@@ -83,7 +83,8 @@ namespace demfem::coupling
         // grains held on the path, and sub-cycled windows (k = 2, 4) cracked
         // the region next to the slaved layer during the ramp (167 and 77
         // cracks, measured).
-        fem.set_kinematic(affine && dl != 0);
+        // Held (in-situ servo): at rest on the path, kinematic.
+        fem.set_kinematic(affine && (dl != 0 || w.hold));
         fem.step(w.length);
 
         // Divergence of the continuum: non-finite or exponentially growing
@@ -429,9 +430,10 @@ namespace demfem::coupling
         v_window.assign(n, Vec<dim>::Zero());
         for (std::size_t a = 0; a < nf; ++a)
           u_start[dofs[a] / dim][dofs[a] % dim] = u[a];
-        if (w.load_increment != 0)
+        if (w.load_increment != 0 || w.hold)
           {
-            // Installation: u = lambda eps0 x over the window.
+            // Installation: u = lambda eps0 x over the window (held by the
+            // in-situ servo: at rest there).
             installing = true;
             for (std::size_t a = 0; a < nf; ++a)
               {

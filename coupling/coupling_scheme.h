@@ -45,6 +45,10 @@ namespace demfem::coupling
       double       release;        ///< a section's tunnel-wall traction left
       double       length;         ///< k dt [s]
       std::int64_t step;           ///< DEM steps so far (diagnoses)
+      /// The continuum stays on the affine path lambda eps0 x (kinematic,
+      /// at rest once lambda stops) while the in-situ servo moves the
+      /// DEM side (coupled_model.h); only where follows_affine_path().
+      bool hold = false;
     };
 
     virtual ~CouplingScheme()        = default;

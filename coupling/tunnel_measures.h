@@ -67,17 +67,12 @@ namespace demfem::coupling
 
     /// Love-Weber stress of the centre disk r < b/2 (3D section: of its free
     /// core between the end layers), kept as the stress before excavation.
-    void measure_in_situ_stress()
+    void measure_in_situ_stress() { stress_before = centre_stress(); }
+
+    /// The same stress now, in plane (the in-situ servo's measure).
+    Eigen::Matrix2d centre_stress_in_plane() const
     {
-      const double r = 0.5 * m.region_params().radius;
-      if constexpr (dim == 2)
-        stress_before = region_stress(m.dem, dem::Vec<2>::Zero(), r);
-      else if (m.section())
-        stress_before = region_stress(m.dem, dem::Vec<3>::Zero(), r, m.end_overlap(),
-                                      m.region_params().slab_thickness - m.end_overlap());
-      else
-        stress_before = region_stress(m.dem, dem::Vec<3>::Zero(), r,
-                                      m.region_params().slab_thickness);
+      return centre_stress().template topLeftCorner<2, 2>();
     }
 
     /// Cracks of a mode (-1 all, 0 tensile, 1 shear) since the start.
@@ -183,6 +178,19 @@ namespace demfem::coupling
     }
 
   private:
+    Eigen::Matrix<double, dim, dim> centre_stress() const
+    {
+      const double r = 0.5 * m.region_params().radius;
+      if constexpr (dim == 2)
+        return region_stress(m.dem, dem::Vec<2>::Zero(), r);
+      else if (m.section())
+        return region_stress(m.dem, dem::Vec<3>::Zero(), r, m.end_overlap(),
+                             m.region_params().slab_thickness - m.end_overlap());
+      else
+        return region_stress(m.dem, dem::Vec<3>::Zero(), r,
+                             m.region_params().slab_thickness);
+    }
+
     const CoupledModel<dim>        &m;
     double                          a, d_mean, link_diameters;
     excavation::Record<dim>         exc;

@@ -9,7 +9,9 @@
 //     peak in the phase (tunnel_result.h),
 //   - the interface residual (quasi-static: |u* - u| / |u*|; condensed: the
 //     interface force residual, coupling_scheme.h) is below the tolerance,
-//     measured over at least two windows of `subcycles` steps of this phase,
+//     measured over at least two windows of `subcycles` steps of this phase
+//     (not while the in-situ servo holds the continuum: the held continuum
+//     is not iterated, its residual is the servo's remaining error),
 //   - and no grain is held on the in-situ installation's path;
 // checked every 100 steps. It ends unequilibrated at its step limit (the
 // cost budget) or its model-time limit (physical). The returned PhaseRecord
@@ -103,10 +105,11 @@ namespace demfem::coupling
             // While grains are held on the installation path, the unbalanced
             // ratio and the (kinematic) continuum's kinetic energy are both
             // zero: not an equilibrium.
-            equilibrated = !m.installing() && n >= std::max(limits.min_steps, windows) &&
-                           ur < limits.ratio_tolerance &&
-                           ke <= kinetic_energy_target * at.kinetic_energy_peak &&
-                           m.interface_residual() < limits.ratio_tolerance;
+            equilibrated =
+                !m.installing() && n >= std::max(limits.min_steps, windows) &&
+                ur < limits.ratio_tolerance &&
+                ke <= kinetic_energy_target * at.kinetic_energy_peak &&
+                (m.continuum_held() || m.interface_residual() < limits.ratio_tolerance);
             criterion_s += since(tc);
             if (equilibrated)
               break;

@@ -72,6 +72,16 @@ namespace demfem::coupling
     return 1;
   }
 
+  double in_situ_error(const Eigen::Matrix2d &stress, const Eigen::Matrix2d &sigma0)
+  {
+    const double scale =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(sigma0, Eigen::EigenvaluesOnly)
+            .eigenvalues()
+            .cwiseAbs()
+            .maxCoeff();
+    return scale > 0 ? (stress - sigma0).cwiseAbs().maxCoeff() / scale : 0.0;
+  }
+
   void assess_outcome(TunnelResult &r)
   {
     r.problems.clear();
@@ -96,14 +106,7 @@ namespace demfem::coupling
                      " s: the time step is lost in round-off (check the stiffnesses and "
                      "densities)");
         // In-situ state: the centre disk carries sigma0 before excavation.
-        const double scale = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(
-                                 r.sigma0, Eigen::EigenvaluesOnly)
-                                 .eigenvalues()
-                                 .cwiseAbs()
-                                 .maxCoeff();
-        r.in_situ_error =
-            scale > 0 ? (r.region_stress_before - r.sigma0).cwiseAbs().maxCoeff() / scale
-                      : 0.0;
+        r.in_situ_error = in_situ_error(r.region_stress_before, r.sigma0);
         if (!r.phases.empty() && !(r.in_situ_error <= r.in_situ_tolerance))
           fail(RunStatus::in_situ_not_reached,
                "region stress before excavation [" + g(r.region_stress_before(0, 0)) +
@@ -203,6 +206,20 @@ namespace demfem::coupling
       j["region_stress_zz_before_excavation"] = json_number(r.region_stress_before_zz);
     j["in_situ_error"]     = json_number(r.in_situ_error);
     j["in_situ_tolerance"] = json_number(r.in_situ_tolerance);
+    {
+      J errors = J::array();
+      for (double e : r.servo.errors)
+        errors.push_back(json_number(e));
+      j["in_situ_servo"] = {
+          {"tolerance", json_number(r.servo.tolerance)},
+          {"errors", errors},
+          {"converged", r.servo.converged},
+          {"interface_strain", tensor(r.servo.interface_strain)},
+          {"interface_strain_over_in_situ_strain", json_number(r.servo.relative_strain)},
+          {"region_over_continuum_stiffness",
+           {{"lambda_plus_mu", json_number(r.servo.stiffness_ratios[0])},
+            {"mu", json_number(r.servo.stiffness_ratios[1])}}}};
+    }
     j["equilibrium_ratio"] = json_number(r.ratio_tolerance);
     J phases               = J::array();
     for (const auto &ph : r.phases)

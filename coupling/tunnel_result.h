@@ -123,9 +123,23 @@ namespace demfem::coupling
     double region_stress_before_zz = 0; ///< 3D: szz of the same region
     double in_situ_error           = 0;
     double in_situ_tolerance       = 0;
-    double phase_time_limit        = 0; ///< Coupling/phase time limit [s] (0: none)
-    double ratio_tolerance         = 0;
-    double mean_grain_diameter     = 0;
+    /// The in-situ servo (coupling/in_situ_servo.h; summary "in_situ_servo"):
+    /// its tolerance (0: off or not available), the error at each
+    /// measurement, whether it converged, the final interface strain, its
+    /// size relative to the in-situ strain and the region's fitted in-plane
+    /// stiffness over the continuum's {lambda + mu, mu}.
+    struct Servo
+    {
+      double                tolerance = 0;
+      std::vector<double>   errors;
+      bool                  converged        = false;
+      Eigen::Matrix2d       interface_strain = Eigen::Matrix2d::Zero();
+      double                relative_strain  = 0;
+      std::array<double, 2> stiffness_ratios{{1, 1}};
+    } servo;
+    double phase_time_limit    = 0; ///< Coupling/phase time limit [s] (0: none)
+    double ratio_tolerance     = 0;
+    double mean_grain_diameter = 0;
     /// Tunnel radius over the region's mean grain diameter (a/d): below 10
     /// the damage zone is a few grains deep (warned at the start).
     double grain_resolution_a_over_d = 0;
@@ -145,6 +159,11 @@ namespace demfem::coupling
     std::vector<dem::Vec<2>> positions;    ///< final grain positions (model order), 2D
     std::vector<dem::Vec<3>> positions_3d; ///< same, 3D
   };
+
+  /// in_situ_error of a stress: max |stress - sigma0| over the in-plane
+  /// components, relative to the largest |sigma0 principal| (0 for sigma0 =
+  /// 0): the measure of Tunnel/in situ tolerance and of the in-situ servo.
+  double in_situ_error(const Eigen::Matrix2d &stress, const Eigen::Matrix2d &sigma0);
 
   /// The outcome checks (DESIGN "Run status"; docs/tunnel.md): fills
   /// status and problems from the phases, the in-situ stress, the cracks at

@@ -1,5 +1,6 @@
 #include "coupling/tunnel_run.h"
 
+#include "coupling/in_situ_servo.h"
 #include "coupling/tunnel_frames.h"
 #include "coupling/tunnel_history.h"
 #include "coupling/tunnel_measures.h"
@@ -69,6 +70,9 @@ namespace demfem::coupling
                      DamageZone::max_link_grain_diameters);
     dem::check_range(w, "Coupling/ramp crossing times", ramp_crossing_times, 0,
                      max_ramp_crossing_times, true);
+    // The servo must stop inside the tolerance the run is judged by.
+    dem::check_range(w, "Tunnel/in situ servo tolerance", in_situ_servo_tolerance, 0,
+                     in_situ_tolerance, false, true);
     if (coupling.variant == "slaved-layer" &&
         tunnel_radius + 3 * region.d_hi >
             region.radius - coupling.overlap_grains * region.mean_diameter())
@@ -274,9 +278,11 @@ namespace demfem::coupling
       bool                                  warned_region_too_small        = false;
       bool                                  warned_isolated_near_interface = false;
       std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
-      std::int64_t budget = 0; // expected coupled steps for the ETA (upper bound)
-      std::int64_t n_ramp = 0; // steps of the in-situ ramp (its duration / dt)
-      std::int64_t step0  = 0; // steps of the packing
+      std::int64_t budget  = 0; // expected coupled steps for the ETA (upper bound)
+      std::int64_t n_ramp  = 0; // steps of the in-situ ramp (its duration / dt)
+      std::int64_t n_servo = 0; // steps of an in-situ servo correction
+      std::unique_ptr<InSituServo> servo;     // made in set_up (needs eps0)
+      std::int64_t                 step0 = 0; // steps of the packing
 
       // The elastic zone where sigma1 - sigma3 reaches the material's crack
       // initiation (coupling/initiation_zone.h) is where the damage
@@ -354,6 +360,19 @@ namespace demfem::coupling
         out << "in-situ ramp: " << r.ramp_duration << " s (" << p.ramp_crossing_times
             << " crossing times of the region, 2 R / sqrt(E*/rho) = "
             << r.ramp_crossing_time << " s), " << n_ramp << " steps" << std::endl;
+        // A servo correction is small and applied on the affine path: one
+        // crossing time (coupling/in_situ_servo.h).
+        n_servo = ramp_steps(r.ramp_crossing_time, m.dt());
+        servo   = std::make_unique<InSituServo>(
+            servo_on() ? p.in_situ_servo_tolerance : 0.0, p.sigma0,
+            m.insitu_strain_in_plane(), p.continuum.young_modulus,
+            p.continuum.poisson_ratio);
+        if (p.in_situ_servo_tolerance > 0 && !servo_on())
+          out << "note: no in-situ servo (Tunnel/in situ servo tolerance) with "
+              << m.checkpoint_tag()
+              << ": its interface does not follow the affine in-situ path; the "
+                 "region's stress is the kinematic installation's"
+              << std::endl;
         budget = n_ramp + p.phase_step_limit * (2 + p.stages);
         step0  = m.dem.step_count();
         if (!p.restart_file.empty())
@@ -377,17 +396,38 @@ namespace demfem::coupling
       /// release of the affine path at rest broke 4-10 times more of the
       /// weak bonds of a strength spread than a lab test reaching the same
       /// stress). The region's stress is measured before excavation.
+      ///
+      /// With the servo (coupling/in_situ_servo.h) the continuum stays held
+      /// on the affine path through "in-situ" and the corrections
+      /// "in-situ servo k", and phase "in-situ release" relaxes the model
+      /// after it lets the continuum go, all with bond breakage suspended.
       void install_in_situ()
       {
-        if (!(resuming && phase == "in-situ cracking"))
+        // A restart resumes the phase it stopped in (the phases before it
+        // are done; their results are in the checkpoint).
+        const std::string resume_at = resuming ? phase : std::string();
+        const bool        servoed   = servo_on();
+        if (resume_at.empty() || resume_at == "in-situ")
           {
             phase = "in-situ";
             m.dem.suspend_bond_breakage(true);
+            m.hold_continuum(servoed);
             run_and_record(PhaseLimits{n_ramp, n_ramp + p.phase_step_limit,
                                        p.phase_time_limit, p.ratio_tolerance},
                            [&](std::int64_t n) {
                              m.set_load_factor(std::min(1.0, double(n) / n_ramp));
                            });
+          }
+        if (servoed && resume_at != "in-situ release" && resume_at != "in-situ cracking")
+          run_servo(resume_at.rfind("in-situ servo", 0) == 0);
+        if (servoed && resume_at != "in-situ cracking")
+          {
+            phase = "in-situ release";
+            m.dem.suspend_bond_breakage(true);
+            m.hold_continuum(false);
+            run_and_record(
+                PhaseLimits{0, p.phase_step_limit, p.phase_time_limit, p.ratio_tolerance},
+                [](std::int64_t) {});
           }
         phase = "in-situ cracking";
         m.dem.suspend_bond_breakage(false);
@@ -397,6 +437,59 @@ namespace demfem::coupling
             phases.empty() ? 0.0 : phases.back().kinetic_energy_peak);
         measures.measure_in_situ_stress();
         write_frame();
+      }
+
+      /// The servo's corrections (coupling/in_situ_servo.h): measure the
+      /// centre-disk stress at equilibrium, correct the interface strain over
+      /// n_servo steps, relax; `resumed_ramp`: a restart inside a
+      /// correction, which continues first.
+      void run_servo(bool resumed_ramp)
+      {
+        m.dem.suspend_bond_breakage(true);
+        m.hold_continuum(true);
+        for (;; resumed_ramp = false)
+          {
+            if (!resumed_ramp)
+              {
+                const Eigen::Matrix2d sr   = measures.centre_stress_in_plane();
+                const bool            done = servo->record(sr, m.interface_strain());
+                out << "in-situ servo: centre-disk stress (" << sr(0, 0) / 1e6 << ", "
+                    << sr(1, 1) / 1e6 << ", " << sr(0, 1) / 1e6 << ") MPa, error "
+                    << 100 * servo->iterations().back().error << " % (tolerance "
+                    << 100 * servo->tolerance() << " %)" << std::endl;
+                if (done)
+                  break;
+                servo->from = m.interface_strain();
+                servo->to   = servo->next_strain();
+                phase = "in-situ servo " + std::to_string(servo->iterations().size());
+              }
+            run_and_record(PhaseLimits{n_servo, n_servo + p.phase_step_limit,
+                                       p.phase_time_limit, p.ratio_tolerance},
+                           [&](std::int64_t n) {
+                             const double f = std::min(1.0, double(n) / n_servo);
+                             m.set_interface_strain(servo->from +
+                                                    f * (servo->to - servo->from));
+                           });
+          }
+        if (!servo->converged())
+          out << "warning: the in-situ servo stopped after "
+              << InSituServo::max_iterations << " corrections at an error of "
+              << 100 * servo->iterations().back().error
+              << " % (Tunnel/in situ servo tolerance " << 100 * servo->tolerance()
+              << " %)" << std::endl;
+        if (servo->relative_strain() > InSituServo::contrast_warning)
+          out << "warning: the in-situ servo's interface strain is "
+              << 100 * servo->relative_strain()
+              << " % of the in-situ strain: the region's stiffness is not the "
+                 "continuum's (region / continuum: lambda + mu "
+              << servo->stiffness_ratios()[0] << ", mu " << servo->stiffness_ratios()[1]
+              << "); check that the continuum takes the material file's E and nu"
+              << std::endl;
+      }
+
+      bool servo_on() const
+      {
+        return p.in_situ_servo_tolerance > 0 && m.follows_affine_path();
       }
 
       /// Stage s of Tunnel/excavation stages: the removed core's support is
@@ -489,6 +582,7 @@ namespace demfem::coupling
         ar.io("run.kinetic_energy_peak", progress.kinetic_energy_peak);
         ar.io("run.phase_start_time", progress.time_start);
         measures.serialize(ar);
+        servo->serialize(ar);
       }
 
       void checkpoint(PhaseProgress progress)
@@ -554,10 +648,17 @@ namespace demfem::coupling
           }
         r.sigma0            = p.sigma0;
         r.in_situ_tolerance = p.in_situ_tolerance;
-        r.phase_time_limit  = p.phase_time_limit;
-        r.ratio_tolerance   = p.ratio_tolerance;
-        r.phases            = phases;
-        r.checkpoint        = last_checkpoint;
+        r.servo.tolerance   = servo->tolerance();
+        for (const auto &it : servo->iterations())
+          r.servo.errors.push_back(it.error);
+        r.servo.converged        = servo->converged();
+        r.servo.interface_strain = m.interface_strain();
+        r.servo.relative_strain  = servo->relative_strain();
+        r.servo.stiffness_ratios = servo->stiffness_ratios();
+        r.phase_time_limit       = p.phase_time_limit;
+        r.ratio_tolerance        = p.ratio_tolerance;
+        r.phases                 = phases;
+        r.checkpoint             = last_checkpoint;
         if constexpr (dim == 2)
           r.positions = m.dem.particles.x;
         else

@@ -34,6 +34,12 @@ namespace demfem::coupling
     /// In-situ state reached: centre-disk stress before excavation within
     /// this fraction of the largest |sigma0 principal| (tunnel_result.h).
     double in_situ_tolerance = 0.1;
+    /// In-situ servo (coupling/in_situ_servo.h): the region's centre-disk
+    /// stress is corrected to within this fraction of sigma0 (same measure)
+    /// before the continuum is released; 0: off (the kinematic
+    /// installation alone). Only where the interface follows the affine
+    /// path (CoupledModel::follows_affine_path); < in_situ_tolerance.
+    double in_situ_servo_tolerance = 0.005;
     /// The damage zone's link length L in mean grain diameters of the
     /// region (coupling/damage_zone.h; Tunnel/damage link length).
     double damage_link_diameters = DamageZone::default_link_grain_diameters;
