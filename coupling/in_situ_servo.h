@@ -64,6 +64,14 @@ namespace demfem::coupling
     /// above the file's, |E| / |eps0| = 12.7 %. Twice that is a region
     /// that is not the material.
     static constexpr double contrast_warning = 0.25;
+    /// |E| / |eps0| beyond which the in-situ state counts as not reached
+    /// (tunnel_result.h, assess_outcome): the region's stiffness differs
+    /// from the continuum's by about a factor 2 (stiffer; 1.5 softer), so
+    /// the continuum around it is another material and the excavation's
+    /// answer is not the material's.
+    static constexpr double contrast_limit = servo_contrast_limit;
+    /// Lower bound of the fitted stiffness relative to the continuum's.
+    static constexpr double min_stiffness_ratio = 0.05;
 
     struct Iteration
     {
@@ -174,16 +182,21 @@ namespace demfem::coupling
 
     // sigma_r = C_r eps0 with C_r isotropic in plane: the mean part gives
     // lambda + mu, the deviatoric part mu; a part eps0 lacks (hydrostatic
-    // or traceless sigma0) keeps the continuum's value. Bounded to 1/5-5
-    // times the continuum's: a region that far off is not the material,
-    // and the iteration then still moves the right way.
+    // or traceless sigma0) keeps the continuum's value. Bounded below by
+    // min_stiffness_ratio times the continuum's (also a fit of the wrong
+    // sign or not finite): a region that does not answer then gets
+    // corrections of at most 1 / min_stiffness_ratio times eps0, which
+    // undershoot, never overshoot. No upper bound: an underestimated
+    // stiffness overshoots by the ratio, and a region 10^4 times stiffer
+    // than the continuum (tests/fault_injection.sh) diverged with one.
     void fit_stiffness(const Eigen::Matrix2d &stress)
     {
       const double          size    = e0.norm();
       const double          tr      = e0.trace();
       const Eigen::Matrix2d dev     = e0 - 0.5 * tr * Eigen::Matrix2d::Identity();
       const auto            bounded = [](double v, double c) {
-        return std::clamp(v, 0.2 * c, 5 * c);
+        return std::isfinite(v) ? std::max(v, min_stiffness_ratio * c)
+                                           : min_stiffness_ratio * c;
       };
       if (std::abs(tr) > 1e-3 * size)
         mean_modulus = bounded(0.5 * stress.trace() / tr, continuum_mean);

@@ -116,6 +116,22 @@ namespace demfem::coupling
                    g(r.sigma0(0, 1)) + "] Pa: error " + g(100 * r.in_situ_error) +
                    " % of |sigma0| > " + g(100 * r.in_situ_tolerance) +
                    " % (Tunnel/in situ tolerance)");
+        // sigma0 reached by the servo, but only with an interface strain
+        // that makes the region another material than the continuum
+        // (coupling/in_situ_servo.h, contrast_limit).
+        if (!r.phases.empty() && r.servo.relative_strain > servo_contrast_limit)
+          fail(RunStatus::in_situ_not_reached,
+               "the in-situ servo needed an interface strain of " +
+                   g(100 * r.servo.relative_strain) + " % of the in-situ strain (limit " +
+                   g(100 * servo_contrast_limit) +
+                   " %) to bring the region to sigma0: the region's stiffness is not the "
+                   "continuum's (fitted region / "
+                   "continuum: lambda + mu " +
+                   g(r.servo.stiffness_ratios[0]) + ", mu " +
+                   g(r.servo.stiffness_ratios[1]) +
+                   "); give the continuum the region's E and nu (Continuum/young "
+                   "modulus, Continuum/poisson ratio, or the material file). Tunnel/in "
+                   "situ tolerance judges the stress itself");
         for (const auto &ph : r.phases)
           if (!ph.equilibrated)
             fail(RunStatus::not_equilibrated,

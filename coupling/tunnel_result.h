@@ -160,6 +160,11 @@ namespace demfem::coupling
     std::vector<dem::Vec<3>> positions_3d; ///< same, 3D
   };
 
+  /// The in-situ servo's interface strain over the in-situ strain beyond
+  /// which the in-situ state counts as not reached (InSituServo::
+  /// contrast_limit, coupling/in_situ_servo.h).
+  inline constexpr double servo_contrast_limit = 0.5;
+
   /// in_situ_error of a stress: max |stress - sigma0| over the in-plane
   /// components, relative to the largest |sigma0 principal| (0 for sigma0 =
   /// 0): the measure of Tunnel/in situ tolerance and of the in-situ servo.

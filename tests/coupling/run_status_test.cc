@@ -72,6 +72,23 @@ TEST_CASE("run status: each failed check has its status and numbers",
     CHECK(r.in_situ_error == Approx((60e6 - 4.9e3) / 60e6).epsilon(1e-12));
     CHECK_THAT(r.problems[0].second, Catch::Contains("Tunnel/in situ tolerance"));
   }
+  SECTION("sigma0 reached by the in-situ servo, but only as another material")
+  {
+    TunnelResult r           = passing();
+    r.region_stress_before   = r.sigma0; // the servo reached it
+    r.servo.relative_strain  = 0.9999;   // a region 10^4 times stiffer
+    r.servo.stiffness_ratios = {{1e4, 1e4}};
+    assess_outcome(r);
+    CHECK(r.status == RunStatus::in_situ_not_reached);
+    REQUIRE(r.problems.size() == 1);
+    CHECK_THAT(r.problems[0].second,
+               Catch::Contains("99.99 % of the in-situ strain") &&
+                   Catch::Contains("limit 50 %) to bring the region to sigma0") &&
+                   Catch::Contains("Continuum/young modulus"));
+    r.servo.relative_strain = 0.5; // the limit itself: reached
+    assess_outcome(r);
+    CHECK(r.status == RunStatus::ok);
+  }
   SECTION("the tolerance is inclusive and relative to the largest principal")
   {
     TunnelResult r = passing();
