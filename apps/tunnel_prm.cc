@@ -60,7 +60,7 @@ namespace demfem::apps
     prm.declare_entry("excavation stages", "1", Patterns::Integer(1, 1000),
                       "The forces of the removed grains on the remaining ones are "
                       "relaxed to zero in this many equal stages");
-    prm.declare_entry("in situ tolerance", "0.1", Patterns::Double(),
+    prm.declare_entry("in situ tolerance", "0.02", Patterns::Double(),
                       "The in-situ state counts as reached when the DEM region's "
                       "centre-disk stress before excavation is within this fraction of "
                       "the largest |in situ stress principal| (every component), in "

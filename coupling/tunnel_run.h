@@ -33,7 +33,7 @@ namespace demfem::coupling
     double          ratio_tolerance = 1e-3; ///< equilibrium: unbalanced ratio below this
     /// In-situ state reached: centre-disk stress before excavation within
     /// this fraction of the largest |sigma0 principal| (tunnel_result.h).
-    double in_situ_tolerance = 0.1;
+    double in_situ_tolerance = 0.02;
     /// In-situ servo (coupling/in_situ_servo.h): the region's centre-disk
     /// stress is corrected to within this fraction of sigma0 (same measure)
     /// before the continuum is released; 0: off (the kinematic
