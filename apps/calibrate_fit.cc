@@ -5,6 +5,7 @@
 // apps/calibrate_fit_search.cc.
 #include "apps/calibrate_fit.h"
 #include "apps/calibrate.h"
+#include "apps/lab_progress.h"
 #include "dem/io/checkpoint.h"
 #include "dem/specimen/envelope.h"
 
@@ -51,6 +52,20 @@ namespace demfem::apps
                                            "peak was certain");
                 return r;
               };
+              // Each test prints its progress line (phase, stress, cracks,
+              // ETA; apps/lab_progress.h), into a log file too: an
+              // evaluation takes minutes in 2D and more in 3D.
+              auto with_progress = [&](dem::Specimen<dim>       &sp,
+                                       const dem::LabTestParams &lp) {
+                std::ostringstream label;
+                label << "fit, seed " << m.seed << ", " << dem::test_kind_name(lp.kind);
+                if (lp.Pc > 0)
+                  label << " at " << lp.Pc / 1e6 << " MPa";
+                LabTestProgress        progress(label.str());
+                dem::LabCallbacks<dim> cb;
+                cb.progress = [&](const dem::LabProgress &g) { progress(g); };
+                return finished(dem::run_lab_test(sp, lp, cb));
+              };
               auto run = [&](dem::TestKind kind, dem::CompressionType ctype, double Pc,
                              double strain_limit) {
                 auto               sp = clone_specimen(*first, scratch);
@@ -58,7 +73,7 @@ namespace demfem::apps
                 lp.kind = kind, lp.ctype = ctype, lp.Pc = Pc;
                 if (strain_limit > 0)
                   lp.strain_limit = strain_limit;
-                return finished(dem::run_lab_test(*sp, lp));
+                return with_progress(*sp, lp);
               };
               using dem::CompressionType, dem::TestKind;
               if (elastic || fit_needs(targets, "ucs"))
@@ -93,7 +108,7 @@ namespace demfem::apps
                           s.where);
                       dem::LabTestParams lp = s.lab;
                       lp.kind               = TestKind::brazilian;
-                      r                     = finished(dem::run_lab_test(sp, lp));
+                      r                     = with_progress(sp, lp);
                     }
                   else
                     r = run(TestKind::brazilian, CompressionType::unconfined, 0, 0);
