@@ -6,8 +6,8 @@
 namespace demfem::dem
 {
   template <int dim>
-  std::size_t insert_smooth_joint(Model<dim> &model, const JointPlane<dim> &plane, int &group,
-                                  const std::string &where)
+  std::size_t insert_smooth_joint(Model<dim> &model, const JointPlane<dim> &plane,
+                                  int &group, const std::string &where)
   {
     group = model.template add_law<SmoothJointLaw<dim>>(plane.sj, where);
     // Collect first: install() moves contacts between groups.
@@ -28,8 +28,9 @@ namespace demfem::dem
     auto      previous            = model.new_contact_law;
     // The rule reads positions from the particles it is given, so it stays
     // valid when the model is moved.
-    model.new_contact_law = [plane, previous_rule_group, previous](const Particles<dim> &p,
-                                                                   std::uint32_t i, std::uint32_t j) {
+    model.new_contact_law = [plane, previous_rule_group,
+                             previous](const Particles<dim> &p, std::uint32_t i,
+                                       std::uint32_t j) {
       if (plane.crosses(p.x[i], p.x[j]))
         return previous_rule_group;
       return previous ? previous(p, i, j) : -1;
