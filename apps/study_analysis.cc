@@ -156,7 +156,9 @@ namespace demfem::apps::study
          "region_too_small,damaged_area_m2,notch_depth_m,notch_angle_deg,"
          "connected_cracks,damage_zone_depth_all_m,genesis_steps,"
          "genesis_reused,genesis_wall_time_s,kirsch_at_grains_m,error_at_grains_rel,"
-         "reference_area_m2,area_rel_diff,diagnosis\n";
+         "reference_area_m2,area_rel_diff,in_situ_error,servo_interface_strain_rel,"
+         "elastic_zone_key,elastic_zone_depth_m,elastic_zone_area_m2,"
+         "connected_cracks_in_elastic_zone,diagnosis\n";
     for (const auto &r : rows)
       {
         const bool ok  = r.status == "stable";
@@ -202,7 +204,22 @@ namespace demfem::apps::study
           << num(r.kirsch_at_grains, ok && !r.breakable) << ","
           << num(r.error_at_grains, ok && !r.breakable) << ","
           << num(r.reference_area, cmp) << ","
-          << num(r.area_diff, cmp && std::isfinite(r.area_diff)) << ","
+          << num(r.area_diff, cmp && std::isfinite(r.area_diff)) << ",";
+        // The in-situ state (docs/tunnel.md, "In-situ stress servo"): the
+        // region's error against sigma0 and, where the servo ran, the
+        // interface strain it needed over the in-situ strain.
+        const bool servoed = ok && r.result.servo.tolerance > 0;
+        o << num(r.result.in_situ_error, ok) << ","
+          << num(r.result.servo.relative_strain, servoed) << ",";
+        // The elastic zone of the material's first crack-initiation stress
+        // (coupling/initiation_zone.h) and the damage zone's cracks in it:
+        // breakable runs with a material file whose far field stays below it.
+        const bool zone = dmg && !r.result.initiation_zones.empty() &&
+                          !r.result.initiation_zones.front().far_field_exceeds;
+        const auto *z = zone ? &r.result.initiation_zones.front() : nullptr;
+        o << (z ? z->name : std::string()) << "," << num(z ? z->depth : 0.0, zone) << ","
+          << num(z ? z->area : 0.0, zone) << ","
+          << (z ? std::to_string(z->zone_cracks_inside) : std::string()) << ","
           << quoted(r.diagnosis) << "\n";
       }
     write_file_atomically(file, o.str());

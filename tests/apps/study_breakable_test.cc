@@ -107,6 +107,19 @@ TEST_CASE("study: breakable mode, embedded runs against the full-DEM reference",
       REQUIRE(row.at("equilibrated") == "yes");
       CHECK(row.at("breakable") == "yes");
       CHECK(std::stod(row.at("reference_depth_m")) == Approx(ref_depth).epsilon(1e-5));
+      // The in-situ state of each run: the region's error against sigma0
+      // within the example's 5 % tolerance, and the interface strain the
+      // in-situ servo needed where it runs (an interface on the affine
+      // path: the condensed scheme, or the slaved layer explicit). The
+      // example's region is given by DEM region keys (no material file, no
+      // crack-initiation stress): no elastic zone.
+      CHECK(std::stod(row.at("in_situ_error")) <= 0.05);
+      const bool servoed =
+          row.at("scheme") == "condensed" ||
+          (row.at("scheme") == "explicit" && row.at("variant") == "slaved-layer");
+      CHECK(row.at("servo_interface_strain_rel").empty() == !servoed);
+      CHECK(row.at("elastic_zone_key").empty());
+      CHECK(row.at("elastic_zone_depth_m").empty());
     }
   // The largest region agrees with the reference on the damage-zone depth
   // within the scatter of one packing at a/d = 4, where the zone is about

@@ -100,6 +100,22 @@ TEST_CASE("study: time-step safety beyond the limit is detected as unstable, no 
       if (!beyond)
         CHECK((rows[i][17] == "yes") == (std::stod(rows[i][18]) <= 1e-3));
     }
+  // The in-situ error of every stable run; the explicit wall facets have
+  // no in-situ servo (their interface does not follow the affine path), so
+  // its column is empty; no elastic zone without a material file.
+  REQUIRE(rows[0].size() > 48);
+  CHECK(rows[0][45] == "in_situ_error");
+  CHECK(rows[0][46] == "servo_interface_strain_rel");
+  CHECK(rows[0][48] == "elastic_zone_depth_m");
+  for (std::size_t i = 1; i < rows.size(); ++i)
+    {
+      const bool stable = rows[i][8] == "stable";
+      CHECK(rows[i][45].empty() == !stable);
+      if (stable)
+        CHECK(std::stod(rows[i][45]) < 0.1);
+      CHECK(rows[i][46].empty());
+      CHECK(rows[i][48].empty());
+    }
   const std::string text = read(d + "/study.csv") + read(d + "/summary.json");
   CHECK(text.find("nan") == std::string::npos);
   CHECK(text.find("inf") == std::string::npos);
