@@ -129,6 +129,10 @@ TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing",
       {"--set \"Coupling/timestep safety=5\"", "Coupling/timestep safety (--set) = 5"},
       {"--set \"Coupling/timestep safety=1.01\"", "outside (0, 1]"},
       {"--set \"Tunnel/in situ tolerance=0\"", "Tunnel/in situ tolerance (--set) = 0"},
+      // The in-situ servo stops inside the tolerance the run is judged by:
+      // [0, in situ tolerance).
+      {"--set \"Tunnel/in situ servo tolerance=0.02\"", "Tunnel/in situ servo tolerance"},
+      {"--set \"Tunnel/in situ servo tolerance=-0.001\"", "Tunnel/in situ servo tolerance"},
       // The damage zone's link: 1 to 10 mean grain diameters.
       {"--set \"Tunnel/damage link length=0.5\"", "Tunnel/damage link length"},
       // Only statuses whose results are still results may be accepted.
