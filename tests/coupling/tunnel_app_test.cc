@@ -132,7 +132,8 @@ TEST_CASE("tunnel: bad input names the key, exits 1 and writes nothing",
       // The in-situ servo stops inside the tolerance the run is judged by:
       // [0, in situ tolerance).
       {"--set \"Tunnel/in situ servo tolerance=0.02\"", "Tunnel/in situ servo tolerance"},
-      {"--set \"Tunnel/in situ servo tolerance=-0.001\"", "Tunnel/in situ servo tolerance"},
+      {"--set \"Tunnel/in situ servo tolerance=-0.001\"",
+       "Tunnel/in situ servo tolerance"},
       // The damage zone's link: 1 to 10 mean grain diameters.
       {"--set \"Tunnel/damage link length=0.5\"", "Tunnel/damage link length"},
       // Only statuses whose results are still results may be accepted.
