@@ -194,9 +194,13 @@ TEST_CASE("3D slab: demfem tunnel runs the slab and writes readable 3D output",
 {
   // A small version of apps/examples/tunnel_3d.prm: region 0.9 m, tunnel
   // 0.3 m, unbreakable, short phases: long enough for the in-situ state
-  // (measured 4 % off sigma0; with 500 ramp + 1000 steps it was 32 % off and
-  // the run said in_situ_not_reached), too short for the continuum's
-  // kinetic energy to decay to 1e-4 of its peak: not_equilibrated, accepted.
+  // (measured 4 % off sigma0 before the in-situ servo; with 500 ramp + 1000
+  // steps it was 32 % off and the run said in_situ_not_reached), too short
+  // for the continuum's kinetic energy to decay to 1e-4 of its peak:
+  // not_equilibrated, accepted. With the servo: 8.9 % held, 0.48 % after
+  // two corrections, 1.8 % after the release and the in-situ cracking cut
+  // mid-relaxation by the step limit; the tolerance is 5 % (the default 2 %
+  // is for equilibrated phases; docs/tunnel.md, "In-situ stress servo").
   const std::string dir    = std::filesystem::temp_directory_path() / "demfem_tunnel_3d";
   const int         status = test::run_tunnel_example(
               "tunnel_3d.prm", dir,
@@ -204,7 +208,7 @@ TEST_CASE("3D slab: demfem tunnel runs the slab and writes readable 3D output",
                       "--set \"DEM region/breakable=false\" --set \"Continuum/outer "
                       "radius=8\" --set \"Coupling/ramp crossing times=7\" --set "
                       "\"Coupling/step limit=2000\" --set \"Output/interval=500\" "
-                      "--accept not_equilibrated");
+                      "--set \"Tunnel/in situ tolerance=0.05\" --accept not_equilibrated");
   const auto read = test::read_file;
   INFO(read(dir + ".log"));
   REQUIRE(WIFEXITED(status));
