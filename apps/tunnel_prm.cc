@@ -71,8 +71,9 @@ namespace demfem::apps
                       "(an interface strain, the region's eigenstrain against the "
                       "continuum) until its centre-disk stress is within this "
                       "fraction of sigma0 (the in situ tolerance's measure), then the "
-                      "continuum is released; in [0, in situ tolerance), 0: off. Slaved "
-                      "layer with the explicit or condensed scheme only (docs/tunnel.md, "
+                      "continuum is released; in [0, in situ tolerance), 0: off. Only "
+                      "with the slaved layer and the explicit scheme, or the condensed "
+                      "scheme (docs/tunnel.md, "
                       "\"In-situ stress servo\")");
     prm.declare_entry("damage link length", "2", Patterns::Double(),
                       "Link length L of the damage zone in mean grain diameters of the "

@@ -304,8 +304,8 @@ namespace demfem::coupling
   {
     if (!follows_affine_path() && !E.isZero())
       throw dem::InputError("the in-situ servo's interface strain needs an interface on "
-                            "the affine in-situ path (Coupling/variant = slaved-layer, "
-                            "Coupling/scheme = explicit or condensed); this model is " +
+                            "the affine in-situ path (the slaved layer with the explicit "
+                            "scheme, or the condensed scheme); this model is " +
                             checkpoint_tag());
     interface_eps.setZero();
     interface_eps.template topLeftCorner<2, 2>() = 0.5 * (E + E.transpose());

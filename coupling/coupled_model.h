@@ -219,7 +219,8 @@ namespace demfem::coupling
     void hold_continuum(bool on) { hold = on; }
     bool continuum_held() const { return hold; }
     /// Whether the interface follows the affine in-situ path (the slaved
-    /// layer with the explicit or condensed scheme): the servo needs it.
+    /// layer with the explicit scheme, or the condensed scheme): the servo
+    /// needs it.
     bool follows_affine_path() const;
     /// Interface strain E (in plane; 3D: E_zz = E_xz = E_yz = 0): the DEM
     /// side of the interface sits at u + E X instead of u (u the
