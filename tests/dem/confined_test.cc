@@ -103,6 +103,17 @@ namespace
 
   // Least-squares slope of the lateral wall stress against the axial wall
   // stress over the fit window of the loading branch.
+  // The flexible walls' breakable test (4 facets) to the post-peak end.
+  LabTestParams flexible_breakable_test(double Pc)
+  {
+    LabTestParams l = flexible_test(Pc, 4);
+    l.strain_limit  = 0.02;
+    l.strain_rate   = 0.15;
+    l.load_fraction = 0.8;
+    l.fit_lo = 0.1, l.fit_hi = 0.5;
+    return l;
+  }
+
   double lateral_to_axial_ratio(const LabTestResult &r, const LabTestParams &l,
                                 bool regions)
   {
@@ -372,13 +383,9 @@ TEST_CASE("flexible lateral walls hold Pc up to the peak (2D, breakable)",
 {
   // The breakable specimen of the rigid walls' test above (tensile strength
   // 20 +- 6 MPa, cohesion 60 MPa) at 5 MPa, to the post-peak end.
-  const double  Pc = 5e6;
-  LabTestParams l  = flexible_test(Pc, 4);
-  l.strain_limit   = 0.02;
-  l.strain_rate    = 0.15;
-  l.load_fraction  = 0.8;
-  l.fit_lo = 0.1, l.fit_hi = 0.5;
-  const LabTestResult r = run<2>(material(20e6, 6e6, 60e6), box2d(), 250, l);
+  const double        Pc = 5e6;
+  LabTestParams       l  = flexible_breakable_test(Pc);
+  const LabTestResult r  = run<2>(material(20e6, 6e6, 60e6), box2d(), 250, l);
   INFO("peak " << r.peak << " Pa, ended by " << r.ended_by << ", Pc deviation to peak "
                << r.confining_deviation_to_peak << ", spike "
                << r.confining_spike_to_peak);
@@ -401,11 +408,7 @@ TEST_CASE("flexible lateral walls: the confined result does not depend on the ti
   // packing's trajectories (the unconfined test's bound in
   // lab_tests_test.cc: 2 %).
   const double  Pc = 5e6;
-  LabTestParams l  = flexible_test(Pc, 4);
-  l.strain_limit   = 0.02;
-  l.strain_rate    = 0.15;
-  l.load_fraction  = 0.8;
-  l.fit_lo = 0.1, l.fit_hi = 0.5;
+  LabTestParams l  = flexible_breakable_test(Pc);
   LabTestResult r[2];
   const double  safety[2] = {0.8, 0.4};
   for (int k = 0; k < 2; ++k)
