@@ -269,6 +269,12 @@ namespace demfem::apps
           "its own (a membrane); 1: rigid walls. Each facet at least two mean grain "
           "diameters long (docs/calibrate.md, \"Confining servo\")");
       prm.declare_entry(
+          "confining boundary", "walls", Patterns::Selection("walls|pressure"),
+          "Confined compression: walls (servo-controlled, rigid or flexible: "
+          "lateral wall segments) or, 2D, pressure: after the seating the lateral "
+          "walls give way to P_c as forces on the outermost grains, a triaxial "
+          "cell's membrane (docs/calibrate.md, \"Confining boundary\")");
+      prm.declare_entry(
           "platen friction", "0.5", Patterns::Double(),
           "Brazilian platen friction (fistPkg: frictionless; a small 2D disk "
           "between frictionless platens can slide out sideways) (>= 0)");
@@ -610,6 +616,7 @@ namespace demfem::apps
       l.platen_friction           = prm.get_double("platen friction");
       l.servo.v_limit             = prm.get_double("servo velocity limit");
       l.lateral_segments          = prm.get_integer("lateral wall segments");
+      l.pressure_boundary         = prm.get("confining boundary") == "pressure";
       l.fit_lo                    = prm.get_double("fit window low");
       l.fit_hi                    = prm.get_double("fit window high");
       l.crack_initiation_fraction = prm.get_double("crack initiation fraction");

@@ -166,6 +166,8 @@ namespace demfem::apps
               .num("confining_window_s", r.confining_window)
               .num("confining_velocity_limit_m_s", r.confining_velocity_limit)
               .num("lateral_wall_segments", double(r.lateral_wall_segments));
+          if (!r.confining_boundary.empty())
+            j.str("confining_boundary", r.confining_boundary);
           if (dim == 2)
             j.num("E_plane_stress_Pa", r.E_ps).num("nu_plane_stress", r.nu_ps);
         }
@@ -368,7 +370,9 @@ namespace demfem::apps
           .num("Pc_Pa", lp.Pc);
       std::cerr << "demfem calibrate: " << label << ": peak " << r.peak / 1e6 << " MPa ("
                 << r.ended_by << ", " << r.loading_steps << " steps, " << test_s << " s)";
-      if (r.confining_deviation == r.confining_deviation)
+      if (r.confining_boundary == "pressure")
+        std::cerr << ", Pc as forces on the outermost grains (pressure boundary)";
+      else if (r.confining_deviation == r.confining_deviation)
         std::cerr << ", Pc held within " << 100 * r.confining_deviation_to_peak
                   << " % to the peak (averaged over " << r.confining_window
                   << " s; single-step spikes up to " << 100 * r.confining_spike_to_peak
@@ -423,7 +427,8 @@ namespace demfem::apps
                      "deviated by "
                   << 100 * r.confining_deviation_to_peak
                   << " % (more than 1 %) before the peak (crack bursts next to the "
-                  << (r.lateral_wall_segments > 1
+                  << (r.confining_boundary == "pressure" ? "pressure boundary"
+                      : r.lateral_wall_segments > 1
                           ? "flexible walls"
                           : "rigid walls; in 2D Tests/lateral wall segments makes them "
                             "flexible")
@@ -619,6 +624,7 @@ namespace demfem::apps
         .num("split_fraction", s.lab.split_fraction)
         .num("servo_velocity_limit_m_s", s.lab.servo.v_limit)
         .num("lateral_wall_segments", s.lab.lateral_segments)
+        .str("confining_boundary", s.lab.pressure_boundary ? "pressure" : "walls")
         .num("time_step_safety", s.lab.timestep_safety)
         .num("brazilian_diameter_m", s.lab.brazilian_diameter)
         .num("brazilian_flat_angle_deg", s.lab.brazilian_flat_angle)

@@ -5,6 +5,7 @@
 #include "dem/specimen/brazilian_failure.h"
 #include "dem/specimen/crack_initiation.h"
 #include "dem/specimen/post_peak_end.h"
+#include "dem/specimen/pressure_boundary.h"
 
 #include <array>
 
@@ -50,6 +51,14 @@ namespace demfem::dem
       throw InputError(where + ": " + key_prefix +
                        "lateral wall segments = " + std::to_string(lateral_segments) +
                        ": flexible lateral walls are 2D only; allowed in 3D: 1");
+    if (pressure_boundary && dim == 3)
+      throw InputError(where + ": " + key_prefix +
+                       "confining boundary = pressure: 2D only; allowed in 3D: walls");
+    if (pressure_boundary && lateral_segments > 1)
+      throw InputError(where + ": " + key_prefix +
+                       "lateral wall segments = " + std::to_string(lateral_segments) +
+                       ": the pressure boundary replaces the lateral walls; allowed "
+                       "with confining boundary = pressure: 1");
     check("fit window low", fit_lo, 0, 1, false, true);
     check("fit window high", fit_hi, fit_lo, 1, true, false);
     check("fit window stress low", fit_stress_lo, 0, inf);
@@ -154,11 +163,14 @@ namespace demfem::dem
       // Confined compression: the servo of the seating keeps the lateral
       // walls at Pc through the loading phase.
       std::unique_ptr<Servo<dim>> servo_;
-      std::vector<std::uint32_t>  gauge_, grip_top_, grip_bottom_;
-      double                      L0_ = 0; // loading length (platen gap / grip distance)
-      double                      v_  = 0; // speed of each platen / grip
-      std::int64_t                step0_ = 0;
-      double                      time0_ = 0;
+      // Or, 2D with LabTestParams::pressure_boundary, the pressure boundary
+      // that replaces the lateral walls after the seating.
+      std::unique_ptr<PressureBoundary> pressure_boundary_;
+      std::vector<std::uint32_t>        gauge_, grip_top_, grip_bottom_;
+      double       L0_    = 0; // loading length (platen gap / grip distance)
+      double       v_     = 0; // speed of each platen / grip
+      std::int64_t step0_ = 0;
+      double       time0_ = 0;
       /// The state of largest load over all loading steps (the strength).
       HistoryRow peak_state_ = [] {
         HistoryRow h;
@@ -191,6 +203,8 @@ namespace demfem::dem
           {
             if (servo)
               servo->update(m_);
+            if (pressure_boundary_)
+              apply_pressure_boundary();
             m_.step();
             if (n % 100 == 99)
               {
@@ -293,7 +307,16 @@ namespace demfem::dem
       {
         const double H = s_.vessel.length(m_.walls, ax);
         r_.area        = s_.vessel.area(m_.walls, ax);
-        if (p_.ctype == CompressionType::unconfined)
+        // The pressure boundary (2D) replaces the lateral walls from the
+        // seating on: the specimen settles under the boundary it is loaded
+        // with (docs/calibrate.md, "Confining boundary").
+        if constexpr (dim == 2)
+          if (p_.pressure_boundary && p_.ctype == CompressionType::confined)
+            {
+              r_.confining_boundary = "pressure";
+              pressure_boundary_    = std::make_unique<PressureBoundary>(p_.Pc);
+            }
+        if (p_.ctype == CompressionType::unconfined || pressure_boundary_)
           for (int a = 0; a < dim - 1; ++a)
             remove_walls(a);
         m_.reset_energy_baseline();
@@ -301,13 +324,16 @@ namespace demfem::dem
           make_lateral_walls_flexible(H);
         if (p_.Pc > 0 || p_.ctype == CompressionType::confined)
           {
-            // Seating: every wall present (unconfined: the platens only)
-            // servo-controlled to Pc, an isotropic start for the confined
-            // and the uniaxial-strain tests.
+            // Seating: every wall present (unconfined, pressure boundary:
+            // the platens only) servo-controlled to Pc, an isotropic start
+            // for the confined and the uniaxial-strain tests.
             servo_ = std::make_unique<Servo<dim>>(s_.vessel, servo_params(H, false));
             for (int a = 0; a < dim; ++a)
-              if (a == ax || p_.ctype != CompressionType::unconfined)
+              if (a == ax ||
+                  (p_.ctype != CompressionType::unconfined && !pressure_boundary_))
                 servo_->set_pressure(a, p_.Pc);
+            if (pressure_boundary_) // the lateral walls are parked
+              servo_->set_area(ax, r_.area);
             equilibrate(servo_.get());
           }
         else
@@ -316,10 +342,14 @@ namespace demfem::dem
         v_  = 0.5 * p_.strain_rate * L0_; // Table 10: v = eps_rate h / 2
         start_loading();
         s_.vessel.set_velocity(m_.walls, ax, -v_);
-        if (servo_holds_confinement())
+        if (pressure_boundary_) // it holds P_c on; the platens move
+          servo_.reset();
+        else if (servo_holds_confinement())
           {
             // Loading: the lateral walls stay on Pc while the specimen
             // dilates, with the integral term that removes the lag.
+            r_.confining_boundary =
+                s_.vessel.flexible(0) ? "flexible walls" : "rigid walls";
             const ServoParams sp        = servo_params(H, true);
             r_.confining_velocity_limit = sp.v_limit;
             r_.lateral_wall_segments    = s_.vessel.flexible(0) ? p_.lateral_segments : 1;
@@ -358,6 +388,29 @@ namespace demfem::dem
                p_.ctype == CompressionType::confined && servo_;
       }
 
+      // The lateral pressures (compression positive) of the confining walls
+      // or of the pressure boundary (its two sides' mean).
+      std::array<double, dim> lateral_pressures() const
+      {
+        std::array<double, dim> P{};
+        for (int a = 0; a < dim - 1; ++a)
+          P[a] = pressure_boundary_ ? 0.5 * (pressure_boundary_->pressure(0) +
+                                             pressure_boundary_->pressure(1))
+                                    : servo_->pressure(m_, a);
+        return P;
+      }
+
+      // P_c on the outermost grains between the platens (2D).
+      void apply_pressure_boundary()
+      {
+        if constexpr (dim == 2)
+          {
+            const auto &W = m_.walls;
+            pressure_boundary_->apply(m_.particles, W.vertex[s_.vessel.lo_vertex[ax]][ax],
+                                      W.vertex[s_.vessel.hi_vertex[ax]][ax]);
+          }
+      }
+
       // The confining pressure as the specimen feels it (docs/calibrate.md,
       // "Confining servo"): the specimen cannot respond as a whole faster
       // than a compression wave crosses it, so each servo-controlled wall's
@@ -374,12 +427,12 @@ namespace demfem::dem
         std::array<double, dim> sum{};
         double                  averaged = 0, spike = 0; // largest deviations
 
-        void add(const Servo<dim> &servo, const Model<dim> &m, double dt)
+        void add(const std::array<double, dim> &pressures, double dt)
         {
           elapsed += dt;
           for (int a = 0; a < n_lateral; ++a)
             {
-              const double P = servo.pressure(m, a);
+              const double P = pressures[a];
               spike          = std::max(spike, std::abs(P - Pc) / Pc);
               sum[a] += P * dt;
             }
@@ -408,6 +461,8 @@ namespace demfem::dem
         double W    = HUGE_VAL;
         for (int a = 0; a < dim - 1; ++a)
           W = std::min(W, s_.vessel.length(m_.walls, a));
+        if (pressure_boundary_) // the walls are parked: the seated width (2D)
+          W = r_.area;
         g.window = wave_speed() > 0 ? W / wave_speed() : 0;
         return g;
       }
@@ -602,7 +657,9 @@ namespace demfem::dem
                                    W.wall_force(s_.vessel.hi[ax])[ax]);
             h.axial_stress = h.axial_force / r_.area;
             double lateral = 0; // deviator = |sigma_a - sigma_r| (Table 10)
-            if (p_.ctype != CompressionType::unconfined)
+            if (pressure_boundary_)
+              lateral = -lateral_pressures()[0];
+            else if (p_.ctype != CompressionType::unconfined)
               {
                 for (int a = 0; a < dim - 1; ++a)
                   lateral += s_.vessel.wall_stress(W, a);
@@ -674,9 +731,10 @@ namespace demfem::dem
                    0.25 * std::pow(double(m_.particles.size()), 1.0 / dim)));
         // The post-peak rule averages the load over the round trip of a
         // compression wave along the loaded length (post_peak_end.h).
-        const double     round_trip = wave_speed() > 0 ? 2 * L0_ / wave_speed() : 0;
-        PostPeakEnd      post_peak(p_.load_fraction, failure_cracks, round_trip);
-        const bool       track_pc = servo_holds_confinement() && p_.Pc > 0;
+        const double round_trip = wave_speed() > 0 ? 2 * L0_ / wave_speed() : 0;
+        PostPeakEnd  post_peak(p_.load_fraction, failure_cracks, round_trip);
+        const bool   track_pc =
+            (servo_holds_confinement() || pressure_boundary_) && p_.Pc > 0;
         ConfinementGauge confinement;
         if (track_pc)
           confinement = confinement_gauge();
@@ -686,9 +744,11 @@ namespace demfem::dem
         // 2 |sigma_a| / (rho c); the walls must be able to follow
         // (docs/calibrate.md, "Confining servo"). Updated every step from
         // the previous step's axial stress.
-        const bool   auto_limit = track_pc && !(p_.servo.v_limit > 0) && wave_speed() > 0;
-        const double base_limit = track_pc ? servo_->velocity_limit() : 0;
-        double       axial_now  = 0;
+        const bool auto_limit =
+            servo_holds_confinement() && !(p_.servo.v_limit > 0) && wave_speed() > 0;
+        const double base_limit =
+            servo_holds_confinement() ? servo_->velocity_limit() : 0;
+        double axial_now = 0;
         for (std::int64_t n = 1; n <= nmax; ++n)
           {
             if (auto_limit)
@@ -697,9 +757,11 @@ namespace demfem::dem
                                            (s_.material.density * wave_speed())));
             if (servo_holds_confinement())
               servo_->update(m_);
+            if (pressure_boundary_)
+              apply_pressure_boundary();
             m_.step();
             if (track_pc)
-              confinement.add(*servo_, m_, m_.timestep());
+              confinement.add(lateral_pressures(), m_.timestep());
             // The strength is the largest load of any step, not of the
             // history rows: it must not depend on Tests/history interval
             // (rows every 50 steps read a 2D UCS 0.08 % low, measured).
@@ -712,7 +774,8 @@ namespace demfem::dem
                   {
                     r_.confining_deviation_to_peak = confinement.averaged;
                     r_.confining_spike_to_peak     = confinement.spike;
-                    r_.confining_velocity_limit    = servo_->velocity_limit();
+                    if (servo_)
+                      r_.confining_velocity_limit = servo_->velocity_limit();
                   }
               }
             // The post-peak end and the strain limit are judged every step
@@ -771,6 +834,9 @@ namespace demfem::dem
           }
         if (servo_)
           servo_->stop(m_);
+        if constexpr (dim == 2)
+          if (pressure_boundary_)
+            pressure_boundary_->remove(m_.particles);
         for (int a = 0; a < dim; ++a)
           s_.vessel.set_velocity(m_.walls, a, 0);
         for (auto i : grip_top_)

@@ -105,10 +105,15 @@ namespace demfem::dem
     /// facets it touches, not the whole wall); 1: rigid lateral walls.
     /// Each facet at least two mean grain diameters long
     /// (docs/calibrate.md, "Confining servo").
-    int          lateral_segments = 1;
-    double       ratio_limit      = 1e-4; ///< ft_eq ratio limit for seating
-    std::int64_t seat_step_limit  = 100000;
-    double       grip_thickness   = 0.1; ///< direct tension: t_g / H
+    int lateral_segments = 1;
+    /// Confined compression, 2D: after the seating (with walls) the lateral
+    /// walls give way to a pressure boundary, P_c as forces on the outermost
+    /// grains (dem/specimen/pressure_boundary.h; docs/calibrate.md,
+    /// "Confining boundary"); needs lateral_segments = 1.
+    bool         pressure_boundary = false;
+    double       ratio_limit       = 1e-4; ///< ft_eq ratio limit for seating
+    std::int64_t seat_step_limit   = 100000;
+    double       grip_thickness    = 0.1; ///< direct tension: t_g / H
     /// Brazilian platen friction. fistPkg §5.6 uses frictionless platens;
     /// a small 2D disk between frictionless platens can slide out sideways
     /// (neutral equilibrium), so a friction coefficient may be given.
@@ -222,6 +227,9 @@ namespace demfem::dem
     /// Facets of each lateral wall between the platens (1: rigid walls; 0
     /// for the other tests).
     int lateral_wall_segments = 0;
+    /// Confined compression: "rigid walls", "flexible walls" or "pressure"
+    /// (LabTestParams::pressure_boundary); empty for the other tests.
+    std::string confining_boundary;
     /// Crack-damage stress (Martin & Chandler): axial-stress magnitude at the
     /// reversal of the volumetric strain (gauge based), i.e. at the most
     /// compacted state before the peak; NaN if the volume only grows.

@@ -20,6 +20,7 @@ namespace demfem::dem
     target_.fill(0);
     velocity_.fill(0);
     integral_velocity_.fill(0);
+    area_.fill(0);
   }
 
   template <int dim>
@@ -52,7 +53,19 @@ namespace demfem::dem
   template <int dim>
   double Servo<dim>::pressure(const Model<dim> &m, int a) const
   {
+    if (area_[a] > 0) // the walls' mean force over the given area
+      {
+        const auto &W = m.walls;
+        return 0.5 * (W.wall_force(vessel_.hi[a])[a] - W.wall_force(vessel_.lo[a])[a]) /
+               area_[a];
+      }
     return -vessel_.wall_stress(m.walls, a);
+  }
+
+  template <int dim>
+  double Servo<dim>::area(const Model<dim> &m, int a) const
+  {
+    return area_[a] > 0 ? area_[a] : vessel_.area(m.walls, a);
   }
 
   template <int dim>
@@ -102,7 +115,7 @@ namespace demfem::dem
           if (on_[a])
             {
               err += pressure(m, a) - target_[a];
-              k += kn[a] / vessel_.area(m.walls, a);
+              k += kn[a] / area(m, a);
               ++n;
             }
         if (n > 0)
@@ -131,7 +144,7 @@ namespace demfem::dem
             if (kn[a] > 0 && dt > 0)
               {
                 // Each wall of a pair moves by v: the pair's stiffness halves.
-                const double G = p_.alpha * vessel_.area(m.walls, a) / (kn[a] * dt);
+                const double G = p_.alpha * area(m, a) / (kn[a] * dt);
                 v              = with_integral(G * err, integral_velocity_[a]);
               }
             else

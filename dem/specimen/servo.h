@@ -52,6 +52,11 @@ namespace demfem::dem
     void update(Model<dim> &m);
     /// Wall pressure (compression positive) of axis a.
     double pressure(const Model<dim> &m, int a) const;
+    /// The area axis a's walls press on, instead of the vessel's current
+    /// one (> 0; 2D planar walls): the platens of a specimen whose lateral
+    /// walls were parked (a pressure boundary) press on the specimen's
+    /// width, not on the parked walls' distance.
+    void set_area(int a, double A) { area_[a] = A; }
     /// All servo-controlled pressures within tol of their targets.
     bool within_tolerance(const Model<dim> &m) const;
     void stop(Model<dim> &m); ///< zero wall velocities and the integral term
@@ -72,6 +77,8 @@ namespace demfem::dem
     std::array<bool, dim>   on_;
     std::array<double, dim> target_, velocity_;
     std::array<double, dim> integral_velocity_; // G / T_i int e dt, per axis
+    std::array<double, dim> area_;              // set_area (0: the vessel's)
+    double                  area(const Model<dim> &m, int a) const;
     // Flexible walls: per wall vertex, the summed stiffness of its contacts
     // (each weighted by the vertex's barycentric weight) and the integral
     // velocity; indexed by wall vertex.

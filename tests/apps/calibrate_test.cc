@@ -691,3 +691,40 @@ TEST_CASE("calibrate: a Brazilian disk that does not split gives no BTS",
   check_refused("split_fraction", " --set \"Tests/brazilian split fraction=0\"",
                 "Tests/brazilian split fraction", "allowed range");
 }
+
+TEST_CASE("calibrate: the pressure boundary, reported and recorded; refused in 3D and "
+          "with flexible walls",
+          "[calibrate]")
+{
+  // Tests/confining boundary = pressure (docs/calibrate.md, "Confining
+  // boundary"): each confined test's summary names its boundary and holds
+  // P_c to round-off (the applied forces); the material file's lab_tests
+  // records the choice; where it cannot apply it is refused where it
+  // enters, naming the key and what is allowed, and nothing is written.
+  const std::string triaxial =
+      " --set \"Problem/vtk=false\" --set \"Tests/tests=triaxial\""
+      " --set \"Tests/confining pressure=6e6\" --set \"Tests/confining "
+      "boundary=pressure\"";
+  const auto pb = run_tiny("pressure_boundary", triaxial);
+  INFO(pb.r.out);
+  REQUIRE(pb.r.exit_code == 0);
+  const auto t =
+      nlohmann::json::parse(read(pb.out / "summary.json"))["tests"]["triaxial"];
+  CHECK(t["confining_boundary"].get<std::string>() == "pressure");
+  CHECK(t["confining_deviation_to_peak"].get<double>() < 1e-9);
+  CHECK(t["peak_Pa"].get<double>() > 6e6);
+  const auto m = nlohmann::json::parse(read(pb.out / "material.json"));
+  CHECK(m["lab_tests"]["confining_boundary"].get<std::string>() == "pressure");
+
+  const auto flex =
+      run_tiny("pressure_flex", triaxial + " --set \"Tests/lateral wall segments=2\"");
+  CHECK(flex.r.exit_code != 0);
+  CHECK(flex.r.out.find("Tests/lateral wall segments = 2") != std::string::npos);
+  CHECK(flex.r.out.find("confining boundary = pressure: 1") != std::string::npos);
+  CHECK_FALSE(fs::exists(flex.out / "material.json"));
+  const auto three = run_tiny("pressure_3d", triaxial + " --set \"Problem/dimension=3\"");
+  CHECK(three.r.exit_code != 0);
+  CHECK(three.r.out.find("Tests/confining boundary = pressure: 2D only") !=
+        std::string::npos);
+  CHECK_FALSE(fs::exists(three.out / "material.json"));
+}
