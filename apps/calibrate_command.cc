@@ -271,8 +271,8 @@ namespace demfem::apps
       prm.declare_entry(
           "confining boundary", "walls", Patterns::Selection("walls|pressure"),
           "Confined compression: walls (servo-controlled, rigid or flexible: "
-          "lateral wall segments) or, 2D, pressure: after the seating the lateral "
-          "walls give way to P_c as forces on the outermost grains, a triaxial "
+          "lateral wall segments) or, 2D, pressure: from the seating on, P_c as "
+          "forces on the outermost grains instead of lateral walls, a triaxial "
           "cell's membrane (docs/calibrate.md, \"Confining boundary\")");
       prm.declare_entry(
           "platen friction", "0.5", Patterns::Double(),

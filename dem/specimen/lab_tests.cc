@@ -164,7 +164,8 @@ namespace demfem::dem
       // walls at Pc through the loading phase.
       std::unique_ptr<Servo<dim>> servo_;
       // Or, 2D with LabTestParams::pressure_boundary, the pressure boundary
-      // that replaces the lateral walls after the seating.
+      // that replaces the lateral walls from the seating on (the servo then
+      // drives the platens in the seating only).
       std::unique_ptr<PressureBoundary> pressure_boundary_;
       std::vector<std::uint32_t>        gauge_, grip_top_, grip_bottom_;
       double       L0_    = 0; // loading length (platen gap / grip distance)

@@ -106,8 +106,8 @@ namespace demfem::dem
     /// Each facet at least two mean grain diameters long
     /// (docs/calibrate.md, "Confining servo").
     int lateral_segments = 1;
-    /// Confined compression, 2D: after the seating (with walls) the lateral
-    /// walls give way to a pressure boundary, P_c as forces on the outermost
+    /// Confined compression, 2D: from the seating on, the lateral walls
+    /// give way to a pressure boundary, P_c as forces on the outermost
     /// grains (dem/specimen/pressure_boundary.h; docs/calibrate.md,
     /// "Confining boundary"); needs lateral_segments = 1.
     bool         pressure_boundary = false;
