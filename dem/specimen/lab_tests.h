@@ -25,9 +25,6 @@ namespace demfem::dem
     brazilian,
     direct_tension
   };
-  /// Lateral boundary of a compression test (fistPkg §5.5, Table 10). All
-  /// are seated by the servo at Pc (unconfined: axially only, the lateral
-  /// walls removed); during loading the lateral walls are
   /// How the crack-initiation stress is picked (docs/calibrate.md, "Crack
   /// initiation and crack damage").
   enum class CrackInitiationMethod
@@ -41,9 +38,12 @@ namespace demfem::dem
     crack_count
   };
 
+  /// Lateral boundary of a compression test (fistPkg §5.5, Table 10). All
+  /// are seated at Pc (unconfined: axially only, the lateral walls
+  /// removed); during loading the lateral boundary is:
   enum class CompressionType
   {
-    confined,       ///< servo-controlled at Pc (triaxial: sigma_3 = Pc held)
+    confined,       ///< held at Pc by the servo or the pressure boundary (triaxial)
     unconfined,     ///< removed
     uniaxial_strain ///< fixed (oedometric: lateral strain held at zero)
   };
