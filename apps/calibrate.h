@@ -122,7 +122,8 @@ namespace demfem::apps
 
   /// How a calibration ended: the exit code and the status the manifest
   /// records ("ok", "step_limit_reached", "brazilian_not_split",
-  /// "targets_not_reached"; exit 3 for any failure, docs/calibrate.md).
+  /// "confinement_not_held", "targets_not_reached"; exit 3 for any failure,
+  /// docs/calibrate.md).
   struct CalibrateOutcome
   {
     int         exit_code = 0;
@@ -130,17 +131,22 @@ namespace demfem::apps
   };
 
   /// The status of a calibration in which `n_at_step_limit` tests ended at
-  /// their step limit and `n_not_split` Brazilian disks did not split:
-  /// "ok", else step_limit_reached (a test stopped early may not have
-  /// failed yet, so it is named first), else brazilian_not_split.
-  std::string calibration_status(std::size_t n_at_step_limit, std::size_t n_not_split);
+  /// their step limit, `n_not_split` Brazilian disks did not split and
+  /// `n_not_held` confined tests did not hold P_c within
+  /// Tests/confining tolerance: "ok" when all are zero, else
+  /// step_limit_reached (a test stopped early may not have failed yet, so
+  /// it is named first), else brazilian_not_split (a strength missing),
+  /// else confinement_not_held (a strength at another confinement).
+  std::string calibration_status(std::size_t n_at_step_limit, std::size_t n_not_split,
+                                 std::size_t n_not_held = 0);
 
   /// The end of a calibration whose material.json and summary.json are in
   /// `out`: reports where they are after `wall_s` seconds, and exit 3 with
   /// calibration_status when it is not "ok" (apps/calibrate_output.cc).
   CalibrateOutcome calibration_outcome(const std::string &out, double wall_s,
                                        std::size_t n_at_step_limit,
-                                       std::size_t n_not_split = 0);
+                                       std::size_t n_not_split = 0,
+                                       std::size_t n_not_held  = 0);
 
   /// Runs the automatic fit, then the calibration of the best material
   /// (run_calibration): that run's outcome when it failed, else

@@ -48,8 +48,10 @@ namespace demfem::apps
         "plane strain), summary.json, history_<test>.csv, <test>_stress_strain.svg,\n"
         "VTK of the specimen and of each test at peak and at the end (.pvd).\n"
         "Exit 3 (summary.json status step_limit_reached) when a test ended at\n"
-        "Tests/step limit before its post-peak end, or (status brazilian_not_split)\n"
-        "when the Brazilian disk did not split along its loaded diameter.\n"
+        "Tests/step limit before its post-peak end, (status brazilian_not_split)\n"
+        "when the Brazilian disk did not split along its loaded diameter, or\n"
+        "(status confinement_not_held) when a confined test's P_c deviated by more\n"
+        "than Tests/confining tolerance before its peak.\n"
         "Material/type = rigid-voronoi | flexible-voronoi (2D): Voronoi grains\n"
         "(subsection Material/Voronoi, docs/voronoi.md) in the same tests (no uniaxial\n"
         "strain; brazilian rigid only), with VTK of cells, contact points, cracks.\n"
@@ -274,6 +276,13 @@ namespace demfem::apps
           "lateral wall segments) or, 2D, pressure: from the seating on, P_c as "
           "forces on the outermost grains instead of lateral walls, a triaxial "
           "cell's membrane (docs/calibrate.md, \"Confining boundary\")");
+      prm.declare_entry(
+          "confining tolerance", "0.01", Patterns::Double(),
+          "Confined compression: largest deviation of the confining pressure from "
+          "P_c up to the peak (averaged over a compression wave's crossing time), "
+          "as a fraction of P_c, for the test to count as held at P_c; beyond it "
+          "the run ends with status confinement_not_held, exit 3 (0 < tolerance "
+          "<= 1)");
       prm.declare_entry(
           "platen friction", "0.5", Patterns::Double(),
           "Brazilian platen friction (fistPkg: frictionless; a small 2D disk "
@@ -625,6 +634,7 @@ namespace demfem::apps
                                         : dem::CrackInitiationMethod::volumetric_strain;
       l.crack_volumetric_fraction = prm.get_double("crack volumetric strain fraction");
       l.split_fraction            = prm.get_double("brazilian split fraction");
+      l.confining_tolerance       = prm.get_double("confining tolerance");
       l.brazilian_diameter        = prm.get_double("brazilian diameter");
       l.brazilian_thickness       = prm.get_double("brazilian thickness");
       l.brazilian_flat_angle      = prm.get_double("brazilian flat angle");

@@ -238,20 +238,25 @@ namespace demfem::apps
   }
 
   std::string calibration_status(const std::size_t n_at_step_limit,
-                                 const std::size_t n_not_split)
+                                 const std::size_t n_not_split,
+                                 const std::size_t n_not_held)
   {
     if (n_at_step_limit > 0)
       return "step_limit_reached";
-    return n_not_split > 0 ? "brazilian_not_split" : "ok";
+    if (n_not_split > 0)
+      return "brazilian_not_split";
+    return n_not_held > 0 ? "confinement_not_held" : "ok";
   }
 
   CalibrateOutcome calibration_outcome(const std::string &out, const double wall_s,
                                        const std::size_t n_at_step_limit,
-                                       const std::size_t n_not_split)
+                                       const std::size_t n_not_split,
+                                       const std::size_t n_not_held)
   {
     std::cerr << "demfem calibrate: wrote " << out << "/material.json (" << wall_s
               << " s)\n";
-    const std::string status = calibration_status(n_at_step_limit, n_not_split);
+    const std::string status =
+        calibration_status(n_at_step_limit, n_not_split, n_not_held);
     if (status == "ok")
       return {};
     if (n_at_step_limit > 0)
@@ -261,6 +266,10 @@ namespace demfem::apps
       std::cerr << "demfem calibrate: " << n_not_split
                 << " Brazilian test(s) did not split along the loaded diameter: no "
                    "BTS\n";
+    if (n_not_held > 0)
+      std::cerr
+          << "demfem calibrate: " << n_not_held
+          << " confined test(s) did not hold P_c within Tests/confining tolerance\n";
     std::cerr << "demfem calibrate: summary.json: status " << status << "; exit 3\n";
     return {3, status};
   }

@@ -64,6 +64,7 @@ namespace demfem::dem
     check("crack volumetric strain fraction", crack_volumetric_fraction, 0, 1, true,
           true);
     check("brazilian split fraction", split_fraction, 0, 1, true, true);
+    check("confining tolerance", confining_tolerance, 0, 1, true, false);
     // 0 keeps the specimen's time step.
     check("time step safety", timestep_safety, 0, 1);
   }

@@ -162,6 +162,12 @@ namespace demfem::dem
     /// 0.5: most of them, between 0.28 for cracks spread over the disk and
     /// 2/3 for a straight platen-to-platen split).
     double split_fraction = 0.5;
+    /// Confined compression: P_c is held when its deviation up to the peak,
+    /// averaged over a compression wave's crossing time
+    /// (LabTestResult::confining_deviation_to_peak), stays within this
+    /// fraction; `demfem calibrate` names a test beyond it
+    /// (confinement_not_held). 1 %: the and a triaxial cell's.
+    double confining_tolerance = 0.01;
     /// Time step of the test as a fraction of the critical one (0: keep the
     /// specimen's, 0.8 from its genesis). A quasi-static result does not
     /// depend on it (docs/calibrate.md, "Loading rate and time step").

@@ -287,13 +287,19 @@ TEST_CASE("calibrate: triaxial series with envelope, rate check and region tensi
           "[calibrate][envelope]")
 {
   // Three confining pressures on the tiny material, each test on a copy of
-  // one packing; the unconfined one at half rate as well.
+  // one packing; the unconfined one at half rate as well. At this fast,
+  // not quasi-static rate (2/s on 150 grains) the rigid walls lag the
+  // specimen's dilation by up to about 9 %, beyond the default 1 % that a
+  // calibration is held to (status confinement_not_held, tested below):
+  // the tolerance of 20 % lets the run end ok, the envelope is what this
+  // test checks.
   const fs::path out = work_dir() / "series_out";
   fs::remove_all(out);
   const fs::path prm = write("series.prm", tiny_prm(out));
   const auto     r   = run_demfem("calibrate " + prm.string() +
                                   " --set \"Tests/tests=triaxial series, direct tension\""
-                                        " --set \"Tests/confining pressures=0, 2e6, 5e6\"");
+                                        " --set \"Tests/confining pressures=0, 2e6, 5e6\""
+                                        " --set \"Tests/confining tolerance=0.2\"");
   INFO(r.out);
   REQUIRE(r.exit_code == 0);
   const auto mat = nlohmann::json::parse(read(out / "material.json"));
@@ -312,16 +318,15 @@ TEST_CASE("calibrate: triaxial series with envelope, rate check and region tensi
   CHECK(e["hoek_brown"]["mi"].get<double>() > 0);
   // The series' unconfined test is the material's UCS.
   CHECK(mat["ucs"].get<double>() == s1[0]);
-  // Every confined test reports how well the servo held Pc; at this fast,
-  // not quasi-static rate (2/s on 150 grains) it lags by more than 1 %, and
-  // the run says so (the servo's accuracy itself: tests/dem/confined_test.cc).
+  // Every confined test reports how well the servo held Pc, here within
+  // the 20 % given (the run ended ok); the servo's accuracy itself:
+  // tests/dem/confined_test.cc.
   for (const auto &t : sum["tests"]["triaxial_series"]["tests"])
     if (t["Pc_Pa"].get<double>() > 0)
       {
         const double d = t["confining_deviation_to_peak"].get<double>();
         CHECK(d >= 0);
-        if (d > 0.01)
-          CHECK(r.out.find("(more than 1 %) before the peak") != std::string::npos);
+        CHECK(d <= 0.2);
       }
   // Direct tension also from the measurement regions (fistPkg §5.7).
   CHECK(mat["direct_tension_regions"].get<double>() > 0);
@@ -338,7 +343,8 @@ TEST_CASE(
   const auto t =
       run_tiny("series_seeds", "--set \"Tests/tests=triaxial series\" --set "
                                "\"Tests/confining pressures=0, 2e6, 5e6\" "
-                               "--set Problem/seeds=2 --set Problem/vtk=false");
+                               "--set Problem/seeds=2 --set Problem/vtk=false "
+                               "--set \"Tests/confining tolerance=0.2\""); // as above
   INFO(t.r.out);
   REQUIRE(t.r.exit_code == 0);
   const auto m  = nlohmann::json::parse(read(t.out / "material.json"));
@@ -390,10 +396,12 @@ TEST_CASE("calibrate: the confining servo's velocity limit, automatic or given",
   // rho) (1.2 m/s at P_c 6 MPa, E* 40 GPa, rho 2650) and 2 |sigma_a| /
   // (rho c) of the step's axial stress, reported at the peak: there the
   // last; or Tests/servo velocity limit, reported as used.
+  // (The fast rate's lag of the walls, about 3 %, is allowed: the limit is
+  // what is checked.)
   const std::string triaxial =
       " --set \"Problem/vtk=false\" --set \"Tests/tests=triaxial\""
       " --set \"Tests/confining pressure=6e6\""
-      " --set \"Material/density=2650\"";
+      " --set \"Material/density=2650\" --set \"Tests/confining tolerance=0.2\"";
   const auto automatic = run_tiny("servo_auto", triaxial);
   INFO(automatic.r.out);
   REQUIRE(automatic.r.exit_code == 0);
@@ -429,10 +437,12 @@ TEST_CASE("calibrate: flexible lateral walls, reported and recorded; bad counts 
   // the count used is in each confined test's summary and in the material
   // file's lab_tests; below 1 it is refused where it enters, above what
   // the specimen's height holds at two grain diameters per facet when the
-  // test starts, naming the key and the allowed range.
+  // test starts, naming the key and the allowed range. (Two facets at this
+  // fast rate let P_c deviate by about 9 %: allowed, the record is what is
+  // checked.)
   const std::string triaxial =
       " --set \"Problem/vtk=false\" --set \"Tests/tests=triaxial\""
-      " --set \"Tests/confining pressure=6e6\"";
+      " --set \"Tests/confining pressure=6e6\" --set \"Tests/confining tolerance=0.2\"";
   const auto flex =
       run_tiny("flex_walls", triaxial + " --set \"Tests/lateral wall segments=2\"");
   INFO(flex.r.out);
@@ -456,6 +466,58 @@ TEST_CASE("calibrate: flexible lateral walls, reported and recorded; bad counts 
   CHECK(many.r.out.find("lateral wall segments = 1000") != std::string::npos);
   CHECK(many.r.out.find("allowed for this specimen: 1 to") != std::string::npos);
   CHECK_FALSE(fs::exists(many.out / "material.json"));
+}
+
+TEST_CASE("calibrate: a confined test whose P_c was not held is not ok", "[calibrate]")
+{
+  // Tests/confining tolerance (docs/calibrate.md, "Confining boundary"): a
+  // triaxial peak at a confinement that deviated from P_c by more than the
+  // tolerance (averaged over a wave's crossing time, up to the peak) is not
+  // the strength at P_c: status confinement_not_held, exit 3, the results
+  // still written. The tolerance does not change the test itself (the runs
+  // are deterministic), so the deviation measured with a tolerance of 1
+  // (100 %, accepted) is the one judged with half of it.
+  const std::string triaxial =
+      " --set \"Problem/vtk=false\" --set \"Tests/tests=triaxial\""
+      " --set \"Tests/confining pressure=6e6\"";
+  const auto loose =
+      run_tiny("held_loose", triaxial + " --set \"Tests/confining tolerance=1\"");
+  INFO(loose.r.out);
+  REQUIRE(loose.r.exit_code == 0);
+  const auto t0 =
+      nlohmann::json::parse(read(loose.out / "summary.json"))["tests"]["triaxial"];
+  const double d = t0["confining_deviation_to_peak"].get<double>();
+  // Rigid walls at this fast rate lag behind the specimen's dilation by a
+  // measurable amount (else the second run below proves nothing).
+  REQUIRE(d > 1e-4);
+  REQUIRE(d < 0.5);
+  std::ostringstream tol;
+  tol.precision(17);
+  tol << 0.5 * d;
+  const auto strict = run_tiny(
+      "held_strict", triaxial + " --set \"Tests/confining tolerance=" + tol.str() + "\"");
+  INFO(strict.r.out);
+  CHECK(strict.r.exit_code == 3);
+  CHECK(strict.r.out.find("more than Tests/confining tolerance") != std::string::npos);
+  const auto sum = nlohmann::json::parse(read(strict.out / "summary.json"));
+  CHECK(sum["status"] == "confinement_not_held");
+  CHECK(sum["tests"]["triaxial"]["confining_deviation_to_peak"].get<double>() == d);
+  const auto manifest = nlohmann::json::parse(read(strict.out / "manifest.json"));
+  CHECK(manifest["status"] == "confinement_not_held");
+  CHECK(manifest["exit_code"] == 3);
+  const auto m = nlohmann::json::parse(read(strict.out / "material.json"));
+  CHECK(m["lab_tests"]["confining_tolerance"].get<double>() ==
+        Approx(0.5 * d).epsilon(1e-15));
+  // The pressure boundary holds P_c to round-off: ok at the default 1 %.
+  const auto pressure = run_tiny(
+      "held_pressure", triaxial + " --set \"Tests/confining boundary=pressure\"");
+  INFO(pressure.r.out);
+  CHECK(pressure.r.exit_code == 0);
+  // Refused where it enters, naming the key; nothing written.
+  check_refused("tolerance_zero", " --set \"Tests/confining tolerance=0\"",
+                "Tests/confining tolerance");
+  check_refused("tolerance_big", " --set \"Tests/confining tolerance=1.5\"",
+                "Tests/confining tolerance");
 }
 
 TEST_CASE("calibrate: the loading-rate check reports half and quarter rate",
