@@ -106,6 +106,10 @@ namespace demfem::apps
     FitSettings                    fit;
     /// Problem/seeds: packings the tests run on (run_calibration_seeds).
     int seeds = 1;
+    /// Put after "demfem calibrate: " in this run's messages and in its
+    /// tests' progress lines: the packing ("seed 10001: ") when packings run
+    /// side by side, empty otherwise.
+    std::string log_tag;
   };
 
   /// A copy of a specimen whose model state is in `checkpoint` (written by

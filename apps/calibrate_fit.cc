@@ -6,6 +6,7 @@
 #include "apps/calibrate_fit.h"
 #include "apps/calibrate.h"
 #include "apps/lab_progress.h"
+#include "apps/parallel_packings.h"
 #include "dem/io/checkpoint.h"
 #include "dem/specimen/envelope.h"
 
@@ -27,133 +28,159 @@ namespace demfem::apps
              name == "bond effective modulus" || name == "bond stiffness ratio";
     }
 
+    // One packing's measurements in an evaluation, and what was left out.
+    struct PackingValues
+    {
+      std::map<std::string, std::vector<double>> values;
+      std::string                                note;
+    };
+
     // One evaluation: `seeds` packings of `mat`, each measured by the tests
-    // the targets need (elastic: a UCS test stopped at a small strain).
+    // the targets need (elastic: a UCS test stopped at a small strain). The
+    // packings run side by side (apps/parallel_packings.h), each with its
+    // own scratch checkpoint `scratch`_k.h5; their values are gathered in
+    // seed order, so the means are those of a sequential run bit for bit.
     template <int dim>
     FitMeasurement measure(const CalibrateSettings &s, const dem::MaterialParams &mat,
                            const std::vector<std::string> &targets, bool elastic,
-                           const std::string &scratch)
+                           const std::string &scratch_stem)
     {
-      std::map<std::string, std::vector<double>> values;
-      std::string                                error, note;
+      std::vector<PackingValues> packings(s.fit.seeds);
+      std::string                error;
       try
         {
-          for (int k = 0; k < s.fit.seeds; ++k)
+          for_each_packing(s.fit.seeds, [&](const int k) {
+            auto             &values  = packings[k].values;
+            auto             &note    = packings[k].note;
+            const std::string scratch = scratch_stem + "_" + std::to_string(k) + ".h5";
+            // The scratch files go whatever happens to this packing.
+            struct Remove
             {
-              dem::MaterialParams m = mat;
-              m.seed                = mat.seed + std::uint64_t(k);
-              const auto first      = std::make_unique<dem::Specimen<dim>>(
-                  dem::build_specimen<dim>(m, s.vessel, nullptr, s.where));
-              dem::write_checkpoint(first->model, scratch, {});
-              auto finished = [](dem::LabTestResult r) {
-                if (r.ended_by == "step limit")
-                  throw std::runtime_error(std::string(dem::test_kind_name(r.kind)) +
-                                           " test ended at Tests/step limit before its "
-                                           "peak was certain");
-                return r;
-              };
-              // Each test prints its progress line (phase, stress, cracks,
-              // ETA; apps/lab_progress.h), into a log file too: an
-              // evaluation takes minutes in 2D and more in 3D.
-              auto with_progress = [&](dem::Specimen<dim>       &sp,
-                                       const dem::LabTestParams &lp) {
-                std::ostringstream label;
-                label << "fit, seed " << m.seed << ", " << dem::test_kind_name(lp.kind);
-                if (lp.Pc > 0)
-                  label << " at " << lp.Pc / 1e6 << " MPa";
-                LabTestProgress        progress(label.str());
-                dem::LabCallbacks<dim> cb;
-                cb.progress = [&](const dem::LabProgress &g) { progress(g); };
-                return finished(dem::run_lab_test(sp, lp, cb));
-              };
-              auto run = [&](dem::TestKind kind, dem::CompressionType ctype, double Pc,
-                             double strain_limit) {
-                auto               sp = clone_specimen(*first, scratch);
-                dem::LabTestParams lp = s.lab;
-                lp.kind = kind, lp.ctype = ctype, lp.Pc = Pc;
-                if (strain_limit > 0)
-                  lp.strain_limit = strain_limit;
-                return with_progress(*sp, lp);
-              };
-              using dem::CompressionType, dem::TestKind;
-              if (elastic || fit_needs(targets, "ucs"))
-                {
-                  const auto r = run(TestKind::compression, CompressionType::unconfined,
-                                     0, elastic ? s.fit.elastic_strain : 0);
-                  values["E"].push_back(r.E);
-                  values["nu"].push_back(r.nu);
-                  if (!elastic)
-                    {
-                      values["ucs"].push_back(r.peak);
-                      values["crack initiation ratio"].push_back(r.crack_initiation /
-                                                                 r.peak);
-                    }
-                }
-              if (elastic)
-                continue;
-              if (fit_needs(targets, "brazilian"))
-                {
-                  // A disk that did not split along its loaded diameter has
-                  // a peak that is no tensile strength (ISRM 1978;
-                  // dem/specimen/brazilian_failure.h): that packing is left
-                  // out of the BTS mean and named in fit.csv, rather than
-                  // pulling the mean up by a crushing load (docs/calibrate.md).
-                  dem::LabTestResult r;
-                  if (dem::own_brazilian_specimen(s.lab))
-                    {
-                      // Its own specimen (Tests/brazilian diameter), packed
-                      // for this evaluation at the same grain size and seed.
-                      auto sp = dem::build_specimen<dim>(
-                          m, dem::brazilian_vessel(s.vessel, s.lab, dim), nullptr,
-                          s.where);
-                      dem::LabTestParams lp = s.lab;
-                      lp.kind               = TestKind::brazilian;
-                      r                     = with_progress(sp, lp);
-                    }
-                  else
-                    r = run(TestKind::brazilian, CompressionType::unconfined, 0, 0);
-                  if (r.failure_mode == "split")
-                    values["bts"].push_back(r.peak);
-                  else
-                    {
-                      std::ostringstream o;
-                      o.precision(3);
-                      o << (note.empty() ? "" : "; ") << "seed " << m.seed
-                        << " Brazilian " << r.failure_mode << " (split fraction "
-                        << r.split_fraction << ", peak " << r.peak / 1e6
-                        << " MPa) left out of the bts mean";
-                      note += o.str();
-                    }
-                }
-              if (fit_needs(targets, "direct tension"))
-                values["direct tension"].push_back(
-                    run(TestKind::direct_tension, CompressionType::unconfined, 0, 0)
-                        .peak);
-              if (fit_needs(targets, "triaxial series"))
-                {
-                  std::vector<double> s1;
-                  for (double Pc : s.confining_pressures)
-                    s1.push_back(run(TestKind::compression,
-                                     Pc > 0 ? CompressionType::confined
-                                            : CompressionType::unconfined,
-                                     Pc, 0)
-                                     .peak);
-                  values["mi"].push_back(
-                      dem::fit_hoek_brown(s.confining_pressures, s1, "fit").mi);
-                }
-            }
+              std::string f;
+              ~Remove()
+              {
+                fs::remove(f);
+                fs::remove(f + ".prev");
+              }
+            } remove_scratch{scratch};
+            dem::MaterialParams m = mat;
+            m.seed                = mat.seed + std::uint64_t(k);
+            const auto first      = std::make_unique<dem::Specimen<dim>>(
+                dem::build_specimen<dim>(m, s.vessel, nullptr, s.where));
+            dem::write_checkpoint(first->model, scratch, {});
+            auto finished = [](dem::LabTestResult r) {
+              if (r.ended_by == "step limit")
+                throw std::runtime_error(std::string(dem::test_kind_name(r.kind)) +
+                                         " test ended at Tests/step limit before its "
+                                         "peak was certain");
+              return r;
+            };
+            // Each test prints its progress line (phase, stress, cracks,
+            // ETA; apps/lab_progress.h), into a log file too: an
+            // evaluation takes minutes in 2D and more in 3D.
+            auto with_progress = [&](dem::Specimen<dim>       &sp,
+                                     const dem::LabTestParams &lp) {
+              std::ostringstream label;
+              label << "fit, seed " << m.seed << ", " << dem::test_kind_name(lp.kind);
+              if (lp.Pc > 0)
+                label << " at " << lp.Pc / 1e6 << " MPa";
+              LabTestProgress        progress(label.str());
+              dem::LabCallbacks<dim> cb;
+              cb.progress = [&](const dem::LabProgress &g) { progress(g); };
+              return finished(dem::run_lab_test(sp, lp, cb));
+            };
+            auto run = [&](dem::TestKind kind, dem::CompressionType ctype, double Pc,
+                           double strain_limit) {
+              auto               sp = clone_specimen(*first, scratch);
+              dem::LabTestParams lp = s.lab;
+              lp.kind = kind, lp.ctype = ctype, lp.Pc = Pc;
+              if (strain_limit > 0)
+                lp.strain_limit = strain_limit;
+              return with_progress(*sp, lp);
+            };
+            using dem::CompressionType, dem::TestKind;
+            if (elastic || fit_needs(targets, "ucs"))
+              {
+                const auto r = run(TestKind::compression, CompressionType::unconfined, 0,
+                                   elastic ? s.fit.elastic_strain : 0);
+                values["E"].push_back(r.E);
+                values["nu"].push_back(r.nu);
+                if (!elastic)
+                  {
+                    values["ucs"].push_back(r.peak);
+                    values["crack initiation ratio"].push_back(r.crack_initiation /
+                                                               r.peak);
+                  }
+              }
+            if (elastic)
+              return;
+            if (fit_needs(targets, "brazilian"))
+              {
+                // A disk that did not split along its loaded diameter has
+                // a peak that is no tensile strength (ISRM 1978;
+                // dem/specimen/brazilian_failure.h): that packing is left
+                // out of the BTS mean and named in fit.csv, rather than
+                // pulling the mean up by a crushing load (docs/calibrate.md).
+                dem::LabTestResult r;
+                if (dem::own_brazilian_specimen(s.lab))
+                  {
+                    // Its own specimen (Tests/brazilian diameter), packed
+                    // for this evaluation at the same grain size and seed.
+                    auto sp = dem::build_specimen<dim>(
+                        m, dem::brazilian_vessel(s.vessel, s.lab, dim), nullptr, s.where);
+                    dem::LabTestParams lp = s.lab;
+                    lp.kind               = TestKind::brazilian;
+                    r                     = with_progress(sp, lp);
+                  }
+                else
+                  r = run(TestKind::brazilian, CompressionType::unconfined, 0, 0);
+                if (r.failure_mode == "split")
+                  values["bts"].push_back(r.peak);
+                else
+                  {
+                    std::ostringstream o;
+                    o.precision(3);
+                    o << (note.empty() ? "" : "; ") << "seed " << m.seed << " Brazilian "
+                      << r.failure_mode << " (split fraction " << r.split_fraction
+                      << ", peak " << r.peak / 1e6 << " MPa) left out of the bts mean";
+                    note += o.str();
+                  }
+              }
+            if (fit_needs(targets, "direct tension"))
+              values["direct tension"].push_back(
+                  run(TestKind::direct_tension, CompressionType::unconfined, 0, 0).peak);
+            if (fit_needs(targets, "triaxial series"))
+              {
+                std::vector<double> s1;
+                for (double Pc : s.confining_pressures)
+                  s1.push_back(run(TestKind::compression,
+                                   Pc > 0 ? CompressionType::confined
+                                          : CompressionType::unconfined,
+                                   Pc, 0)
+                                   .peak);
+                values["mi"].push_back(
+                    dem::fit_hoek_brown(s.confining_pressures, s1, "fit").mi);
+              }
+          });
         }
       catch (const std::exception &e)
         {
           error = e.what();
+        }
+      std::map<std::string, std::vector<double>> values;
+      std::string                                note;
+      for (const auto &p : packings)
+        {
+          for (const auto &[key, v] : p.values)
+            values[key].insert(values[key].end(), v.begin(), v.end());
+          if (!p.note.empty())
+            note += (note.empty() ? "" : "; ") + p.note;
         }
       // No packing split: the material has no measured BTS, the evaluation
       // fails (logged with the note) rather than scoring a missing target.
       if (error.empty() && !elastic && fit_needs(targets, "brazilian") &&
           values.count("bts") == 0)
         error = "no Brazilian disk split along its loaded diameter: " + note;
-      fs::remove(scratch);
-      fs::remove(scratch + ".prev");
       FitMeasurement out = summarize_seeds(values, error);
       out.note           = note;
       return out;
@@ -251,7 +278,7 @@ namespace demfem::apps
       dem::set_grain_count<dim>(s.mat, s.vessel, s.n_grains);
     s.n_grains = 0; // the diameter multiplier now holds it for every evaluation
     fs::create_directories(s.out);
-    const std::string scratch     = s.out + "/fit_specimen.h5";
+    const std::string scratch     = s.out + "/fit_specimen"; // _k.h5 per packing
     auto              with_values = [&](const std::vector<double> &values) {
       dem::MaterialParams m = s.mat;
       for (std::size_t i = 0; i < values.size(); ++i)
@@ -266,6 +293,9 @@ namespace demfem::apps
                           const std::vector<std::string> &targets, bool elastic) {
       return measure<dim>(s, with_values(values), targets, elastic, scratch);
     };
+    if (const int k = packings_at_a_time(s.fit.seeds); k > 1)
+      std::cerr << "demfem calibrate --fit: " << s.fit.seeds
+                << " packings per evaluation, " << k << " at a time (one thread each)\n";
     const FitSearchResult fit = run_fit_search(s.fit, problem, s.out);
 
     // material.json and the test outputs of the best material.

@@ -4,6 +4,7 @@
 #include "apps/calibrate.h"
 #include "apps/calibrate_output.h"
 #include "apps/lab_progress.h"
+#include "apps/tagged_log.h"
 #include "dem/io/checkpoint.h"
 #include "dem/io/vtk_output.h"
 #include "dem/laws/contact_bond_law.h"
@@ -246,6 +247,9 @@ namespace demfem::apps
   template <int dim>
   CalibrateOutcome run_calibration(const CalibrateSettings &s0)
   {
+    // One packing among several side by side writes whole, tagged lines.
+    TaggedLog         tagged_log("demfem calibrate: ", s0.log_tag);
+    std::ostream     &log     = tagged_log.stream();
     const auto        t_start = Clock::now();
     CalibrateSettings s       = s0;
     if (s.n_grains > 0)
@@ -256,7 +260,7 @@ namespace demfem::apps
       fs::create_directories(vtk_dir);
 
     auto build = [&](const dem::VesselParams &vessel) {
-      auto sp = dem::build_specimen<dim>(s.mat, vessel, &std::cerr, s.where);
+      auto sp = dem::build_specimen<dim>(s.mat, vessel, &log, s.where);
       if (s.joint)
         {
           // Smooth-jointed interface through the vessel centre + point.
@@ -271,12 +275,11 @@ namespace demfem::apps
             plane.point[a] = sp.vessel.center[a] + s.joint_point[a];
           int        group = -1;
           const auto n     = dem::insert_smooth_joint(sp.model, plane, group, s.where);
-          std::cerr << "demfem calibrate: smooth joint inserted at " << n
-                    << " contacts\n";
+          log << "demfem calibrate: smooth joint inserted at " << n << " contacts\n";
         }
       return sp;
     };
-    std::cerr << "demfem calibrate: genesis (" << dim << "D, " << s.mat.type << ")\n";
+    log << "demfem calibrate: genesis (" << dim << "D, " << s.mat.type << ")\n";
     const auto   t_gen      = Clock::now();
     auto         first      = std::make_unique<dem::Specimen<dim>>(build(s.vessel));
     const double genesis_s  = seconds_since(t_gen);
@@ -288,9 +291,9 @@ namespace demfem::apps
       write_snapshot(vtk_dir, "specimen", *first, true);
     const std::string ckpt = s.out + "/specimen.h5";
     dem::write_checkpoint(first->model, ckpt, {{"parameter_file", s.where}});
-    std::cerr << "demfem calibrate: " << n_grains << " grains, porosity " << porosity
-              << " (measurement regions " << porosity_m << ")"
-              << ", genesis " << genesis_s << " s\n";
+    log << "demfem calibrate: " << n_grains << " grains, porosity " << porosity
+        << " (measurement regions " << porosity_m << ")"
+        << ", genesis " << genesis_s << " s\n";
     // The Brazilian specimen of its own (Tests/brazilian diameter), packed
     // on first use at the same grain size and seed.
     std::unique_ptr<dem::Specimen<dim>> brazilian_first;
@@ -303,8 +306,8 @@ namespace demfem::apps
         return clone_specimen(*first, ckpt);
       if (!brazilian_first)
         {
-          std::cerr << "demfem calibrate: genesis of the Brazilian specimen ("
-                    << brazilian_vessel.W << " m across)\n";
+          log << "demfem calibrate: genesis of the Brazilian specimen ("
+              << brazilian_vessel.W << " m across)\n";
           const auto t    = Clock::now();
           brazilian_first = std::make_unique<dem::Specimen<dim>>(build(brazilian_vessel));
           brazilian_genesis_s = seconds_since(t);
@@ -312,9 +315,8 @@ namespace demfem::apps
                                 {{"parameter_file", s.where}});
           if (s.vtk)
             write_snapshot(vtk_dir, "specimen_brazilian", *brazilian_first, true);
-          std::cerr << "demfem calibrate: Brazilian specimen "
-                    << brazilian_first->n_grains() << " grains, genesis "
-                    << brazilian_genesis_s << " s\n";
+          log << "demfem calibrate: Brazilian specimen " << brazilian_first->n_grains()
+              << " grains, genesis " << brazilian_genesis_s << " s\n";
         }
       return clone_specimen(*brazilian_first, brazilian_ckpt);
     };
@@ -329,7 +331,7 @@ namespace demfem::apps
                         Json &j) -> dem::LabTestResult {
       const auto             name = file_name(label);
       auto                   sp   = fresh(lp);
-      LabTestProgress        progress(label);
+      LabTestProgress        progress(s.log_tag + label);
       dem::LabCallbacks<dim> cb;
       double                 t_peak = 0, t_end = 0;
       cb.progress = [&](const dem::LabProgress &g) { progress(g); };
@@ -369,26 +371,26 @@ namespace demfem::apps
       j.num("run_time_s", test_s)
           .num("strain_rate_1_s", lp.strain_rate)
           .num("Pc_Pa", lp.Pc);
-      std::cerr << "demfem calibrate: " << label << ": peak " << r.peak / 1e6 << " MPa ("
-                << r.ended_by << ", " << r.loading_steps << " steps, " << test_s << " s)";
+      log << "demfem calibrate: " << label << ": peak " << r.peak / 1e6 << " MPa ("
+          << r.ended_by << ", " << r.loading_steps << " steps, " << test_s << " s)";
       if (r.confining_boundary == "pressure")
-        std::cerr << ", Pc as forces on the outermost grains (pressure boundary)";
+        log << ", Pc as forces on the outermost grains (pressure boundary)";
       else if (r.confining_deviation == r.confining_deviation)
-        std::cerr << ", Pc held within " << 100 * r.confining_deviation_to_peak
-                  << " % to the peak (averaged over " << r.confining_window
-                  << " s; single-step spikes up to " << 100 * r.confining_spike_to_peak
-                  << " %)";
-      std::cerr << "\n";
+        log << ", Pc held within " << 100 * r.confining_deviation_to_peak
+            << " % to the peak (averaged over " << r.confining_window
+            << " s; single-step spikes up to " << 100 * r.confining_spike_to_peak
+            << " %)";
+      log << "\n";
       // A test stopped by the step limit before its post-peak end may not
       // have reached its peak: the run says so and does not end "ok".
       auto check_end = [&](const dem::LabTestResult &t, const std::string &what) {
         if (t.ended_by != "step limit")
           return;
         truncated.push_back(what);
-        std::cerr << "demfem calibrate: warning: " << what
-                  << " ended at Tests/step limit (" << t.loading_steps
-                  << " steps) before its post-peak end: its peak may not be reached; "
-                     "raise Tests/step limit\n";
+        log << "demfem calibrate: warning: " << what << " ended at Tests/step limit ("
+            << t.loading_steps
+            << " steps) before its post-peak end: its peak may not be reached; "
+               "raise Tests/step limit\n";
       };
       check_end(r, label);
       // A strength test that reached the strain limit with its load still at
@@ -397,10 +399,10 @@ namespace demfem::apps
       // in the elastic range is a way to measure E and nu only.
       if (r.ended_by == "strain limit" && !r.history.empty() &&
           r.peak_row + 1 == r.history.size() && lp.kind != dem::TestKind::brazilian)
-        std::cerr << "demfem calibrate: warning: " << label
-                  << " reached Tests/strain limit = " << lp.strain_limit
-                  << " with its load still rising: its peak " << r.peak / 1e6
-                  << " MPa is no strength; raise Tests/strain limit\n";
+        log << "demfem calibrate: warning: " << label
+            << " reached Tests/strain limit = " << lp.strain_limit
+            << " with its load still rising: its peak " << r.peak / 1e6
+            << " MPa is no strength; raise Tests/strain limit\n";
       // A Brazilian disk that did not split along its loaded diameter
       // (crushed under the platens, damaged all over, or not broken) gives
       // a peak that is no tensile strength (ISRM 1978;
@@ -408,38 +410,38 @@ namespace demfem::apps
       if (lp.kind == dem::TestKind::brazilian && r.failure_mode != "split")
         {
           not_split.push_back(label);
-          std::cerr << "demfem calibrate: warning: " << label
-                    << " did not split along the loaded diameter (failure mode "
-                    << r.failure_mode << ": ";
+          log << "demfem calibrate: warning: " << label
+              << " did not split along the loaded diameter (failure mode "
+              << r.failure_mode << ": ";
           if (r.failure_cracks == 0)
-            std::cerr << "no crack formed after the peak";
+            log << "no crack formed after the peak";
           else
-            std::cerr << r.split_fraction << " of its " << r.failure_cracks
-                      << " failure cracks in the split zone, below Tests/brazilian "
-                         "split fraction "
-                      << lp.split_fraction << "; all cracks: " << r.split_fraction_peak
-                      << " at the peak, " << r.split_fraction_end << " at the end";
-          std::cerr << "): its peak " << r.peak / 1e6
-                    << " MPa is no tensile strength; material.json bts is null\n";
+            log << r.split_fraction << " of its " << r.failure_cracks
+                << " failure cracks in the split zone, below Tests/brazilian "
+                   "split fraction "
+                << lp.split_fraction << "; all cracks: " << r.split_fraction_peak
+                << " at the peak, " << r.split_fraction_end << " at the end";
+          log << "): its peak " << r.peak / 1e6
+              << " MPa is no tensile strength; material.json bts is null\n";
         }
       // A triaxial peak at a confinement that was not held is not the
       // strength at P_c: the run says so and is not "ok".
       if (r.confining_deviation_to_peak > lp.confining_tolerance)
         {
           not_held.push_back(label);
-          std::cerr << "demfem calibrate: warning: " << label
-                    << ": the confining pressure (averaged over a wave's crossing time) "
-                       "deviated by "
-                    << 100 * r.confining_deviation_to_peak
-                    << " % before the peak, more than Tests/confining tolerance = "
-                    << 100 * lp.confining_tolerance << " % (crack bursts next to the "
-                    << (r.confining_boundary == "pressure" ? "pressure boundary"
-                        : r.lateral_wall_segments > 1
-                            ? "flexible walls"
-                            : "rigid walls; in 2D Tests/lateral wall segments makes them "
-                              "flexible")
-                    << "; in 2D Tests/confining boundary = pressure holds P_c exactly; "
-                       "docs/calibrate.md, \"Confining boundary\")\n";
+          log << "demfem calibrate: warning: " << label
+              << ": the confining pressure (averaged over a wave's crossing time) "
+                 "deviated by "
+              << 100 * r.confining_deviation_to_peak
+              << " % before the peak, more than Tests/confining tolerance = "
+              << 100 * lp.confining_tolerance << " % (crack bursts next to the "
+              << (r.confining_boundary == "pressure" ? "pressure boundary"
+                  : r.lateral_wall_segments > 1
+                      ? "flexible walls"
+                      : "rigid walls; in 2D Tests/lateral wall segments makes them "
+                        "flexible")
+              << "; in 2D Tests/confining boundary = pressure holds P_c exactly; "
+                 "docs/calibrate.md, \"Confining boundary\")\n";
         }
       if (s.rate_check > 0)
         {
@@ -455,7 +457,7 @@ namespace demfem::apps
               dem::LabTestParams l2    = lp;
               l2.strain_rate *= factor;
               l2.step_limit = std::int64_t(double(l2.step_limit) / factor);
-              LabTestProgress        progress2(label + " @ " + which + " rate");
+              LabTestProgress progress2(s.log_tag + label + " @ " + which + " rate");
               dem::LabCallbacks<dim> cb2;
               cb2.progress  = [&](const dem::LabProgress &g) { progress2(g); };
               const auto r2 = dem::run_lab_test(*sp2, l2, cb2);
@@ -464,16 +466,14 @@ namespace demfem::apps
               sensitive      = sensitive || std::abs(d) > calibrate_rate_tolerance;
               j.num(std::string("peak_") + which + "_rate_Pa", r2.peak)
                   .num(std::string("peak_relative_change_") + which + "_rate", d);
-              std::cerr << "demfem calibrate: " << label << " at " << which
-                        << " rate: peak " << r2.peak / 1e6 << " MPa, relative change "
-                        << d << "\n";
+              log << "demfem calibrate: " << label << " at " << which << " rate: peak "
+                  << r2.peak / 1e6 << " MPa, relative change " << d << "\n";
             }
           j.str("quasi_static", sensitive ? "no" : "yes");
           if (sensitive)
-            std::cerr << "demfem calibrate: warning: " << label
-                      << ": the peak moves by more than "
-                      << 100 * calibrate_rate_tolerance
-                      << " % at a lower loading rate; lower Tests/strain rate\n";
+            log << "demfem calibrate: warning: " << label
+                << ": the peak moves by more than " << 100 * calibrate_rate_tolerance
+                << " % at a lower loading rate; lower Tests/strain rate\n";
         }
       return r;
     };
@@ -510,10 +510,10 @@ namespace demfem::apps
             js.obj("envelope", e.json()).objs("tests", points);
             tests_json.obj(file_name(t.name), js);
             dem::vtkout::write_text_atomically(s.out + "/envelope.svg", e.svg(dim));
-            std::cerr << "demfem calibrate: envelope: Mohr-Coulomb c "
-                      << e.mc.cohesion / 1e6 << " MPa, phi "
-                      << e.mc.friction_angle * 180 / M_PI << " deg; Hoek-Brown sigma_ci "
-                      << e.hb.sigma_ci / 1e6 << " MPa, m_i " << e.hb.mi << "\n";
+            log << "demfem calibrate: envelope: Mohr-Coulomb c " << e.mc.cohesion / 1e6
+                << " MPa, phi " << e.mc.friction_angle * 180 / M_PI
+                << " deg; Hoek-Brown sigma_ci " << e.hb.sigma_ci / 1e6 << " MPa, m_i "
+                << e.hb.mi << "\n";
             envelope = e;
             continue;
           }

@@ -3,6 +3,7 @@
 // values (docs/calibrate.md, "Several packings").
 #include "apps/calibrate.h"
 #include "apps/calibrate_output.h"
+#include "apps/parallel_packings.h"
 #include "common/statistics.h"
 #include "dem/io/vtk_output.h"
 
@@ -235,22 +236,33 @@ namespace demfem::apps
   {
     if (s.seeds <= 1)
       return run_calibration<dim>(s);
+    // The packings side by side, one OpenMP thread each
+    // (apps/parallel_packings.h); their files are read in seed order.
+    const int at_a_time = packings_at_a_time(s.seeds);
+    if (at_a_time > 1)
+      std::cerr << "demfem calibrate: " << s.seeds << " packings, " << at_a_time
+                << " at a time (one thread each)" << std::endl;
+    std::vector<CalibrateOutcome>  outcomes(s.seeds);
+    std::vector<CalibrateSettings> runs(s.seeds, s);
+    for_each_packing(s.seeds, [&](const int k) {
+      CalibrateSettings &one = runs[k];
+      one.mat.seed           = s.mat.seed + k;
+      one.out                = s.out + "/seed_" + std::to_string(one.mat.seed);
+      one.log_tag            = "seed " + std::to_string(one.mat.seed) + ": ";
+      std::cerr << "demfem calibrate: packing " << k + 1 << " of " << s.seeds << " (seed "
+                << one.mat.seed << ") into " << one.out << std::endl;
+      outcomes[k] = run_calibration<dim>(one);
+    });
     CalibrateOutcome  outcome;
     std::vector<json> files, summaries;
     json              seeds = json::array();
     for (int k = 0; k < s.seeds; ++k)
       {
-        CalibrateSettings one = s;
-        one.mat.seed          = s.mat.seed + k;
-        one.out               = s.out + "/seed_" + std::to_string(one.mat.seed);
-        std::cerr << "demfem calibrate: packing " << k + 1 << " of " << s.seeds
-                  << " (seed " << one.mat.seed << ") into " << one.out << std::endl;
-        const CalibrateOutcome o = run_calibration<dim>(one);
-        if (o.exit_code != 0 && outcome.exit_code == 0)
-          outcome = o;
-        files.push_back(read_json(one.out + "/material.json"));
-        summaries.push_back(read_json(one.out + "/summary.json"));
-        seeds.push_back(one.mat.seed);
+        if (outcomes[k].exit_code != 0 && outcome.exit_code == 0)
+          outcome = outcomes[k];
+        files.push_back(read_json(runs[k].out + "/material.json"));
+        summaries.push_back(read_json(runs[k].out + "/summary.json"));
+        seeds.push_back(runs[k].mat.seed);
       }
 
     // The first seed's file (microparameters, lab_tests, units, texts) with

@@ -36,8 +36,9 @@ namespace demfem::apps
         << g.stress / 1e6 << " MPa  strain " << g.strain << "  cracks " << g.cracks;
       if (g.fraction_done > 0.01)
         s << "  ETA " << std::lround(t * (1 - g.fraction_done) / g.fraction_done) << " s";
-      std::cerr << (tty_ ? "\r" : "") << s.str() << (tty_ ? "\033[K" : "\n")
-                << std::flush;
+      // One write per line: packings running side by side
+      // (apps/parallel_packings.h) print between each other's lines.
+      std::cerr << (tty_ ? "\r" + s.str() + "\033[K" : s.str() + "\n") << std::flush;
     }
     ~LabTestProgress()
     {

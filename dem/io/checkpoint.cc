@@ -8,6 +8,7 @@
 #include "dem/laws/smooth_joint_law.h"
 
 #include <cstring>
+#include <mutex>
 #include <sstream>
 #include <type_traits>
 #include <utility>
@@ -703,6 +704,15 @@ namespace demfem::dem
         c.fail("not an HDF5 file or damaged");
       return f;
     }
+    // Debian's HDF5 is built without its thread-safety option, and the
+    // packings of a calibration run on separate threads
+    // (apps/parallel_packings.h): one checkpoint call at a time. Recursive:
+    // an entry point may call another.
+    std::recursive_mutex &hdf5_mutex()
+    {
+      static std::recursive_mutex m;
+      return m;
+    }
   } // namespace
 
   template <int dim>
@@ -710,6 +720,7 @@ namespace demfem::dem
                         const std::map<std::string, std::string> &metadata,
                         const NamedArrays                        &state)
   {
+    const std::lock_guard<std::recursive_mutex> lock(hdf5_mutex());
     write_atomically(path, [&](hid_t file, const Ctx &c) {
       write_metadata(c, file, metadata);
       write_state(c, file, state);
@@ -721,12 +732,13 @@ namespace demfem::dem
   void read_checkpoint(Model<dim> &model, const std::string &path,
                        std::map<std::string, std::string> *metadata, NamedArrays *state)
   {
-    QuietHdf5 quiet;
-    const Ctx c{path, true};
-    int       checksum = 0;
-    Handle    file     = open_for_reading(c, &checksum);
-    auto      md       = read_metadata(c, file, nullptr, checksum);
-    auto      named    = read_state(c, file);
+    const std::lock_guard<std::recursive_mutex> lock(hdf5_mutex());
+    QuietHdf5                                   quiet;
+    const Ctx                                   c{path, true};
+    int                                         checksum = 0;
+    Handle                                      file     = open_for_reading(c, &checksum);
+    auto md    = read_metadata(c, file, nullptr, checksum);
+    auto named = read_state(c, file);
     ModelCheckpoint<dim>::read(model, file, c);
     if (metadata)
       *metadata = std::move(md);
@@ -736,10 +748,11 @@ namespace demfem::dem
 
   void verify_checkpoint(const std::string &path)
   {
-    QuietHdf5 quiet;
-    const Ctx c{path, true};
-    int       checksum = 0;
-    Handle    file     = open_for_reading(c, &checksum);
+    const std::lock_guard<std::recursive_mutex> lock(hdf5_mutex());
+    QuietHdf5                                   quiet;
+    const Ctx                                   c{path, true};
+    int                                         checksum = 0;
+    Handle                                      file     = open_for_reading(c, &checksum);
     read_metadata(c, file, nullptr, checksum); // the format and version first
     verify_datasets(c, file);
   }
@@ -747,10 +760,11 @@ namespace demfem::dem
   std::map<std::string, std::string> read_checkpoint_metadata(const std::string &path,
                                                               int               *dim)
   {
-    QuietHdf5 quiet;
-    const Ctx c{path, true};
-    int       checksum = 0;
-    Handle    file     = open_for_reading(c, &checksum);
+    const std::lock_guard<std::recursive_mutex> lock(hdf5_mutex());
+    QuietHdf5                                   quiet;
+    const Ctx                                   c{path, true};
+    int                                         checksum = 0;
+    Handle                                      file     = open_for_reading(c, &checksum);
     return read_metadata(c, file, dim, checksum);
   }
 

@@ -312,3 +312,54 @@ TEST_CASE("calibrate --fit does not take a disk that did not split as a BTS",
         "brazilian_not_split");
   CHECK(nlohmann::json::parse(read(out / "material.json"))["bts"].is_null());
 }
+
+TEST_CASE("calibrate --fit measures its packings side by side as one at a time",
+          "[calibrate][fit]")
+{
+  // Two packings per evaluation (Fit/seeds = 2) on two threads run side by
+  // side, one thread each (apps/parallel_packings.h); on one thread one
+  // after the other. Every logged measurement and the best material's file
+  // must be the same bytes; only the seconds column may differ.
+  const std::string fit = "  set parameters = effective modulus 10e9 100e9\n"
+                          "  set evaluations = 2\n  subsection Targets\n"
+                          "    set E = 30e9\n  end\n";
+  auto              run = [&](const std::string &name, const int threads) {
+    const fs::path out = work_dir() / name;
+    fs::remove_all(out);
+    const auto r = demfem::testing::run_with_threads(
+                     "calibrate " + write(name + ".prm", prm(out, 40e9, 2, fit)).string() +
+                         " --set Fit/seeds=2 --fit",
+                     threads);
+    INFO(r.out);
+    CHECK((r.exit_code == 0 || r.exit_code == 3));
+    CHECK((r.out.find("2 packings per evaluation, 2 at a time") != std::string::npos) ==
+                       (threads == 2));
+    return out;
+  };
+  const fs::path side = run("fit_side", 2), one = run("fit_one", 1);
+  // fit.csv without its seconds column (the third from the end).
+  auto rows = [](const std::string &text) {
+    std::vector<std::string> out;
+    std::istringstream       in(text);
+    for (std::string line; std::getline(in, line);)
+      {
+        std::vector<std::string> c;
+        std::stringstream        s(line);
+        for (std::string cell; std::getline(s, cell, ',');)
+          c.push_back(cell);
+        if (!line.empty() && line.back() == ',')
+          c.push_back("");
+        REQUIRE(c.size() >= 4);
+        c.erase(c.end() - 3);
+        std::string joined;
+        for (const auto &x : c)
+          joined += x + ",";
+        out.push_back(joined);
+      }
+    return out;
+  };
+  const auto a = rows(read(side / "fit.csv")), b = rows(read(one / "fit.csv"));
+  REQUIRE(a.size() >= 3); // the header and at least two evaluations
+  CHECK(a == b);
+  CHECK(read(side / "material.json") == read(one / "material.json"));
+}

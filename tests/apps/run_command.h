@@ -2,6 +2,7 @@
 // Runs the built `demfem` executable and captures stdout, stderr, exit code.
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <regex>
@@ -30,6 +31,20 @@ namespace demfem::testing
       r.out += buf.data();
     const int status = pclose(p);
     r.exit_code      = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+  }
+
+  /// run_demfem(args) with OMP_NUM_THREADS = threads (restored after).
+  inline CommandResult run_with_threads(const std::string &args, const int threads)
+  {
+    const char       *old   = std::getenv("OMP_NUM_THREADS");
+    const std::string saved = old ? old : "";
+    setenv("OMP_NUM_THREADS", std::to_string(threads).c_str(), 1);
+    CommandResult r = run_demfem(args);
+    if (old)
+      setenv("OMP_NUM_THREADS", saved.c_str(), 1);
+    else
+      unsetenv("OMP_NUM_THREADS");
     return r;
   }
 
