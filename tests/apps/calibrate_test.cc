@@ -97,6 +97,16 @@ namespace
     return s.str();
   }
 
+  // One triaxial test of the tiny material at P_c = 6 MPa without VTK; the
+  // test's summary.json entry of a TinyRun made with it.
+  const std::string tiny_triaxial = " --set \"Problem/vtk=false\" --set "
+                                    "\"Tests/tests=triaxial\" --set \"Tests/confining "
+                                    "pressure=6e6\"";
+  nlohmann::json    triaxial_summary(const TinyRun &t)
+  {
+    return nlohmann::json::parse(read(t.out / "summary.json"))["tests"]["triaxial"];
+  }
+
   // `demfem calibrate` of the tiny material with `args` is refused where
   // the value enters: exit 1, the message names `key` (and `also`), and
   // nothing is written.
@@ -399,14 +409,12 @@ TEST_CASE("calibrate: the confining servo's velocity limit, automatic or given",
   // (The fast rate's lag of the walls, about 3 %, is allowed: the limit is
   // what is checked.)
   const std::string triaxial =
-      " --set \"Problem/vtk=false\" --set \"Tests/tests=triaxial\""
-      " --set \"Tests/confining pressure=6e6\""
+      tiny_triaxial +
       " --set \"Material/density=2650\" --set \"Tests/confining tolerance=0.2\"";
   const auto automatic = run_tiny("servo_auto", triaxial);
   INFO(automatic.r.out);
   REQUIRE(automatic.r.exit_code == 0);
-  const auto t0 =
-      nlohmann::json::parse(read(automatic.out / "summary.json"))["tests"]["triaxial"];
+  const auto t0 = triaxial_summary(automatic);
   // The limit of the peak step is set from the step before it: the axial
   // stress moves by far less than 1e-4 of itself in one step.
   const double impedance = std::sqrt(40e9 * 2650);
@@ -419,8 +427,7 @@ TEST_CASE("calibrate: the confining servo's velocity limit, automatic or given",
       run_tiny("servo_given", triaxial + " --set \"Tests/servo velocity limit=3\"");
   INFO(given.r.out);
   REQUIRE(given.r.exit_code == 0);
-  const auto t1 =
-      nlohmann::json::parse(read(given.out / "summary.json"))["tests"]["triaxial"];
+  const auto t1 = triaxial_summary(given);
   CHECK(t1["confining_velocity_limit_m_s"].get<double>() == 3.0);
   // Refused where it enters, naming the key; nothing written.
   const auto bad =
@@ -440,15 +447,12 @@ TEST_CASE("calibrate: flexible lateral walls, reported and recorded; bad counts 
   // test starts, naming the key and the allowed range. (Two facets at this
   // fast rate let P_c deviate by about 9 %: allowed, the record is what is
   // checked.)
-  const std::string triaxial =
-      " --set \"Problem/vtk=false\" --set \"Tests/tests=triaxial\""
-      " --set \"Tests/confining pressure=6e6\" --set \"Tests/confining tolerance=0.2\"";
-  const auto flex =
+  const std::string triaxial = tiny_triaxial + " --set \"Tests/confining tolerance=0.2\"";
+  const auto        flex =
       run_tiny("flex_walls", triaxial + " --set \"Tests/lateral wall segments=2\"");
   INFO(flex.r.out);
   REQUIRE(flex.r.exit_code == 0);
-  const auto t =
-      nlohmann::json::parse(read(flex.out / "summary.json"))["tests"]["triaxial"];
+  const auto t = triaxial_summary(flex);
   CHECK(t["lateral_wall_segments"].get<double>() == 2);
   CHECK(t["confining_deviation_to_peak"].get<double>() >= 0);
   const auto m = nlohmann::json::parse(read(flex.out / "material.json"));
@@ -477,16 +481,13 @@ TEST_CASE("calibrate: a confined test whose P_c was not held is not ok", "[calib
   // still written. The tolerance does not change the test itself (the runs
   // are deterministic), so the deviation measured with a tolerance of 1
   // (100 %, accepted) is the one judged with half of it.
-  const std::string triaxial =
-      " --set \"Problem/vtk=false\" --set \"Tests/tests=triaxial\""
-      " --set \"Tests/confining pressure=6e6\"";
-  const auto loose =
+  const std::string triaxial = tiny_triaxial;
+  const auto        loose =
       run_tiny("held_loose", triaxial + " --set \"Tests/confining tolerance=1\"");
   INFO(loose.r.out);
   REQUIRE(loose.r.exit_code == 0);
-  const auto t0 =
-      nlohmann::json::parse(read(loose.out / "summary.json"))["tests"]["triaxial"];
-  const double d = t0["confining_deviation_to_peak"].get<double>();
+  const auto   t0 = triaxial_summary(loose);
+  const double d  = t0["confining_deviation_to_peak"].get<double>();
   // Rigid walls at this fast rate lag behind the specimen's dilation by a
   // measurable amount (else the second run below proves nothing).
   REQUIRE(d > 1e-4);
@@ -764,14 +765,11 @@ TEST_CASE("calibrate: the pressure boundary, reported and recorded; refused in 3
   // records the choice; where it cannot apply it is refused where it
   // enters, naming the key and what is allowed, and nothing is written.
   const std::string triaxial =
-      " --set \"Problem/vtk=false\" --set \"Tests/tests=triaxial\""
-      " --set \"Tests/confining pressure=6e6\" --set \"Tests/confining "
-      "boundary=pressure\"";
+      tiny_triaxial + " --set \"Tests/confining boundary=pressure\"";
   const auto pb = run_tiny("pressure_boundary", triaxial);
   INFO(pb.r.out);
   REQUIRE(pb.r.exit_code == 0);
-  const auto t =
-      nlohmann::json::parse(read(pb.out / "summary.json"))["tests"]["triaxial"];
+  const auto t = triaxial_summary(pb);
   CHECK(t["confining_boundary"].get<std::string>() == "pressure");
   CHECK(t["confining_deviation_to_peak"].get<double>() < 1e-9);
   CHECK(t["peak_Pa"].get<double>() > 6e6);
