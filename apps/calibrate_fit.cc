@@ -38,7 +38,7 @@ namespace demfem::apps
     // One evaluation: `seeds` packings of `mat`, each measured by the tests
     // the targets need (elastic: a UCS test stopped at a small strain). The
     // packings run side by side (apps/parallel_packings.h), each with its
-    // own scratch checkpoint `scratch`_k.h5; their values are gathered in
+    // own scratch checkpoint `scratch_stem`_k.h5; their values are gathered in
     // seed order, so the means are those of a sequential run bit for bit.
     template <int dim>
     FitMeasurement measure(const CalibrateSettings &s, const dem::MaterialParams &mat,
@@ -59,8 +59,9 @@ namespace demfem::apps
               std::string f;
               ~Remove()
               {
-                fs::remove(f);
-                fs::remove(f + ".prev");
+                std::error_code ignored; // a destructor must not throw
+                fs::remove(f, ignored);
+                fs::remove(f + ".prev", ignored);
               }
             } remove_scratch{scratch};
             dem::MaterialParams m = mat;
