@@ -24,6 +24,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <sstream>
 
@@ -118,6 +119,12 @@ namespace demfem::apps
     void write_snapshot(const std::string &dir, const std::string &base,
                         const dem::Specimen<dim> &sp, bool contacts)
     {
+      // One VTK writer at a time: packings run side by side
+      // (apps/parallel_packings.h), and VTK's writers share global state
+      // (its output window, object factory) that is not documented as
+      // thread-safe.
+      static std::mutex                 vtk_mutex;
+      const std::lock_guard<std::mutex> lock(vtk_mutex);
       dem::vtkout::write_particles(dir + "/" + base + "_particles.vtp", sp.model);
       dem::vtkout::write_cracks(dir + "/" + base + "_cracks.vtp",
                                 sp.model.current_cracks());
