@@ -110,7 +110,8 @@ namespace demfem::apps
           "Above 1 each packing's results go to seed_<n>/ and material.json "
           "holds the seed means, seed_scatter their standard deviations and "
           "seed_values the single values (a material is its seed mean, not "
-          "one packing)");
+          "one packing). The packings run side by side, one per OpenMP thread "
+          "(OMP_NUM_THREADS), with the results of one at a time");
       prm.leave_subsection();
 
       prm.enter_subsection("Material");
@@ -351,7 +352,8 @@ namespace demfem::apps
           "docs/calibrate.md)");
       prm.declare_entry(
           "seeds", "3", Patterns::Anything(),
-          "Packings (seeds seed, seed+1, ...) averaged per evaluation (>= 1)");
+          "Packings (seeds seed, seed+1, ...) averaged per evaluation (>= 1), run "
+          "side by side, one per OpenMP thread");
       prm.declare_entry("evaluations", "60", Patterns::Anything(),
                         "Evaluation budget of each stage (>= 1)");
       prm.declare_entry("algorithm", "bobyqa",
