@@ -9,6 +9,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -362,4 +363,67 @@ TEST_CASE("calibrate --fit measures its packings side by side as one at a time",
   REQUIRE(a.size() >= 3); // the header and at least two evaluations
   CHECK(a == b);
   CHECK(read(side / "material.json") == read(one / "material.json"));
+}
+
+TEST_CASE(
+    "calibrate --fit: the elastic stage measures E and nu in the window of the full "
+    "test at the target UCS",
+    "[calibrate][fit]")
+{
+  // With the modulus window a fraction of the peak (Tests/fit window
+  // low/high, here the defaults 0.1-0.5), the elastic stage's short test
+  // (Fit/elastic strain 3e-4) would measure at 10-50 % of its own end
+  // load; with a UCS target it measures in 0.1-0.5 x that target and runs
+  // until its platen strain is 1.5 x 0.5 x UCS / E_target (elastic_test_
+  // settings in apps/calibrate_fit.cc). On the unbreakable material loaded
+  // to 1e-3 (its "peak" is its load there), a UCS target equal to that load
+  // makes the elastic stage's window the full test's: the same rows of the
+  // same deterministic loading (the elastic test runs on to 1.5 x 0.5 x
+  // UCS / 10 GPa > 1e-3, its later rows above the window), so the same E
+  // and nu to round-off; the full test stopped at 3e-4 (what the elastic
+  // stage measured before) reads others.
+  auto calibrate = [&](const std::string &name, const std::string &fit,
+                       const std::string &args) {
+    const fs::path out = work_dir() / name;
+    fs::remove_all(out);
+    const auto r = run_demfem(
+        "calibrate " + write(name + ".prm", prm(out, 40e9, 2, fit)).string() + args);
+    INFO(r.out);
+    REQUIRE((r.exit_code == 0 || (r.exit_code == 3 && args == " --fit")));
+    return out;
+  };
+  const auto m1 =
+      nlohmann::json::parse(read(calibrate("window_full", "", "") / "material.json"));
+  const double       ucs = m1["ucs"], E = m1["E"], nu = m1["nu"];
+  std::ostringstream fit;
+  fit.precision(17);
+  fit << "  set elastic strain = 3e-4\n"
+         "  set parameters = effective modulus 10e9 100e9\n"
+         "  set evaluations = 1\n  subsection Targets\n    set E = 10e9\n"
+         "    set nu = 0.1\n    set ucs = "
+      << ucs << "\n  end\n";
+  std::istringstream csv(read(calibrate("window_fit", fit.str(), " --fit") / "fit.csv"));
+  auto               cells = [](const std::string &line) {
+    std::vector<std::string> c;
+    std::stringstream        s(line);
+    for (std::string x; std::getline(s, x, ',');)
+      c.push_back(x);
+    return c;
+  };
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  const auto names = cells(header), values = cells(row);
+  auto       at = [&](const std::string &name) {
+    const auto i = std::find(names.begin(), names.end(), name) - names.begin();
+    REQUIRE(std::size_t(i) < values.size());
+    return std::stod(values[i]);
+  };
+  REQUIRE(values[1] == "elastic");
+  CHECK(at("E_mean") == Approx(E).epsilon(1e-12));
+  CHECK(at("nu_mean") == Approx(nu).epsilon(1e-12));
+  const auto m3 = nlohmann::json::parse(
+      read(calibrate("window_short", "", " --set \"Tests/strain limit=3e-4\"") /
+           "material.json"));
+  CHECK(std::abs(m3["E"].get<double>() / E - 1) > 1e-6);
 }
