@@ -34,9 +34,10 @@ namespace demfem::apps
     // low/high), a test stopped at Fit/elastic strain measures E and nu at
     // 5-20 % of its own end load, 1-4 MPa on the 2D example, where the
     // seated specimen is stiffer and nu lower than in the full test's
-    // window at 5-20 % of its UCS (measured on the example's six packings:
-    // E 72.4 GPa, nu 0.226 against 68.2 GPa, 0.264), so the elastic stage
-    // drove kappa* to its bound for a nu the full test then missed. With a
+    // window at 5-20 % of its UCS (the example's six packings at kappa*
+    // 3.7: E 72.4 GPa, nu 0.226 at E* 107.5 GPa against the full tests'
+    // 68.2 GPa, 0.264 at E* 106 GPa), so the elastic stage drove kappa* to
+    // its bound for a nu the full test then missed. With a
     // UCS target, the elastic test measures in the stress window the full
     // test will use at that UCS (Tests/fit window stress low/high) and runs
     // until its platen strain is 1.5 times the window's top over the E
