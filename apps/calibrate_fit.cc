@@ -46,6 +46,9 @@ namespace demfem::apps
     dem::LabTestParams elastic_test_settings(const CalibrateSettings &s)
     {
       dem::LabTestParams lp = s.lab;
+      lp.kind               = dem::TestKind::compression;
+      lp.ctype              = dem::CompressionType::unconfined;
+      lp.Pc                 = 0;
       lp.strain_limit       = s.fit.elastic_strain;
       const FitTarget *ucs = nullptr, *E = nullptr;
       for (const auto &t : s.fit.targets)
@@ -57,8 +60,7 @@ namespace demfem::apps
         }
       if (lp.fit_stress_hi > 0 || !ucs)
         return lp;
-      lp.fit_stress_lo = lp.fit_lo * ucs->value;
-      lp.fit_stress_hi = lp.fit_hi * ucs->value;
+      lp.fit_window_at(ucs->value);
       if (E)
         lp.strain_limit = std::max(lp.strain_limit, 1.5 * lp.fit_stress_hi / E->value);
       return lp;
@@ -83,10 +85,7 @@ namespace demfem::apps
     {
       std::vector<PackingValues> packings(s.fit.seeds);
       std::string                error;
-      dem::LabTestParams         elastic_lab = elastic_test_settings(s);
-      elastic_lab.kind                       = dem::TestKind::compression;
-      elastic_lab.ctype                      = dem::CompressionType::unconfined;
-      elastic_lab.Pc                         = 0;
+      const dem::LabTestParams   elastic_lab = elastic_test_settings(s);
       try
         {
           for_each_packing(s.fit.seeds, [&](const int k) {
@@ -130,26 +129,21 @@ namespace demfem::apps
               cb.progress = [&](const dem::LabProgress &g) { progress(g); };
               return finished(dem::run_lab_test(sp, lp, cb));
             };
-            auto run = [&](dem::TestKind kind, dem::CompressionType ctype, double Pc,
-                           double strain_limit) {
-              auto               sp = clone_specimen(*first, scratch);
+            auto run_with = [&](const dem::LabTestParams &lp) {
+              auto sp = clone_specimen(*first, scratch);
+              return with_progress(*sp, lp);
+            };
+            auto run = [&](dem::TestKind kind, dem::CompressionType ctype, double Pc) {
               dem::LabTestParams lp = s.lab;
               lp.kind = kind, lp.ctype = ctype, lp.Pc = Pc;
-              if (strain_limit > 0)
-                lp.strain_limit = strain_limit;
-              return with_progress(*sp, lp);
+              return run_with(lp);
             };
             using dem::CompressionType, dem::TestKind;
             if (elastic || fit_needs(targets, "ucs"))
               {
-                dem::LabTestResult r;
-                if (elastic)
-                  {
-                    auto sp = clone_specimen(*first, scratch);
-                    r       = with_progress(*sp, elastic_lab);
-                  }
-                else
-                  r = run(TestKind::compression, CompressionType::unconfined, 0, 0);
+                const auto r =
+                    elastic ? run_with(elastic_lab)
+                            : run(TestKind::compression, CompressionType::unconfined, 0);
                 values["E"].push_back(r.E);
                 values["nu"].push_back(r.nu);
                 if (!elastic)
@@ -180,7 +174,7 @@ namespace demfem::apps
                     r                     = with_progress(sp, lp);
                   }
                 else
-                  r = run(TestKind::brazilian, CompressionType::unconfined, 0, 0);
+                  r = run(TestKind::brazilian, CompressionType::unconfined, 0);
                 if (r.failure_mode == "split")
                   values["bts"].push_back(r.peak);
                 else
@@ -195,7 +189,7 @@ namespace demfem::apps
               }
             if (fit_needs(targets, "direct tension"))
               values["direct tension"].push_back(
-                  run(TestKind::direct_tension, CompressionType::unconfined, 0, 0).peak);
+                  run(TestKind::direct_tension, CompressionType::unconfined, 0).peak);
             if (fit_needs(targets, "triaxial series"))
               {
                 std::vector<double> s1;
@@ -203,7 +197,7 @@ namespace demfem::apps
                   s1.push_back(run(TestKind::compression,
                                    Pc > 0 ? CompressionType::confined
                                           : CompressionType::unconfined,
-                                   Pc, 0)
+                                   Pc)
                                    .peak);
                 values["mi"].push_back(
                     dem::fit_hoek_brown(s.confining_pressures, s1, "fit").mi);

@@ -200,8 +200,7 @@ namespace demfem::apps
         size << " x " << v.D;
       if (!keys)
         {
-          lab.fit_stress_lo = ref.lab.fit_lo * ref.ucs;
-          lab.fit_stress_hi = ref.lab.fit_hi * ref.ucs;
+          lab.fit_window_at(ref.ucs); // lab is ref.lab: the file's fractions
           lab.validate("the material file's lab_tests and ucs", dim);
           out << "probe: lab specimen " << size.str() << " m at " << r.k
               << " x the material file's grain size, strain rate " << lab.strain_rate

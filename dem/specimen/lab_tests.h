@@ -173,6 +173,16 @@ namespace demfem::dem
     /// depend on it (docs/calibrate.md, "Loading rate and time step").
     double timestep_safety = 0;
 
+    /// Fits E and nu in the stress window the relative one (fit_lo, fit_hi)
+    /// gives at a peak load `peak`: a test that ends elsewhere (a short
+    /// elastic test, a region's lab specimen) measures where the test of
+    /// that peak did.
+    void fit_window_at(const double peak)
+    {
+      fit_stress_lo = fit_lo * peak;
+      fit_stress_hi = fit_hi * peak;
+    }
+
     /// Checks every field's range once where the values enter; errors name
     /// `key_prefix` + the parameter-file key (e.g. "Tests/strain rate").
     void validate(const std::string &where, int dim,
