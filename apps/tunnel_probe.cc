@@ -2,6 +2,7 @@
 #include "apps/tunnel_probe.h"
 
 #include "apps/lab_progress.h"
+#include "apps/parallel_packings.h"
 
 #include "common/statistics.h"
 
@@ -163,6 +164,67 @@ namespace demfem::apps
       double                   k      = NAN; ///< grain-size factor region / lab
     };
 
+    /// One packing's probe: its UCS specimen and (for a material file) its
+    /// Brazilian disk, each fresh, as calibrate does; its messages to out.
+    struct Packing
+    {
+      std::size_t grains   = 0;
+      double      porosity = NAN, measurement_porosity = NAN;
+      double      E = NAN, nu = NAN, ucs = NAN, bts = NAN;
+      std::string mode;
+    };
+
+    template <int dim>
+    Packing measure_packing(const dem::MaterialParams &m, const dem::VesselParams &v,
+                            dem::LabTestParams lab, const bool keys, const bool breakable,
+                            std::ostream &out)
+    {
+      Packing p;
+      {
+        auto specimen          = dem::build_specimen<dim>(m, v, &out, "probe specimen");
+        p.grains               = specimen.n_grains();
+        p.porosity             = specimen.porosity();
+        p.measurement_porosity = specimen.measurement_porosity();
+        lab.kind               = dem::TestKind::compression;
+        // The keys' loading in units of the grains' dynamics: a strain
+        // per step (the specimen's step: the lab test keeps it).
+        if (keys)
+          lab.strain_rate = keys_strain_per_step / specimen.model.timestep();
+        LabTestProgress        progress("probe seed " + std::to_string(m.seed) + " ucs");
+        dem::LabCallbacks<dim> cb;
+        cb.progress  = [&](const dem::LabProgress &g) { progress(g); };
+        const auto u = dem::run_lab_test(specimen, lab, cb);
+        p.E          = u.E;
+        p.nu         = u.nu;
+        p.ucs        = u.peak;
+      }
+      std::ostringstream line; // written after the Brazilian specimen's genesis lines
+      line << "probe: seed " << m.seed << ": " << p.grains << " grains, porosity "
+           << p.porosity << " (measurement regions " << p.measurement_porosity << "), E "
+           << p.E / 1e9 << " GPa, nu " << p.nu;
+      if (keys)
+        {
+          if (breakable)
+            line << ", UCS " << p.ucs / 1e6 << " MPa";
+          out << line.str() << std::endl;
+          return p;
+        }
+      // The Brazilian specimen of its own when the calibration had one
+      // (Tests/brazilian diameter, scaled by k), else carved from v.
+      auto specimen = dem::build_specimen<dim>(m, dem::brazilian_vessel(v, lab, dim),
+                                               &out, "probe Brazilian specimen");
+      lab.kind      = dem::TestKind::brazilian;
+      LabTestProgress progress("probe seed " + std::to_string(m.seed) + " brazilian");
+      dem::LabCallbacks<dim> cb;
+      cb.progress  = [&](const dem::LabProgress &g) { progress(g); };
+      const auto b = dem::run_lab_test(specimen, lab, cb);
+      p.bts        = b.peak;
+      p.mode       = b.failure_mode;
+      out << line.str() << ", UCS " << p.ucs / 1e6 << " MPa, BTS " << p.bts / 1e6
+          << " MPa (" << p.mode << ")" << std::endl;
+      return p;
+    }
+
     template <int dim>
     Measured measure(const coupling::TunnelParams &s, const Reference &ref, int seeds,
                      std::ostream &out)
@@ -226,56 +288,36 @@ namespace demfem::apps
         out << "probe: the material file does not record its test settings "
                "(lab_tests; written by demfem calibrate since the probe exists): "
                "the defaults of Tests are used, the comparison is weaker\n";
+      // The packings side by side (apps/parallel_packings.h), each on its
+      // own copies of the material and the test settings. Side by side,
+      // each one's lines are kept and written in seed order once all have
+      // ended, so the report does not depend on the thread count; one at a
+      // time, they go out as they come.
+      const bool               side_by_side = packings_at_a_time(seeds) > 1;
+      std::vector<Packing>     packs(seeds);
+      std::vector<std::string> lines(seeds);
+      for_each_packing(seeds, [&](const int k) {
+        dem::MaterialParams mk = m;
+        mk.seed                = s.region.seed + k;
+        std::ostringstream kept;
+        packs[k] = measure_packing<dim>(mk, v, lab, keys, s.region.breakable,
+                                        side_by_side ? kept : out);
+        lines[k] = kept.str();
+      });
       for (int k = 0; k < seeds; ++k)
         {
-          m.seed = s.region.seed + k;
-          // Each test on a fresh specimen of the seed, as calibrate does.
-          {
-            auto specimen = dem::build_specimen<dim>(m, v, &out, "probe specimen");
-            r.grains      = specimen.n_grains();
-            r.porosity.push_back(specimen.porosity());
-            r.measurement_porosity.push_back(specimen.measurement_porosity());
-            lab.kind = dem::TestKind::compression;
-            // The keys' loading in units of the grains' dynamics: a strain
-            // per step (the specimen's step: the lab test keeps it).
-            if (keys)
-              lab.strain_rate = keys_strain_per_step / specimen.model.timestep();
-            LabTestProgress progress("probe seed " + std::to_string(m.seed) + " ucs");
-            dem::LabCallbacks<dim> cb;
-            cb.progress  = [&](const dem::LabProgress &g) { progress(g); };
-            const auto u = dem::run_lab_test(specimen, lab, cb);
-            r.E.push_back(u.E);
-            r.nu.push_back(u.nu);
-            r.ucs.push_back(u.peak);
-          }
+          out << lines[k];
+          const Packing &p = packs[k];
+          r.grains         = p.grains;
+          r.porosity.push_back(p.porosity);
+          r.measurement_porosity.push_back(p.measurement_porosity);
+          r.E.push_back(p.E);
+          r.nu.push_back(p.nu);
+          r.ucs.push_back(p.ucs);
           if (keys)
-            {
-              out << "probe: seed " << m.seed << ": " << r.grains << " grains, porosity "
-                  << r.porosity.back() << " (measurement regions "
-                  << r.measurement_porosity.back() << "), E " << r.E.back() / 1e9
-                  << " GPa, nu " << r.nu.back();
-              if (s.region.breakable)
-                out << ", UCS " << r.ucs.back() / 1e6 << " MPa";
-              out << std::endl;
-              continue;
-            }
-          // The Brazilian specimen of its own when the calibration had one
-          // (Tests/brazilian diameter, scaled by k), else carved from v.
-          auto specimen = dem::build_specimen<dim>(m, dem::brazilian_vessel(v, lab, dim),
-                                                   &out, "probe Brazilian specimen");
-          lab.kind      = dem::TestKind::brazilian;
-          LabTestProgress progress("probe seed " + std::to_string(m.seed) + " brazilian");
-          dem::LabCallbacks<dim> cb;
-          cb.progress  = [&](const dem::LabProgress &g) { progress(g); };
-          const auto b = dem::run_lab_test(specimen, lab, cb);
-          r.bts.push_back(b.peak);
-          r.modes.push_back(b.failure_mode);
-          out << "probe: seed " << m.seed << ": " << r.grains << " grains, porosity "
-              << r.porosity.back() << " (measurement regions "
-              << r.measurement_porosity.back() << "), E " << r.E.back() / 1e9
-              << " GPa, nu " << r.nu.back() << ", UCS " << r.ucs.back() / 1e6
-              << " MPa, BTS " << r.bts.back() / 1e6 << " MPa (" << b.failure_mode << ")"
-              << std::endl;
+            continue;
+          r.bts.push_back(p.bts);
+          r.modes.push_back(p.mode);
         }
       return r;
     }

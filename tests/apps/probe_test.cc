@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 #include <string>
 
 using demfem::testing::run_demfem;
@@ -93,14 +95,18 @@ namespace
   demfem::testing::CommandResult probe(const std::string &material,
                                        const std::string &diameter,
                                        const std::string &dir,
-                                       const std::string &extra = "", int seeds = 1)
+                                       const std::string &extra = "", int seeds = 1,
+                                       int threads = 0)
   {
     std::filesystem::remove_all(dir);
-    return run_demfem("tunnel " + examples +
-                      "tunnel_2d.prm --set \"DEM region/material file=" + material +
-                      "\" --set \"DEM region/grain diameter=" + diameter +
-                      "\" --set \"Problem/output directory=" + dir +
-                      "\" --probe --probe-seeds " + std::to_string(seeds) + " " + extra);
+    const std::string args =
+        "tunnel " + examples +
+        "tunnel_2d.prm --set \"DEM region/material file=" + material +
+        "\" --set \"DEM region/grain diameter=" + diameter +
+        "\" --set \"Problem/output directory=" + dir + "\" --probe --probe-seeds " +
+        std::to_string(seeds) + " " + extra;
+    return threads > 0 ? demfem::testing::run_with_threads(args, threads)
+                       : run_demfem(args);
   }
 } // namespace
 
@@ -152,6 +158,45 @@ TEST_CASE("probe: at 32 times the grain size the lab tests give the material fil
       CHECK(std::abs(got - want) <= 1e-12 * want);
     }
   CHECK(r.out.find("reported, not judged") != std::string::npos);
+}
+
+TEST_CASE("probe: packings side by side on two threads report what one thread reports",
+          "[probe][app]")
+{
+  // Three packings: on two threads two run side by side
+  // (apps/parallel_packings.h), each on its own copies of the material and
+  // the test settings, and their lines are written in seed order. The
+  // contact loop does not depend on the thread count, so the report (the
+  // packings' lines and probe.json) is the one thread's, byte for byte.
+  const std::string file = small_material("threads");
+  const json        m    = read_json(file);
+  std::string       report[2], lines[2];
+  int               exit_code[2] = {-1, -1};
+  for (const int threads : {1, 2})
+    {
+      const std::string dir = probe_dir("threads_" + std::to_string(threads));
+      const auto        r   = probe(file, diameter_times_32(m), dir, "", 3, threads);
+      INFO(r.out);
+      // A verdict (0 pass, 3 fail), not an error: both runs end alike.
+      REQUIRE((r.exit_code == 0 || r.exit_code == 3));
+      exit_code[threads - 1] = r.exit_code;
+      std::ifstream in(dir + "/probe.json");
+      report[threads - 1] = std::string(std::istreambuf_iterator<char>(in), {});
+      std::istringstream out(r.out);
+      for (std::string line; std::getline(out, line);)
+        if (line.rfind("probe: seed ", 0) == 0 || line.rfind("genesis:", 0) == 0)
+          lines[threads - 1] += line + "\n";
+    }
+  CHECK(exit_code[0] == exit_code[1]);
+  CHECK(report[0] == report[1]);
+  CHECK(lines[0] == lines[1]);
+  // In seed order, each packing once.
+  const auto a = lines[1].find("probe: seed 10001:"),
+             b = lines[1].find("probe: seed 10002:"),
+             c = lines[1].find("probe: seed 10003:");
+  CHECK(a < b);
+  CHECK(b < c);
+  CHECK(c != std::string::npos);
 }
 
 TEST_CASE("probe: a material file whose E the region does not reproduce fails",
