@@ -33,7 +33,7 @@ namespace
   // material.json in a directory of the test's own (ctest runs the test
   // cases in parallel processes). Packing 10001 by default: its disk and
   // packing 10002's (the probe's second seed) split; packing 10000's does
-  // not (below). The flat joints' strengths and friction angle are pinned
+  // not (below). E*, the flat joints' strengths and friction angle are pinned
   // to the values these facts were measured with, so that re-tuning the
   // example does not change what is tested.
   std::string small_material(const std::string &tag, const std::string &extra = "",
@@ -52,6 +52,7 @@ namespace
           "\"Problem/output directory=" +
           dir +
           "\" --set Material/seed=10001"
+          " --set \"Material/effective modulus=106e9\""
           " --set \"Material/Flat joint/tensile strength mean=22.8e6\""
           " --set \"Material/Flat joint/tensile strength sd=9.6e6\""
           " --set \"Material/Flat joint/tensile strength min=10e6\""
