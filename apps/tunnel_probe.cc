@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -174,6 +175,19 @@ namespace demfem::apps
       std::string mode;
     };
 
+    /// One lab test with the progress line (and ETA) calibrate prints.
+    template <int dim>
+    dem::LabTestResult run_with_progress(dem::Specimen<dim>       &specimen,
+                                         const dem::LabTestParams &lab,
+                                         const std::uint64_t       seed,
+                                         const std::string        &test)
+    {
+      LabTestProgress        progress("probe seed " + std::to_string(seed) + " " + test);
+      dem::LabCallbacks<dim> cb;
+      cb.progress = [&](const dem::LabProgress &g) { progress(g); };
+      return dem::run_lab_test(specimen, lab, cb);
+    }
+
     template <int dim>
     Packing measure_packing(const dem::MaterialParams &m, const dem::VesselParams &v,
                             dem::LabTestParams lab, const bool keys, const bool breakable,
@@ -190,10 +204,7 @@ namespace demfem::apps
         // per step (the specimen's step: the lab test keeps it).
         if (keys)
           lab.strain_rate = keys_strain_per_step / specimen.model.timestep();
-        LabTestProgress        progress("probe seed " + std::to_string(m.seed) + " ucs");
-        dem::LabCallbacks<dim> cb;
-        cb.progress  = [&](const dem::LabProgress &g) { progress(g); };
-        const auto u = dem::run_lab_test(specimen, lab, cb);
+        const auto u = run_with_progress(specimen, lab, m.seed, "ucs");
         p.E          = u.E;
         p.nu         = u.nu;
         p.ucs        = u.peak;
@@ -214,12 +225,9 @@ namespace demfem::apps
       auto specimen = dem::build_specimen<dim>(m, dem::brazilian_vessel(v, lab, dim),
                                                &out, "probe Brazilian specimen");
       lab.kind      = dem::TestKind::brazilian;
-      LabTestProgress progress("probe seed " + std::to_string(m.seed) + " brazilian");
-      dem::LabCallbacks<dim> cb;
-      cb.progress  = [&](const dem::LabProgress &g) { progress(g); };
-      const auto b = dem::run_lab_test(specimen, lab, cb);
-      p.bts        = b.peak;
-      p.mode       = b.failure_mode;
+      const auto b  = run_with_progress(specimen, lab, m.seed, "brazilian");
+      p.bts         = b.peak;
+      p.mode        = b.failure_mode;
       out << line.str() << ", UCS " << p.ucs / 1e6 << " MPa, BTS " << p.bts / 1e6
           << " MPa (" << p.mode << ")" << std::endl;
       return p;
