@@ -124,10 +124,7 @@ namespace demfem::apps
               label << "fit, seed " << m.seed << ", " << dem::test_kind_name(lp.kind);
               if (lp.Pc > 0)
                 label << " at " << lp.Pc / 1e6 << " MPa";
-              LabTestProgress        progress(label.str());
-              dem::LabCallbacks<dim> cb;
-              cb.progress = [&](const dem::LabProgress &g) { progress(g); };
-              return finished(dem::run_lab_test(sp, lp, cb));
+              return finished(run_lab_test_with_progress(sp, lp, label.str()));
             };
             auto run_with = [&](const dem::LabTestParams &lp) {
               auto sp = clone_specimen(*first, scratch);

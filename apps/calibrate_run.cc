@@ -336,19 +336,18 @@ namespace demfem::apps
     // half and quarter rate on the same packing (fistPkg §5.4).
     auto run_test = [&](const std::string &label, const dem::LabTestParams &lp,
                         Json &j) -> dem::LabTestResult {
-      const auto             name = file_name(label);
-      auto                   sp   = fresh(lp);
-      LabTestProgress        progress(s.log_tag + label);
-      dem::LabCallbacks<dim> cb;
-      double                 t_peak = 0, t_end = 0;
-      cb.progress = [&](const dem::LabProgress &g) { progress(g); };
+      const auto name   = file_name(label);
+      auto       sp     = fresh(lp);
+      double     t_peak = 0, t_end = 0;
+      std::function<void(const dem::Specimen<dim> &, const std::string &)> snapshot;
       if (s.vtk)
-        cb.snapshot = [&](const dem::Specimen<dim> &spec, const std::string &which) {
+        snapshot = [&](const dem::Specimen<dim> &spec, const std::string &which) {
           (which == "peak" ? t_peak : t_end) = spec.model.time();
           write_snapshot(vtk_dir, name + "_" + which, spec, which == "end");
         };
-      const auto   t_test = Clock::now();
-      auto         r      = dem::run_lab_test(*sp, lp, cb);
+      const auto t_test = Clock::now();
+      auto       r =
+          run_lab_test_with_progress(*sp, lp, s.log_tag + label, std::move(snapshot));
       const double test_s = seconds_since(t_test);
       if (s.vtk)
         for (const char *what : {"particles", "cracks"})
@@ -464,10 +463,8 @@ namespace demfem::apps
               dem::LabTestParams l2    = lp;
               l2.strain_rate *= factor;
               l2.step_limit = std::int64_t(double(l2.step_limit) / factor);
-              LabTestProgress progress2(s.log_tag + label + " @ " + which + " rate");
-              dem::LabCallbacks<dim> cb2;
-              cb2.progress  = [&](const dem::LabProgress &g) { progress2(g); };
-              const auto r2 = dem::run_lab_test(*sp2, l2, cb2);
+              const auto r2 = run_lab_test_with_progress(
+                  *sp2, l2, s.log_tag + label + " @ " + which + " rate");
               check_end(r2, label + " at " + which + " rate");
               const double d = (r2.peak - r.peak) / r.peak;
               sensitive      = sensitive || std::abs(d) > calibrate_rate_tolerance;

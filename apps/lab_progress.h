@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -52,4 +53,20 @@ namespace demfem::apps
     std::chrono::steady_clock::time_point t0_   = std::chrono::steady_clock::now();
     double                                last_ = 0;
   };
+
+  /// One laboratory test with its progress line under `label` (the
+  /// calibration's tests and their rate repeats, the fit's evaluations,
+  /// the tunnel probe's packings); `snapshot` as in dem::LabCallbacks.
+  template <int dim>
+  dem::LabTestResult run_lab_test_with_progress(
+      dem::Specimen<dim> &specimen, const dem::LabTestParams &lab,
+      const std::string                                                   &label,
+      std::function<void(const dem::Specimen<dim> &, const std::string &)> snapshot = {})
+  {
+    LabTestProgress        progress(label);
+    dem::LabCallbacks<dim> cb;
+    cb.progress = [&](const dem::LabProgress &g) { progress(g); };
+    cb.snapshot = std::move(snapshot);
+    return dem::run_lab_test(specimen, lab, cb);
+  }
 } // namespace demfem::apps

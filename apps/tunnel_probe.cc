@@ -182,10 +182,8 @@ namespace demfem::apps
                                          const std::uint64_t       seed,
                                          const std::string        &test)
     {
-      LabTestProgress        progress("probe seed " + std::to_string(seed) + " " + test);
-      dem::LabCallbacks<dim> cb;
-      cb.progress = [&](const dem::LabProgress &g) { progress(g); };
-      return dem::run_lab_test(specimen, lab, cb);
+      return run_lab_test_with_progress(
+          specimen, lab, "probe seed " + std::to_string(seed) + " " + test);
     }
 
     template <int dim>
