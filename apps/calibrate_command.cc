@@ -12,6 +12,7 @@
 #include "apps/cli.h"
 #include "apps/commands.h"
 #include "apps/output_dir.h"
+#include "apps/parallel_packings.h"
 #include "apps/prm_cli.h"
 #include "dem/specimen/lab_tests.h"
 #include "dem/specimen/memory_budget.h"
@@ -679,9 +680,18 @@ namespace demfem::apps
       const double n = s.n_grains > 0 ? s.n_grains
                        : s.dim == 2   ? dem::expected_grain_count<2>(m, v)
                                       : dem::expected_grain_count<3>(m, v);
+      // Packings side by side (apps/parallel_packings.h) are in memory
+      // together: one specimen each, so the budget is for all of them.
+      const int side_by_side = packings_at_a_time(fit ? s.fit.seeds : s.seeds);
       dem::check_memory(
-          n, s.dim, m.memory_limit, where,
-          "Material/diameter multiplier (or lower Material/number of grains)",
+          n * side_by_side, s.dim, m.memory_limit,
+          side_by_side > 1 ? where + " (" + std::to_string(side_by_side) +
+                                 " packings side by side, one per OpenMP thread)"
+                           : where,
+          side_by_side > 1 ? "Material/diameter multiplier (or lower Material/number of "
+                             "grains, or OMP_NUM_THREADS)"
+                           : "Material/diameter multiplier (or lower Material/number of "
+                             "grains)",
           "Problem/memory limit");
       return s;
     }

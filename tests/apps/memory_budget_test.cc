@@ -11,6 +11,7 @@
 
 namespace fs = std::filesystem;
 using demfem::testing::run_demfem;
+using demfem::testing::run_with_threads;
 
 namespace
 {
@@ -61,6 +62,23 @@ TEST_CASE("memory budget: tunnel regions and calibrate specimens are bounded", "
     CHECK(r.exit_code == 1);
     CHECK(r.out.find("Material/diameter multiplier") != std::string::npos);
     CHECK(r.out.find("Problem/memory limit") != std::string::npos);
+    CHECK(!fs::exists(out));
+  }
+  SECTION("calibrate: packings side by side share the limit")
+  {
+    // The example's 1 000 grains need about 3.1 MB (3.1 kB a grain in 2D):
+    // one packing fits 5 MB, two side by side (two threads) do not.
+    const fs::path out = out_dir("side_by_side");
+    const auto     r =
+        run_with_threads("calibrate " + ex + "lac_du_bonnet_2d.prm" +
+                             " --set Problem/seeds=2 --set \"Problem/memory limit=0.005\""
+                             " --set \"Problem/output directory=" +
+                             out.string() + "\"",
+                         2);
+    INFO(r.out);
+    CHECK(r.exit_code == 1);
+    CHECK(r.out.find("2 packings side by side") != std::string::npos);
+    CHECK(r.out.find("OMP_NUM_THREADS") != std::string::npos);
     CHECK(!fs::exists(out));
   }
 }
