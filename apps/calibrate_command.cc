@@ -682,17 +682,16 @@ namespace demfem::apps
                                       : dem::expected_grain_count<3>(m, v);
       // Packings side by side (apps/parallel_packings.h) are in memory
       // together: one specimen each, so the budget is for all of them.
-      const int side_by_side = packings_at_a_time(fit ? s.fit.seeds : s.seeds);
-      dem::check_memory(
-          n * side_by_side, s.dim, m.memory_limit,
-          side_by_side > 1 ? where + " (" + std::to_string(side_by_side) +
-                                 " packings side by side, one per OpenMP thread)"
-                           : where,
-          side_by_side > 1 ? "Material/diameter multiplier (or lower Material/number of "
-                             "grains, or OMP_NUM_THREADS)"
-                           : "Material/diameter multiplier (or lower Material/number of "
-                             "grains)",
-          "Problem/memory limit");
+      const int         side_by_side = packings_at_a_time(fit ? s.fit.seeds : s.seeds);
+      const std::string fewer_grains =
+          "Material/diameter multiplier (or lower Material/number of grains";
+      dem::check_memory(n * side_by_side, s.dim, m.memory_limit,
+                        side_by_side > 1 ? where + " (" + std::to_string(side_by_side) +
+                                               " packings side by side, one per OpenMP "
+                                               "thread)"
+                                         : where,
+                        fewer_grains + (side_by_side > 1 ? ", or OMP_NUM_THREADS)" : ")"),
+                        "Problem/memory limit");
       return s;
     }
   } // namespace

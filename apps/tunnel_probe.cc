@@ -175,23 +175,14 @@ namespace demfem::apps
       std::string mode;
     };
 
-    /// One lab test with the progress line (and ETA) calibrate prints.
-    template <int dim>
-    dem::LabTestResult run_with_progress(dem::Specimen<dim>       &specimen,
-                                         const dem::LabTestParams &lab,
-                                         const std::uint64_t       seed,
-                                         const std::string        &test)
-    {
-      return run_lab_test_with_progress(
-          specimen, lab, "probe seed " + std::to_string(seed) + " " + test);
-    }
-
     template <int dim>
     Packing measure_packing(const dem::MaterialParams &m, const dem::VesselParams &v,
                             dem::LabTestParams lab, const bool keys, const bool breakable,
                             std::ostream &out)
     {
-      Packing p;
+      // The progress lines (and ETA) calibrate prints, per packing and test.
+      const std::string label = "probe seed " + std::to_string(m.seed) + " ";
+      Packing           p;
       {
         auto specimen          = dem::build_specimen<dim>(m, v, &out, "probe specimen");
         p.grains               = specimen.n_grains();
@@ -202,7 +193,7 @@ namespace demfem::apps
         // per step (the specimen's step: the lab test keeps it).
         if (keys)
           lab.strain_rate = keys_strain_per_step / specimen.model.timestep();
-        const auto u = run_with_progress(specimen, lab, m.seed, "ucs");
+        const auto u = run_lab_test_with_progress(specimen, lab, label + "ucs");
         p.E          = u.E;
         p.nu         = u.nu;
         p.ucs        = u.peak;
@@ -223,7 +214,7 @@ namespace demfem::apps
       auto specimen = dem::build_specimen<dim>(m, dem::brazilian_vessel(v, lab, dim),
                                                &out, "probe Brazilian specimen");
       lab.kind      = dem::TestKind::brazilian;
-      const auto b  = run_with_progress(specimen, lab, m.seed, "brazilian");
+      const auto b  = run_lab_test_with_progress(specimen, lab, label + "brazilian");
       p.bts         = b.peak;
       p.mode        = b.failure_mode;
       out << line.str() << ", UCS " << p.ucs / 1e6 << " MPa, BTS " << p.bts / 1e6

@@ -246,8 +246,9 @@ namespace demfem::dem::lab_detail
     const double Fseat = s_.material.Pm * M_PI * r_.R * r_.t;
     if (!(Fseat > 0))
       return;
-    const auto  &W  = m_.walls;
-    const double vs = 0.5 * p_.strain_rate * s_.vessel.length(W, ax);
+    const auto  &W    = m_.walls;
+    const double gap0 = s_.vessel.length(W, ax);
+    const double vs   = 0.5 * p_.strain_rate * gap0;
     s_.vessel.set_velocity(m_.walls, ax, -vs);
     for (std::int64_t n = 0; n < p_.step_limit; ++n)
       {
@@ -256,6 +257,20 @@ namespace demfem::dem::lab_detail
                                  W.wall_force(s_.vessel.hi[ax])[ax]);
         if (F >= Fseat)
           break;
+        // A soft disk can close the platens for minutes before it carries
+        // the seating load (3D: 0.4 % platen travel, about 225 000 steps):
+        // say so. Stress: the load as the material pressure it is compared
+        // with; fraction: of the step limit, as in equilibrate().
+        if (cb_.progress && n % 100 == 99)
+          {
+            LabProgress g;
+            g.phase         = "seating";
+            g.step          = n + 1;
+            g.stress        = F / (M_PI * r_.R * r_.t);
+            g.strain        = (s_.vessel.length(W, ax) - gap0) / gap0;
+            g.fraction_done = double(n + 1) / p_.step_limit;
+            cb_.progress(g);
+          }
       }
     s_.vessel.set_velocity(m_.walls, ax, 0);
   }

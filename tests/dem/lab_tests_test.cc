@@ -12,6 +12,8 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <string>
+#include <vector>
 
 using namespace demfem::dem;
 
@@ -297,6 +299,50 @@ TEST_CASE("Brazilian test: Eq. 24 and measurement stress vs platen forces", "[la
   // sigma_yy with mu_p = 0.5; 0 before the fix): in equilibrium with them.
   CHECK(sigma(0, 0) == Approx(ext(0, 0)).epsilon(0.05));
   CHECK(std::abs(sigma(0, 0)) < 0.1 * std::abs(sigma(1, 1)));
+}
+
+TEST_CASE("the Brazilian seating reports its progress", "[labtests]")
+{
+  // The platens close on the disk until it carries the material pressure's
+  // load, F = P_m pi R t (Runner::seat_brazilian): a soft 3D disk took
+  // about 225 000 steps there with no progress line. The 2D disk's seating
+  // at 0.5 /s takes about 40 000 steps here, one report per 100: each
+  // gives the platen strain (closing: negative, growing) and the load as a
+  // mean stress below P_m (the seating stops at P_m before the next one).
+  MaterialParams p = elastic_material(4e10, 2.0);
+  VesselParams   v;
+  v.W = v.H = 0.04;
+  set_grain_count<2>(p, v, 350);
+  Specimen<2>   s = build_specimen<2>(p, v);
+  LabTestParams l;
+  l.kind         = TestKind::brazilian;
+  l.strain_rate  = 0.5;
+  l.strain_limit = 1e-5;
+  std::vector<LabProgress> seating;
+  LabCallbacks<2>          cb;
+  cb.progress = [&](const LabProgress &g) {
+    if (std::string(g.phase) == "seating" && g.strain != 0)
+      seating.push_back(g);
+  };
+  run_lab_test(s, l, cb);
+  INFO("seating reports " << seating.size() << ", the last at step "
+                          << (seating.empty() ? 0 : seating.back().step));
+  REQUIRE(seating.size() >= 3);
+  std::size_t bad = 0;
+  for (std::size_t i = 0; i < seating.size(); ++i)
+    {
+      const LabProgress &g  = seating[i];
+      const bool         ok = g.step == std::int64_t(100 * (i + 1)) && g.strain < 0 &&
+                      g.stress >= 0 && g.stress < p.Pm &&
+                      g.fraction_done == Approx(double(g.step) / l.step_limit) &&
+                      (i == 0 || g.strain < seating[i - 1].strain);
+      if (!ok && bad++ == 0)
+        WARN("first bad report " << i << ": step " << g.step << " strain " << g.strain
+                                 << " stress " << g.stress << " fraction " << g.fraction_done);
+    }
+  CHECK(bad == 0);
+  // The load rises to the seat: the last report carries some of it.
+  CHECK(seating.back().stress > 0);
 }
 
 TEST_CASE("a start-up transient with early cracks does not end the test", "[labtests]")
