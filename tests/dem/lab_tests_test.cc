@@ -338,7 +338,8 @@ TEST_CASE("the Brazilian seating reports its progress", "[labtests]")
                       (i == 0 || g.strain < seating[i - 1].strain);
       if (!ok && bad++ == 0)
         WARN("first bad report " << i << ": step " << g.step << " strain " << g.strain
-                                 << " stress " << g.stress << " fraction " << g.fraction_done);
+                                 << " stress " << g.stress << " fraction "
+                                 << g.fraction_done);
     }
   CHECK(bad == 0);
   // The load rises to the seat: the last report carries some of it.
