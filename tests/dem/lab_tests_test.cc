@@ -47,6 +47,25 @@ namespace
     return v;
   }
 
+  // The 2D Brazilian tests' box (the test carves the disk from it):
+  // 40 mm square, about 350 grains of p.
+  VesselParams brazilian_box(MaterialParams &p)
+  {
+    VesselParams v;
+    v.W = v.H = 0.04;
+    set_grain_count<2>(p, v, 350);
+    return v;
+  }
+
+  LabTestParams brazilian_test(double strain_limit)
+  {
+    LabTestParams l;
+    l.kind         = TestKind::brazilian;
+    l.strain_rate  = 0.5;
+    l.strain_limit = strain_limit;
+    return l;
+  }
+
   LabTestParams elastic_ucs()
   {
     LabTestParams l;
@@ -195,15 +214,10 @@ TEST_CASE("Brazilian test: Eq. 24 and measurement stress vs platen forces", "[la
   // Eq. 22 load, sigma_xx ~ 0 (platen friction only restrains the lateral
   // expansion near the contacts). Tolerance 5 % (the
   // loading is not perfectly static). The reported strength is Eq. 24.
-  MaterialParams p = elastic_material(4e10, 2.0);
-  VesselParams   v;
-  v.W = v.H = 0.04;
-  set_grain_count<2>(p, v, 350);
-  Specimen<2>   s = build_specimen<2>(p, v);
-  LabTestParams l;
-  l.kind                 = TestKind::brazilian;
-  l.strain_rate          = 0.5;
-  l.strain_limit         = 2e-4;
+  MaterialParams     p   = elastic_material(4e10, 2.0);
+  const VesselParams v   = brazilian_box(p);
+  Specimen<2>        s   = build_specimen<2>(p, v);
+  LabTestParams      l   = brazilian_test(2e-4);
   l.platen_friction      = 0.5;
   l.history_interval     = 20;
   l.brazilian_flat_angle = GENERATE(0.0, 20.0);
@@ -309,15 +323,9 @@ TEST_CASE("the Brazilian seating reports its progress", "[labtests]")
   // at 0.5 /s takes about 40 000 steps here, one report per 100: each
   // gives the platen strain (closing: negative, growing) and the load as a
   // mean stress below P_m (the seating stops at P_m before the next one).
-  MaterialParams p = elastic_material(4e10, 2.0);
-  VesselParams   v;
-  v.W = v.H = 0.04;
-  set_grain_count<2>(p, v, 350);
-  Specimen<2>   s = build_specimen<2>(p, v);
-  LabTestParams l;
-  l.kind         = TestKind::brazilian;
-  l.strain_rate  = 0.5;
-  l.strain_limit = 1e-5;
+  MaterialParams           p = elastic_material(4e10, 2.0);
+  Specimen<2>              s = build_specimen<2>(p, brazilian_box(p));
+  const LabTestParams      l = brazilian_test(1e-5);
   std::vector<LabProgress> seating;
   LabCallbacks<2>          cb;
   cb.progress = [&](const LabProgress &g) {
