@@ -310,10 +310,12 @@ namespace demfem::apps
                         "... to this fraction of peak");
       prm.declare_entry(
           "crack initiation method", "volumetric strain",
-          Patterns::Selection("volumetric strain|crack count"),
-          "What material.json's crack_initiation is (both are reported): the onset "
-          "of dilatancy in the crack volumetric strain (Martin & Chandler 1994), or "
-          "the onset of steady cracking in the crack count");
+          Patterns::Selection(dem::crack_initiation_method_names),
+          "What material.json's crack_initiation is (all three are reported): the "
+          "onset of dilatancy in the crack volumetric strain (Martin & Chandler "
+          "1994), the onset of steady cracking in the crack count, or the lateral "
+          "strain response (Nicksiar & Martin 2012: farthest from the line to crack "
+          "damage)");
       prm.declare_entry(
           "crack initiation fraction", "0.01", Patterns::Double(),
           "Crack count method: crack initiation when cracks reach this fraction of "
@@ -632,9 +634,8 @@ namespace demfem::apps
       l.fit_lo                    = prm.get_double("fit window low");
       l.fit_hi                    = prm.get_double("fit window high");
       l.crack_initiation_fraction = prm.get_double("crack initiation fraction");
-      l.crack_initiation_method   = prm.get("crack initiation method") == "crack count"
-                                        ? dem::CrackInitiationMethod::crack_count
-                                        : dem::CrackInitiationMethod::volumetric_strain;
+      l.crack_initiation_method =
+          dem::parse_crack_initiation_method(prm.get("crack initiation method"));
       l.crack_volumetric_fraction = prm.get_double("crack volumetric strain fraction");
       l.split_fraction            = prm.get_double("brazilian split fraction");
       l.confining_tolerance       = prm.get_double("confining tolerance");

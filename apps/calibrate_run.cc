@@ -153,6 +153,7 @@ namespace demfem::apps
           .num("crack_initiation_Pa", r.crack_initiation)
           .num("crack_initiation_crack_count_Pa", r.crack_initiation_count)
           .num("crack_initiation_volumetric_Pa", r.crack_initiation_volumetric)
+          .num("crack_initiation_lateral_Pa", r.crack_initiation_lateral)
           .num("cracks_tension_at_peak", double(r.cracks_tension_peak))
           .num("cracks_shear_at_peak", double(r.cracks_shear_peak))
           .num("cracks_tension_at_end", double(r.cracks_tension))
@@ -574,11 +575,10 @@ namespace demfem::apps
         .num("direct_tension_regions", dt ? dt->peak_region : nan)
         .num("crack_initiation", el ? el->crack_initiation : nan)
         .str("crack_initiation_method",
-             s.lab.crack_initiation_method == dem::CrackInitiationMethod::crack_count
-                 ? "crack count"
-                 : "volumetric strain")
+             dem::crack_initiation_method_name(s.lab.crack_initiation_method))
         .num("crack_initiation_crack_count", el ? el->crack_initiation_count : nan)
         .num("crack_initiation_volumetric", el ? el->crack_initiation_volumetric : nan)
+        .num("crack_initiation_lateral", el ? el->crack_initiation_lateral : nan)
         .num("crack_damage", el ? el->crack_damage : nan);
     Json ratios;
     ratios
@@ -606,6 +606,7 @@ namespace demfem::apps
         .str("crack_initiation", "Pa")
         .str("crack_initiation_crack_count", "Pa")
         .str("crack_initiation_volumetric", "Pa")
+        .str("crack_initiation_lateral", "Pa")
         .str("crack_damage", "Pa")
         .str("porosity", "1")
         .str("measurement_porosity", "1")

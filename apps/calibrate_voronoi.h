@@ -104,8 +104,9 @@ namespace demfem::apps
   /// Crack-initiation stress (axial stress magnitude) of test `r` by
   /// method: crack count, when the count first reaches
   /// s.crack_initiation_fraction of the count at the peak row; crack
-  /// volumetric strain (compression tests only, dem/specimen/crack_initiation.h;
-  /// the other tests report the crack count). As the bonded materials
+  /// volumetric strain or lateral strain response (compression tests only,
+  /// dem/specimen/crack_initiation.h; the other tests report the crack
+  /// count). As the bonded materials
   /// (docs/calibrate.md). NaN where the method finds none.
   double voronoi_crack_initiation(const dem::voronoi::VoronoiLabResult &r,
                                   const VoronoiCalibrateSettings       &s,

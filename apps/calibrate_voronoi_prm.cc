@@ -230,9 +230,8 @@ namespace demfem::apps
     s.crack_initiation_fraction = prm.get_double("crack initiation fraction");
     check(where, t + "crack initiation fraction", s.crack_initiation_fraction, 0, 1,
           true);
-    s.crack_initiation_method   = prm.get("crack initiation method") == "crack count"
-                                      ? dem::CrackInitiationMethod::crack_count
-                                      : dem::CrackInitiationMethod::volumetric_strain;
+    s.crack_initiation_method =
+        dem::parse_crack_initiation_method(prm.get("crack initiation method"));
     s.crack_volumetric_fraction = prm.get_double("crack volumetric strain fraction");
     check(where, t + "crack volumetric strain fraction", s.crack_volumetric_fraction, 0,
           1, true, true);

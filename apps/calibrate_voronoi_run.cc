@@ -149,7 +149,7 @@ namespace demfem::apps
                                   dem::CrackInitiationMethod method, bool compression)
   {
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    if (method == dem::CrackInitiationMethod::volumetric_strain && compression)
+    if (method != dem::CrackInitiationMethod::crack_count && compression)
       {
         // Tension positive; the 2D slopes E = d sigma_a / d eps_a and
         // nu = -d eps_l / d eps_a of the loading branch (one lateral
@@ -160,13 +160,18 @@ namespace demfem::apps
           {
             const auto &h = r.history[i];
             b.volumetric_strain.push_back(h.axial_strain + h.lateral_strain);
+            b.lateral_strain.push_back(h.lateral_strain);
             b.axial_stress.push_back(h.axial_stress);
             b.load.push_back(h.load);
             if (h.load > largest)
               largest = h.load, b.peak_row = i;
           }
-        const std::size_t row = dem::crack_volumetric_initiation_row(
-            b, r.E, r.nu, 1, s.lab.fit_lo, s.lab.fit_hi, s.crack_volumetric_fraction);
+        const std::size_t row =
+            method == dem::CrackInitiationMethod::volumetric_strain
+                ? dem::crack_volumetric_initiation_row(b, r.E, r.nu, 1, s.lab.fit_lo,
+                                                       s.lab.fit_hi,
+                                                       s.crack_volumetric_fraction)
+                : dem::lateral_strain_initiation_row(b, dem::volumetric_reversal_row(b));
         return row < r.history.size() ? std::abs(r.history[row].axial_stress) : nan;
       }
     const double at_peak = r.cracks_tensile_peak + r.cracks_shear_peak;
@@ -311,7 +316,11 @@ namespace demfem::apps
                  compression
                      ? voronoi_crack_initiation(
                            r, s, dem::CrackInitiationMethod::volumetric_strain, true)
-                     : std::numeric_limits<double>::quiet_NaN());
+                     : std::numeric_limits<double>::quiet_NaN())
+            .num("crack_initiation_lateral_Pa",
+                 compression ? voronoi_crack_initiation(
+                                   r, s, dem::CrackInitiationMethod::lateral_strain, true)
+                             : std::numeric_limits<double>::quiet_NaN());
         tests_json.obj(name, j);
         std::cerr << "demfem calibrate: " << t.label << ": peak " << r.peak_stress / 1e6
                   << " MPa (" << r.ended_by << ", " << r.loading_steps << " steps, "
@@ -377,13 +386,13 @@ namespace demfem::apps
         .num("direct_tension", peak(dt))
         .num("crack_initiation", ci)
         .str("crack_initiation_method",
-             s.crack_initiation_method == dem::CrackInitiationMethod::crack_count
-                 ? "crack count"
-                 : "volumetric strain")
+             dem::crack_initiation_method_name(s.crack_initiation_method))
         .num("crack_initiation_crack_count",
              ci_by(dem::CrackInitiationMethod::crack_count))
         .num("crack_initiation_volumetric",
-             ci_by(dem::CrackInitiationMethod::volumetric_strain));
+             ci_by(dem::CrackInitiationMethod::volumetric_strain))
+        .num("crack_initiation_lateral",
+             ci_by(dem::CrackInitiationMethod::lateral_strain));
     Json ratios;
     ratios.num("crack_initiation_to_ucs", ratio(ci, peak(ucs)))
         .num("direct_tension_to_bts", ratio(peak(dt), peak(bts)))
@@ -422,7 +431,8 @@ namespace demfem::apps
     Json units;
     for (const char *k :
          {"E", "E_plane_stress", "ucs", "triaxial_strength", "confining_pressure", "bts",
-          "direct_tension", "crack_initiation"})
+          "direct_tension", "crack_initiation", "crack_initiation_crack_count",
+          "crack_initiation_volumetric", "crack_initiation_lateral"})
       units.str(k, "Pa");
     units.str("nu", "1")
         .str("nu_plane_stress", "1")

@@ -4,6 +4,7 @@
 // Brazilian disk, the direct-tension grips; lab_test_setup.cc), seat it,
 // load it to failure and extract the properties (lab_tests.cc). Internal to
 // the lab tests; run_lab_test() is the interface.
+#include "dem/specimen/crack_initiation.h"
 #include "dem/specimen/lab_tests.h"
 #include "dem/specimen/pressure_boundary.h"
 
@@ -99,17 +100,18 @@ namespace demfem::dem::lab_detail
     void                    setup_tension();
 
     // Seating, loading and extraction (lab_tests.cc).
-    void        equilibrate(Servo<dim> *servo);
-    void        start_loading();
-    void        load();
-    HistoryRow  load_state() const;
-    HistoryRow  record();
-    Tensor<dim> region_average() const;
-    void        count_cracks();
-    void        extract();
-    double      volumetric_reversal_stress() const;
-    std::size_t volumetric_crack_initiation_row(double E, double nu) const;
-    void        classify_failure(std::size_t n_peak);
+    void              equilibrate(Servo<dim> *servo);
+    void              start_loading();
+    void              load();
+    HistoryRow        load_state() const;
+    HistoryRow        record();
+    Tensor<dim>       region_average() const;
+    void              count_cracks();
+    void              extract();
+    CompressionBranch compression_branch() const;
+    void read_crack_initiation(const CompressionBranch &branch, std::size_t damage_row,
+                               double E, double nu);
+    void classify_failure(std::size_t n_peak);
 
     void remove_walls(int a)
     {

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace demfem::dem
 {
@@ -93,6 +94,30 @@ namespace demfem::dem
       default:
         return "direct_tension";
       }
+  }
+
+  const char *crack_initiation_method_name(CrackInitiationMethod m)
+  {
+    switch (m)
+      {
+      case CrackInitiationMethod::crack_count:
+        return "crack count";
+      case CrackInitiationMethod::lateral_strain:
+        return "lateral strain";
+      default:
+        return "volumetric strain";
+      }
+  }
+
+  CrackInitiationMethod parse_crack_initiation_method(const std::string &name)
+  {
+    for (auto m :
+         {CrackInitiationMethod::volumetric_strain, CrackInitiationMethod::crack_count,
+          CrackInitiationMethod::lateral_strain})
+      if (name == crack_initiation_method_name(m))
+        return m;
+    throw std::invalid_argument("crack initiation method '" + name +
+                                "': must be one of " + crack_initiation_method_names);
   }
 
   double ls_slope(const std::vector<double> &x, const std::vector<double> &y)
@@ -407,34 +432,49 @@ namespace demfem::dem::lab_detail
   // (smallest gauge volumetric strain, tension positive) before the
   // peak; from there on dilatancy outruns the elastic compaction. NaN
   // when the volume is smallest at the peak row itself (no reversal).
+  /// The history as a compression branch (dem/specimen/crack_initiation.h).
   template <int dim>
-  double Runner<dim>::volumetric_reversal_stress() const
-  {
-    const auto &H   = r_.history;
-    std::size_t min = 0;
-    for (std::size_t i = 1; i <= r_.peak_row; ++i)
-      if (H[i].volumetric_strain < H[min].volumetric_strain)
-        min = i;
-    return min < r_.peak_row ? std::abs(H[min].axial_stress)
-                             : std::numeric_limits<double>::quiet_NaN();
-  }
-
-  /// Crack initiation by the crack volumetric strain
-  /// (dem/specimen/crack_initiation.h); H.size() if it does not apply.
-  template <int dim>
-  std::size_t Runner<dim>::volumetric_crack_initiation_row(double E, double nu) const
+  CompressionBranch Runner<dim>::compression_branch() const
   {
     CompressionBranch b;
     for (const auto &h : r_.history)
       {
         b.volumetric_strain.push_back(h.volumetric_strain);
+        b.lateral_strain.push_back(h.lateral_strain);
         b.axial_stress.push_back(h.axial_stress);
         b.load.push_back(h.load);
       }
     b.peak_row = r_.peak_row;
-    return crack_volumetric_initiation_row(b, E, nu, dim - 1, fit_window_low(),
-                                           fit_window_high(),
-                                           p_.crack_volumetric_fraction);
+    return b;
+  }
+
+  /// Crack initiation by the crack volumetric strain (with the loading
+  /// branch's E, nu) and by the lateral strain response
+  /// (dem/specimen/crack_initiation.h); the chosen method's is
+  /// crack_initiation (NaN where it does not apply).
+  template <int dim>
+  void Runner<dim>::read_crack_initiation(const CompressionBranch &b,
+                                          const std::size_t damage, double E, double nu)
+  {
+    const auto  &H      = r_.history;
+    const double nan    = std::numeric_limits<double>::quiet_NaN();
+    auto         at_row = [&](std::size_t row) {
+      return row < H.size() ? std::abs(H[row].axial_stress) : nan;
+    };
+    const std::size_t by_volume =
+        crack_volumetric_initiation_row(b, E, nu, dim - 1, fit_window_low(),
+                                        fit_window_high(), p_.crack_volumetric_fraction);
+    const std::size_t by_lateral   = lateral_strain_initiation_row(b, damage);
+    r_.crack_initiation_volumetric = at_row(by_volume);
+    r_.crack_initiation_lateral    = at_row(by_lateral);
+    if (p_.crack_initiation_method == CrackInitiationMethod::crack_count)
+      return;
+    const std::size_t row =
+        p_.crack_initiation_method == CrackInitiationMethod::volumetric_strain
+            ? by_volume
+            : by_lateral;
+    r_.crack_initiation      = at_row(row);
+    r_.crack_initiation_load = row < H.size() ? H[row].load : nan;
   }
 
   // Brazilian failure mode from the loading phase's cracks (in order of
@@ -510,8 +550,11 @@ namespace demfem::dem::lab_detail
       }
     if (p_.kind != TestKind::compression)
       return;
-    r_.peak_region  = std::abs(pk.region_axial_stress);
-    r_.crack_damage = volumetric_reversal_stress();
+    r_.peak_region                 = std::abs(pk.region_axial_stress);
+    const CompressionBranch branch = compression_branch();
+    const std::size_t       damage = volumetric_reversal_row(branch);
+    r_.crack_damage                = damage < H.size() ? std::abs(H[damage].axial_stress)
+                                                       : std::numeric_limits<double>::quiet_NaN();
     // Elastic constants from the loading branch between fit_lo and
     // fit_hi of the peak deviator (fistPkg §5.2), or in the given stress
     // window: strains gauge based (the specimen itself, free of the
@@ -535,19 +578,7 @@ namespace demfem::dem::lab_detail
         r_.E = E; // constrained modulus
         return;
       }
-    const std::size_t ci = volumetric_crack_initiation_row(E, nu);
-    if (ci < H.size())
-      {
-        r_.crack_initiation_volumetric = std::abs(H[ci].axial_stress);
-        if (p_.crack_initiation_method == CrackInitiationMethod::volumetric_strain)
-          {
-            r_.crack_initiation      = r_.crack_initiation_volumetric;
-            r_.crack_initiation_load = H[ci].load;
-          }
-      }
-    else if (p_.crack_initiation_method == CrackInitiationMethod::volumetric_strain)
-      r_.crack_initiation = r_.crack_initiation_load =
-          std::numeric_limits<double>::quiet_NaN();
+    read_crack_initiation(branch, damage, E, nu);
     if (dim == 3)
       r_.E = E, r_.nu = nu;
     else

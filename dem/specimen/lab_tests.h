@@ -35,7 +35,11 @@ namespace demfem::dem
     volumetric_strain,
     /// Onset of steady cracking: the crack count reaches a fraction of its
     /// value at the peak (the acoustic-emission reading).
-    crack_count
+    crack_count,
+    /// Lateral strain response: where the lateral strain departs farthest
+    /// from the straight line to crack damage (Nicksiar & Martin 2012); no
+    /// threshold. Compression tests only.
+    lateral_strain
   };
 
   /// Lateral boundary of a compression test (fistPkg §5.5, Table 10). All
@@ -211,6 +215,9 @@ namespace demfem::dem
     /// By the crack volumetric strain [Pa]; NaN where it does not apply or
     /// the specimen does not dilate before the peak.
     double crack_initiation_volumetric = std::numeric_limits<double>::quiet_NaN();
+    /// By the lateral strain response [Pa]; NaN where it does not apply or
+    /// the volume does not reverse before the peak (no crack damage).
+    double crack_initiation_lateral = std::numeric_limits<double>::quiet_NaN();
     /// Elastic constants of the loading branch (compression only):
     /// 3D: Eq. 18 (E, nu); 2D: Eq. 19 plane stress (E_ps, nu_ps) and the
     /// plane-strain pair (docs/architecture.md) in (E, nu). Uniaxial strain: E holds the
@@ -310,4 +317,13 @@ namespace demfem::dem
   double ls_slope(const std::vector<double> &x, const std::vector<double> &y);
 
   const char *test_kind_name(TestKind k);
+
+  /// The parameter-file name of a crack-initiation method ("volumetric
+  /// strain", "crack count", "lateral strain") and back; the parse throws
+  /// naming the allowed names.
+  const char           *crack_initiation_method_name(CrackInitiationMethod m);
+  CrackInitiationMethod parse_crack_initiation_method(const std::string &name);
+  /// The Patterns::Selection text of the names above.
+  inline constexpr const char *crack_initiation_method_names =
+      "volumetric strain|crack count|lateral strain";
 } // namespace demfem::dem

@@ -150,7 +150,8 @@ TEST_CASE("calibrate: tiny 2D material end to end", "[calibrate]")
   for (const char *k :
        {"E", "nu", "E_plane_stress", "nu_plane_stress", "ucs", "direct_tension",
         "crack_initiation", "crack_initiation_crack_count", "crack_initiation_volumetric",
-        "porosity", "measurement_porosity", "n_grains", "dim"})
+        "crack_initiation_lateral", "porosity", "measurement_porosity", "n_grains",
+        "dim"})
     {
       INFO("key " << k);
       REQUIRE(v.count(k) == 1);
@@ -193,11 +194,17 @@ TEST_CASE("calibrate: tiny 2D material end to end", "[calibrate]")
   fs::remove_all(out2);
   const auto r2 = run_demfem("calibrate " + prm.string() +
                              " --set \"Problem/output directory=" + out2.string() +
-                             "\" --set \"Tests/tests=ucs\"");
+                             "\" --set \"Tests/tests=ucs\""
+                             " --set \"Tests/crack initiation method=lateral strain\"");
   REQUIRE(r2.exit_code == 0);
-  const auto v2 = json_numbers(read(out2 / "material.json"));
+  const std::string text2 = read(out2 / "material.json");
+  const auto        v2    = json_numbers(text2);
   CHECK(v2.at("n_grains") == v.at("n_grains"));
   CHECK(v2.at("porosity") == v.at("porosity"));
+  // The lateral strain response picked as the crack initiation.
+  CHECK(text2.find("\"crack_initiation_method\": \"lateral strain\"") !=
+        std::string::npos);
+  CHECK(v2.at("crack_initiation") == v2.at("crack_initiation_lateral"));
 }
 
 TEST_CASE("calibrate: bad parameter files write nothing", "[calibrate]")

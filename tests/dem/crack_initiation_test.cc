@@ -108,3 +108,95 @@ TEST_CASE("crack volumetric strain: noise and the wrong elasticity",
       crack_volumetric_initiation_row(b, E, 1.2 * nu, 1, 0.1, 0.3, 0.05);
   CHECK(b.load[high] > expected(1, 40e6, 0.05));
 }
+
+namespace
+{
+  /// Unconfined branch, 0.1 MPa per row up to 100 MPa (the peak): lateral
+  /// strain nu q / E plus b (q - q_ci)^2 above q_ci; the volume (2D: axial
+  /// plus lateral) shrinks elastically until the lateral dilatancy's rate
+  /// 2 b (q - q_ci) outruns (1 - nu) / E: the reversal at
+  /// q_cd = q_ci + (1 - nu) / (2 b E) = q_ci + 37.5 MPa for b = 2e-19 /Pa^2
+  /// (dilatancy 7.2e-4 at the peak for q_ci = 40 MPa, against the elastic
+  /// lateral strain's 5e-4).
+  CompressionBranch lateral_branch(double q_ci, double noise = 0)
+  {
+    CompressionBranch                      b;
+    const double                           c = 2e-19; // 1/Pa^2
+    std::mt19937_64                        rng(11);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int i = 0; i <= 1000; ++i)
+      {
+        const double q   = 0.1e6 * i;
+        const double ea  = -q / E;
+        const double dil = q > q_ci ? c * (q - q_ci) * (q - q_ci) : 0;
+        const double el  = 2e-4 + nu * q / E + dil + noise * nu * 100e6 / E * u(rng);
+        b.axial_stress.push_back(-q);
+        b.load.push_back(q);
+        b.lateral_strain.push_back(el);
+        b.volumetric_strain.push_back(ea + el);
+      }
+    b.peak_row = 1000;
+    return b;
+  }
+} // namespace
+
+TEST_CASE("lateral strain response: the farthest point from the line to crack damage",
+          "[labtests][crack_initiation]")
+{
+  // Volumetric reversal (crack damage) where d(eps_v)/dq = 0:
+  // -(1 - nu)/E + 2 b (q - q_ci) = 0, q_cd = 40 MPa + 0.75 / (4e-19 * 50e9)
+  // = 77.5 MPa, row 775 (to the row: the rows on either side hold
+  // b (0.1 MPa)^2 = 2e-9 more volume, far above rounding).
+  const auto        b      = lateral_branch(40e6);
+  const std::size_t damage = volumetric_reversal_row(b);
+  REQUIRE(damage < b.load.size());
+  CHECK(b.load[damage] == Approx(77.5e6));
+  // The lateral strain's tangent slope nu/E + 2 b (q - q_ci) equals the
+  // secant to crack damage, nu/E + b (q_cd - q_ci)^2 / q_cd, at
+  // q = q_ci + (q_cd - q_ci)^2 / (2 q_cd) = 40 + 37.5^2 / 155 = 49.07 MPa:
+  // the row at 49.1 MPa (exact: the distance below the line is a parabola
+  // in q, 49.1 is its nearest row). The method reads after the true onset
+  // (40 MPa) by (q_cd - q_ci)^2 / (2 q_cd), and without a threshold.
+  const std::size_t ci = lateral_strain_initiation_row(b, damage);
+  REQUIRE(ci < b.load.size());
+  CHECK(b.load[ci] == Approx(49.1e6));
+  // Linear in any starting offset of the strains: shifting the lateral
+  // strain leaves the row unchanged.
+  auto shifted = b;
+  for (auto &e : shifted.lateral_strain)
+    e += 1e-3;
+  CHECK(lateral_strain_initiation_row(shifted, damage) == ci);
+
+  // Noise of +-1 % of the elastic lateral strain at the peak (d = 5e-6) on
+  // the same line: the distance below the line falls off as b (q - q*)^2
+  // from its top, so noise can move the largest row only where
+  // b (q - q*)^2 < 2 d: |q - q*| < sqrt(1e-5 / 2e-19) = 7.07 MPa. The
+  // method's sensitivity: a flat top read on noisy gauges.
+  const auto        noisy = lateral_branch(40e6, 0.01);
+  const std::size_t nci   = lateral_strain_initiation_row(noisy, damage);
+  REQUIRE(nci < noisy.load.size());
+  CHECK(std::abs(noisy.load[nci] - 49.07e6) < 7.08e6);
+}
+
+TEST_CASE("lateral strain response and crack damage: where they do not apply",
+          "[labtests][crack_initiation]")
+{
+  // Dilatancy starting at 95 MPa: the volume still shrinks at the peak
+  // (q_cd would be 132.5 MPa): no crack damage, so no reference line.
+  const auto late = lateral_branch(95e6);
+  CHECK(volumetric_reversal_row(late) == late.load.size());
+  CHECK(lateral_strain_initiation_row(late, late.load.size()) == late.load.size());
+  // Damage row at the first row, past the peak, or no lateral rows.
+  const auto b = lateral_branch(40e6);
+  CHECK(lateral_strain_initiation_row(b, 0) == b.load.size());
+  auto early_peak     = b;
+  early_peak.peak_row = 500;
+  CHECK(lateral_strain_initiation_row(early_peak, 775) == b.load.size());
+  auto no_lateral = b;
+  no_lateral.lateral_strain.clear();
+  CHECK(lateral_strain_initiation_row(no_lateral, 775) == b.load.size());
+  // A linear lateral strain (no dilatancy) lies on the line to any row
+  // (to rounding): not applicable.
+  auto linear = lateral_branch(200e6);
+  CHECK(lateral_strain_initiation_row(linear, 775) == linear.load.size());
+}
