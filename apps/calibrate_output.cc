@@ -153,6 +153,60 @@ namespace demfem::apps
     return s.str();
   }
 
+  std::string compression_strains_svg(const dem::LabTestResult &r, const int dim,
+                                      const std::string &title)
+  {
+    // The figure of Martin & Chandler (1994): the crack volumetric strain is
+    // the volumetric strain less its elastic part (1 - k nu) d sigma_a / E
+    // of the loading branch's E, nu (k lateral directions; 2D: the
+    // plane-stress pair the test measured), here without the fit window's
+    // offset the reading removes (dem/specimen/crack_initiation.h).
+    const auto &H = r.history;
+    if (H.empty() || r.peak_row >= H.size())
+      return svg_plot(title, "strain [%]", "axial stress [MPa]", {});
+    const double E = dim == 3 ? r.E : r.E_ps, nu = dim == 3 ? r.nu : r.nu_ps;
+    PlotSeries   axial{"axial", {}, {}, "#000"}, lateral{"lateral", {}, {}, "#06c"},
+        volumetric{"volumetric", {}, {}, "#c00"},
+        crack{"crack volumetric", {}, {}, "#e80"};
+    for (std::size_t i = 0; i <= r.peak_row; ++i)
+      {
+        const auto  &h  = H[i];
+        const double y  = -h.axial_stress / 1e6;
+        const double cv = (h.volumetric_strain - H[0].volumetric_strain) -
+                          (1 - (dim - 1) * nu) * (h.axial_stress - H[0].axial_stress) / E;
+        axial.x.push_back(-100 * (h.gauge_axial_strain - H[0].gauge_axial_strain));
+        lateral.x.push_back(-100 * (h.lateral_strain - H[0].lateral_strain));
+        volumetric.x.push_back(-100 * (h.volumetric_strain - H[0].volumetric_strain));
+        crack.x.push_back(E > 0 ? -100 * cv : std::numeric_limits<double>::quiet_NaN());
+        for (PlotSeries *p : {&axial, &lateral, &volumetric, &crack})
+          p->y.push_back(y);
+      }
+    double x0 = 0, x1 = 0;
+    for (const PlotSeries *p : {&axial, &lateral, &volumetric, &crack})
+      for (const double x : p->x)
+        if (std::isfinite(x))
+          x0 = std::min(x0, x), x1 = std::max(x1, x);
+    std::vector<PlotSeries> all{axial, lateral, volumetric, crack};
+    // Each reading in the colour of the curve it is read from.
+    auto level = [&](const char *what, double stress, const char *colour) {
+      if (!std::isfinite(stress))
+        return;
+      std::ostringstream label;
+      label << what << " " << std::fixed << std::setprecision(2) << stress / r.peak
+            << " of the peak";
+      all.push_back({label.str(), {x0, x1}, {stress / 1e6, stress / 1e6}, colour});
+    };
+    level("crack initiation, crack volumetric strain:", r.crack_initiation_volumetric,
+          "#e80");
+    level("crack initiation, lateral strain response:", r.crack_initiation_lateral,
+          "#06c");
+    level("crack initiation, crack count:", r.crack_initiation_count, "#999");
+    level("crack damage, volumetric reversal:", r.crack_damage, "#c00");
+    // Headroom above the peak for the legend (an invisible line).
+    all.push_back({"", {x0, x0}, {0, 1.7 * r.peak / 1e6}, "none"});
+    return svg_plot(title, "strain, compression positive [%]", "axial stress [MPa]", all);
+  }
+
   std::string svg_plot(const std::string &title, const std::string &xlabel,
                        const std::string &ylabel, const std::vector<double> &x,
                        const std::vector<double> &y)

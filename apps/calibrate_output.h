@@ -78,6 +78,14 @@ namespace demfem::apps
   std::string svg_plot(const std::string &title, const std::string &xlabel,
                        const std::string &ylabel, const std::vector<PlotSeries> &series);
 
+  /// <test>_strains.svg of a compression test: the axial stress against the
+  /// axial, lateral, volumetric and crack volumetric gauge strains up to the
+  /// peak (compression positive, from the start of loading), with the crack
+  /// initiation by its three readings and the crack damage as horizontal
+  /// lines (docs/calibrate.md, "Crack initiation and crack damage").
+  std::string compression_strains_svg(const dem::LabTestResult &r, int dim,
+                                      const std::string &title);
+
   /// SVG line plot of y(x) with axes, ticks and labels.
   std::string svg_plot(const std::string &title, const std::string &xlabel,
                        const std::string &ylabel, const std::vector<double> &x,

@@ -374,6 +374,13 @@ namespace demfem::apps
           svg_plot(label + " (" + std::to_string(dim) + "D, " +
                        std::to_string(std::size_t(n_grains)) + " grains)",
                    "axial strain [%]", ylabel, x, y));
+      if (lp.kind == dem::TestKind::compression &&
+          lp.ctype != dem::CompressionType::uniaxial_strain)
+        dem::vtkout::write_text_atomically(
+            s.out + "/" + name + "_strains.svg",
+            compression_strains_svg(r, dim,
+                                    label + ": strains and crack initiation (" +
+                                        std::to_string(dim) + "D)"));
       j = result_json(r, dim);
       j.num("run_time_s", test_s)
           .num("strain_rate_1_s", lp.strain_rate)

@@ -3,6 +3,7 @@
 // ETA) on stderr, at most every 0.5 s on a terminal and every 5 s into a
 // file: `demfem calibrate` and `demfem tunnel --probe`.
 #include "apps/calibrate_output.h"
+#include "apps/parallel_packings.h"
 #include "dem/specimen/lab_tests.h"
 
 #include <unistd.h>
@@ -27,6 +28,7 @@ namespace demfem::apps
     }
     void operator()(const dem::LabProgress &g)
     {
+      rebalance_packing_threads();
       const double t = seconds_since(t0_);
       if (t - last_ < (tty_ ? 0.5 : 5.0))
         return;

@@ -183,8 +183,8 @@ TEST_CASE("calibrate: tiny 2D material end to end", "[calibrate]")
   CHECK(v.at("measurement_porosity") < v.at("porosity"));
   for (const char *f :
        {"summary.json", "history_ucs.csv", "history_brazilian.csv",
-        "history_direct_tension.csv", "ucs_stress_strain.svg", "vtk/ucs_particles.pvd",
-        "vtk/ucs_peak_cracks.vtp", "vtk/specimen_particles.vtp"})
+        "history_direct_tension.csv", "ucs_stress_strain.svg", "ucs_strains.svg",
+        "vtk/ucs_particles.pvd", "vtk/ucs_peak_cracks.vtp", "vtk/specimen_particles.vtp"})
     {
       INFO("file " << f);
       CHECK(fs::is_regular_file(out / f));
