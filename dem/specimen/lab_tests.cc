@@ -428,10 +428,6 @@ namespace demfem::dem::lab_detail
     r_.loading_steps = m_.step_count() - step0_;
   }
 
-  // Crack-damage stress: axial stress at the most compacted state
-  // (smallest gauge volumetric strain, tension positive) before the
-  // peak; from there on dilatancy outruns the elastic compaction. NaN
-  // when the volume is smallest at the peak row itself (no reversal).
   /// The history as a compression branch (dem/specimen/crack_initiation.h).
   template <int dim>
   CompressionBranch Runner<dim>::compression_branch() const
