@@ -112,7 +112,9 @@ namespace demfem::apps
           "holds the seed means, seed_scatter their standard deviations and "
           "seed_values the single values (a material is its seed mean, not "
           "one packing). The packings run side by side, one per OpenMP thread "
-          "(OMP_NUM_THREADS), with the results of one at a time");
+          "(OMP_NUM_THREADS), with the results of one at a time. With --fit: the "
+          "packings of the best material's material.json (Fit/seeds those of each "
+          "evaluation)");
       prm.leave_subsection();
 
       prm.enter_subsection("Material");
@@ -474,10 +476,6 @@ namespace demfem::apps
       s.out   = prm.get("output directory");
       s.vtk   = prm.get_bool("vtk");
       s.seeds = prm.get_integer("seeds");
-      if (s.seeds > 1 && fit)
-        throw dem::InputError(where + ": Problem/seeds = " + std::to_string(s.seeds) +
-                              " with --fit: the fit averages Fit/seeds packings per "
-                              "evaluation; set Problem/seeds = 1");
       if (const auto ml = prm.get("memory limit"); ml != "auto")
         s.mat.memory_limit =
             1e9 * parse_number(where + ": Problem/memory limit", ml, 1e-6,
@@ -683,7 +681,8 @@ namespace demfem::apps
                                       : dem::expected_grain_count<3>(m, v);
       // Packings side by side (apps/parallel_packings.h) are in memory
       // together: one specimen each, so the budget is for all of them.
-      const int         side_by_side = packings_at_a_time(fit ? s.fit.seeds : s.seeds);
+      const int side_by_side =
+          packings_at_a_time(fit ? std::max(s.fit.seeds, s.seeds) : s.seeds);
       const std::string fewer_grains =
           "Material/diameter multiplier (or lower Material/number of grains";
       dem::check_memory(n * side_by_side, s.dim, m.memory_limit,

@@ -336,11 +336,13 @@ namespace demfem::apps
                 << " packings per evaluation, " << k << " at a time (one thread each)\n";
     const FitSearchResult fit = run_fit_search(s.fit, problem, s.out);
 
-    // material.json and the test outputs of the best material.
+    // material.json and the test outputs of the best material, on
+    // Problem/seeds packings as without --fit (with Problem/seeds =
+    // Fit/seeds it is the seed mean of the packings the fit measured).
     CalibrateSettings final_s = s;
     final_s.mat               = with_values(fit.best);
     final_s.fit.enabled       = false;
-    const CalibrateOutcome rc = run_calibration<dim>(final_s);
+    const CalibrateOutcome rc = run_calibration_seeds<dim>(final_s);
     if (rc.exit_code != 0)
       return rc;
     return fit_outcome(fit);

@@ -427,3 +427,142 @@ TEST_CASE(
            "material.json"));
   CHECK(std::abs(m3["E"].get<double>() / E - 1) > 1e-6);
 }
+
+TEST_CASE("calibrate --fit takes the strength stage's measurement as its check",
+          "[calibrate][fit]")
+{
+  // On the unbreakable material of the tests above, with the targets the
+  // start material's own E and UCS (its load at the strain limit): the
+  // elastic stage reads the full test's E (the window test above) and
+  // stops at its first evaluation, the strength stage (tensile strength
+  // mean, which cannot move this material) at its first. Its measurement
+  // ran the full UCS test on every target at the fitted parameters, so
+  // the check (stage `check`) is that measurement, logged with a note that
+  // says so and no seconds, not a third evaluation; a fit with only
+  // elastic targets measures its check (its stage's short test is not the
+  // full one). A resumed fit takes the logged check row as its own.
+  auto calibrate = [&](const std::string &name, const std::string &fit,
+                       const std::string &args) {
+    const fs::path out = work_dir() / name;
+    fs::remove_all(out);
+    const auto r = run_demfem(
+        "calibrate " + write(name + ".prm", prm(out, 40e9, 2, fit)).string() + args);
+    INFO(r.out);
+    REQUIRE(r.exit_code == 0);
+    return std::make_pair(out, r.out);
+  };
+  auto rows = [](const fs::path &csv) {
+    std::vector<std::vector<std::string>> out;
+    std::istringstream                    in(read(csv));
+    for (std::string line; std::getline(in, line);)
+      {
+        std::vector<std::string> c;
+        std::stringstream        s(line);
+        for (std::string x; std::getline(s, x, ',');)
+          c.push_back(x);
+        if (!line.empty() && line.back() == ',')
+          c.push_back("");
+        out.push_back(c);
+      }
+    return out;
+  };
+  const auto m = nlohmann::json::parse(
+      read(calibrate("check_known", "", "").first / "material.json"));
+  std::ostringstream targets;
+  targets.precision(17);
+  targets << "  subsection Targets\n    set E = " << m["E"].get<double>()
+          << "\n    set ucs = " << m["ucs"].get<double>() << "\n  end\n";
+  const std::string search = "  set parameters = effective modulus 10e9 100e9; "
+                             "tensile strength mean 1e11 1e13\n  set evaluations = 4\n";
+  const auto [out, log]    = calibrate("check_reused", search + targets.str(), " --fit");
+  const auto r             = rows(out / "fit.csv");
+  REQUIRE(r.size() == 4); // the header, elastic, strength, check
+  const auto &h   = r[0];
+  auto        col = [&](const std::string &name) {
+    const auto i = std::size_t(std::find(h.begin(), h.end(), name) - h.begin());
+    REQUIRE(i < h.size());
+    return i;
+  };
+  CHECK(r[1][1] == "elastic");
+  CHECK(r[2][1] == "strength");
+  REQUIRE(r[3][1] == "check");
+  CHECK(r[3][col("note")] ==
+        "the measurement of evaluation 2 (strength): the same parameters on the same "
+        "packings by the same tests");
+  CHECK(std::stod(r[3][col("seconds")]) == 0);
+  for (const char *c : {"effective_modulus", "tensile_strength_mean", "E_mean",
+                        "ucs_mean", "objective", "all_within_tolerance"})
+    CHECK(r[3][col(c)] == r[2][col(c)]);
+  CHECK(log.find("(evaluation 2, not measured again)") != std::string::npos);
+  const auto fit = nlohmann::json::parse(read(out / "fit.json"));
+  CHECK(fit["status"] == "ok");
+  // The material file of the best parameters is measured (one packing, the
+  // same seed and tests): its E and UCS are the check's.
+  const auto best = nlohmann::json::parse(read(out / "material.json"));
+  CHECK(best["E"].get<double>() == Approx(std::stod(r[3][col("E_mean")])).epsilon(1e-12));
+  CHECK(best["ucs"].get<double>() ==
+        Approx(std::stod(r[3][col("ucs_mean")])).epsilon(1e-12));
+
+  // Resumed from that log: two rows replayed, the check row taken as this
+  // fit's own (the same row again), nothing measured.
+  const fs::path saved    = write("check_reused.csv", read(out / "fit.csv"));
+  const auto [out2, log2] = calibrate(
+      "check_resumed",
+      search + targets.str() + "  set resume from = " + saved.string() + "\n", " --fit");
+  const auto r2 = rows(out2 / "fit.csv");
+  REQUIRE(r2.size() == r.size());
+  CHECK(r2[3] == r[3]);
+
+  // Elastic targets only: the check is measured by the full test.
+  std::ostringstream elastic;
+  elastic.precision(17);
+  elastic << "  set parameters = effective modulus 10e9 100e9\n  set evaluations = 4\n"
+          << "  subsection Targets\n    set E = " << m["E"].get<double>() << "\n  end\n";
+  const auto [out3, log3] = calibrate("check_measured", elastic.str(), " --fit");
+  const auto r3           = rows(out3 / "fit.csv");
+  REQUIRE(r3.size() == 3); // the header, elastic, check
+  REQUIRE(r3[2][1] == "check");
+  CHECK(r3[2].back().empty()); // the note, the last column
+  CHECK(log3.find("not measured again") == std::string::npos);
+}
+
+TEST_CASE("calibrate --fit writes the best material on Problem/seeds packings",
+          "[calibrate][fit]")
+{
+  // Problem/seeds = Fit/seeds = 2: the best material's material.json is the
+  // seed mean of the two packings the fit measured, so its E is the
+  // check's (the same packings and test; the means to round-off), and it
+  // lists both seeds.
+  const fs::path out = work_dir() / "final_seeds";
+  fs::remove_all(out);
+  const auto r = run_demfem(
+      "calibrate " +
+      write("final_seeds.prm",
+            prm(out, 40e9, 2,
+                "  set parameters = effective modulus 10e9 100e9\n"
+                "  set evaluations = 1\n  subsection Targets\n    set E = 1e9\n"
+                "  end\n"))
+          .string() +
+      " --set Fit/seeds=2 --set Problem/seeds=2 --fit");
+  INFO(r.out);
+  REQUIRE(r.exit_code == 3); // the dummy target was not reached
+  std::istringstream csv(read(out / "fit.csv"));
+  std::string        header, row, check;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  std::getline(csv, check);
+  std::vector<std::string> cells;
+  for (std::stringstream c(check); c.good();)
+    {
+      std::string x;
+      std::getline(c, x, ',');
+      cells.push_back(x);
+    }
+  REQUIRE(cells.size() > 4);
+  REQUIRE(cells[1] == "check");
+  const auto m = nlohmann::json::parse(read(out / "material.json"));
+  CHECK(m["seeds"] == nlohmann::json::array({10000, 10001}));
+  // Two values averaged in another order: a few ulp.
+  CHECK(m["E"].get<double>() == Approx(std::stod(cells[3])).epsilon(1e-12));
+  CHECK(fs::is_regular_file(out / "seed_10001" / "material.json"));
+}
