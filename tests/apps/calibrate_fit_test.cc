@@ -60,6 +60,38 @@ namespace
   }
 
   std::string read(const fs::path &p) { return demfem::testing::read_text(p.string()); }
+
+  // The rows of fit.csv, each split into its cells (a trailing empty
+  // cell, the note, kept).
+  std::vector<std::vector<std::string>> csv_rows(const fs::path &csv)
+  {
+    std::vector<std::vector<std::string>> out;
+    std::istringstream                    in(read(csv));
+    for (std::string line; std::getline(in, line);)
+      {
+        std::vector<std::string> c;
+        std::stringstream        s(line);
+        for (std::string x; std::getline(s, x, ',');)
+          c.push_back(x);
+        if (!line.empty() && line.back() == ',')
+          c.push_back("");
+        out.push_back(c);
+      }
+    return out;
+  }
+
+  // `demfem calibrate` of the material above (E* 40 GPa, kappa* 2) with
+  // the Fit lines `fit` and the extra arguments `args`, into
+  // work_dir()/name: that directory and the run.
+  std::pair<fs::path, demfem::testing::CommandResult> calibrate_in(
+      const std::string &name, const std::string &fit, const std::string &args)
+  {
+    const fs::path out = work_dir() / name;
+    fs::remove_all(out);
+    return {out,
+            run_demfem("calibrate " +
+                       write(name + ".prm", prm(out, 40e9, 2, fit)).string() + args)};
+  }
 } // namespace
 
 TEST_CASE("calibrate --fit recovers known microparameters", "[calibrate][fit]")
@@ -339,17 +371,10 @@ TEST_CASE("calibrate --fit measures its packings side by side as one at a time",
   };
   const fs::path side = run("fit_side", 2), one = run("fit_one", 1);
   // fit.csv without its seconds column (the third from the end).
-  auto rows = [](const std::string &text) {
+  auto rows = [](const fs::path &csv) {
     std::vector<std::string> out;
-    std::istringstream       in(text);
-    for (std::string line; std::getline(in, line);)
+    for (auto c : csv_rows(csv))
       {
-        std::vector<std::string> c;
-        std::stringstream        s(line);
-        for (std::string cell; std::getline(s, cell, ',');)
-          c.push_back(cell);
-        if (!line.empty() && line.back() == ',')
-          c.push_back("");
         REQUIRE(c.size() >= 4);
         c.erase(c.end() - 3);
         std::string joined;
@@ -359,7 +384,7 @@ TEST_CASE("calibrate --fit measures its packings side by side as one at a time",
       }
     return out;
   };
-  const auto a = rows(read(side / "fit.csv")), b = rows(read(one / "fit.csv"));
+  const auto a = rows(side / "fit.csv"), b = rows(one / "fit.csv");
   REQUIRE(a.size() >= 3); // the header and at least two evaluations
   CHECK(a == b);
   CHECK(read(side / "material.json") == read(one / "material.json"));
@@ -384,10 +409,7 @@ TEST_CASE(
   // stage measured before) reads others.
   auto calibrate = [&](const std::string &name, const std::string &fit,
                        const std::string &args) {
-    const fs::path out = work_dir() / name;
-    fs::remove_all(out);
-    const auto r = run_demfem(
-        "calibrate " + write(name + ".prm", prm(out, 40e9, 2, fit)).string() + args);
+    const auto [out, r] = calibrate_in(name, fit, args);
     INFO(r.out);
     REQUIRE((r.exit_code == 0 || (r.exit_code == 3 && args == " --fit")));
     return out;
@@ -443,28 +465,10 @@ TEST_CASE("calibrate --fit takes the strength stage's measurement as its check",
   // full one). A resumed fit takes the logged check row as its own.
   auto calibrate = [&](const std::string &name, const std::string &fit,
                        const std::string &args) {
-    const fs::path out = work_dir() / name;
-    fs::remove_all(out);
-    const auto r = run_demfem(
-        "calibrate " + write(name + ".prm", prm(out, 40e9, 2, fit)).string() + args);
+    const auto [out, r] = calibrate_in(name, fit, args);
     INFO(r.out);
     REQUIRE(r.exit_code == 0);
     return std::make_pair(out, r.out);
-  };
-  auto rows = [](const fs::path &csv) {
-    std::vector<std::vector<std::string>> out;
-    std::istringstream                    in(read(csv));
-    for (std::string line; std::getline(in, line);)
-      {
-        std::vector<std::string> c;
-        std::stringstream        s(line);
-        for (std::string x; std::getline(s, x, ',');)
-          c.push_back(x);
-        if (!line.empty() && line.back() == ',')
-          c.push_back("");
-        out.push_back(c);
-      }
-    return out;
   };
   const auto m = nlohmann::json::parse(
       read(calibrate("check_known", "", "").first / "material.json"));
@@ -475,7 +479,7 @@ TEST_CASE("calibrate --fit takes the strength stage's measurement as its check",
   const std::string search = "  set parameters = effective modulus 10e9 100e9; "
                              "tensile strength mean 1e11 1e13\n  set evaluations = 4\n";
   const auto [out, log]    = calibrate("check_reused", search + targets.str(), " --fit");
-  const auto r             = rows(out / "fit.csv");
+  const auto r             = csv_rows(out / "fit.csv");
   REQUIRE(r.size() == 4); // the header, elastic, strength, check
   const auto &h   = r[0];
   auto        col = [&](const std::string &name) {
@@ -509,7 +513,7 @@ TEST_CASE("calibrate --fit takes the strength stage's measurement as its check",
   const auto [out2, log2] = calibrate(
       "check_resumed",
       search + targets.str() + "  set resume from = " + saved.string() + "\n", " --fit");
-  const auto r2 = rows(out2 / "fit.csv");
+  const auto r2 = csv_rows(out2 / "fit.csv");
   REQUIRE(r2.size() == r.size());
   CHECK(r2[3] == r[3]);
 
@@ -519,7 +523,7 @@ TEST_CASE("calibrate --fit takes the strength stage's measurement as its check",
   elastic << "  set parameters = effective modulus 10e9 100e9\n  set evaluations = 4\n"
           << "  subsection Targets\n    set E = " << m["E"].get<double>() << "\n  end\n";
   const auto [out3, log3] = calibrate("check_measured", elastic.str(), " --fit");
-  const auto r3           = rows(out3 / "fit.csv");
+  const auto r3           = csv_rows(out3 / "fit.csv");
   REQUIRE(r3.size() == 3); // the header, elastic, check
   REQUIRE(r3[2][1] == "check");
   CHECK(r3[2].back().empty()); // the note, the last column
@@ -533,17 +537,12 @@ TEST_CASE("calibrate --fit writes the best material on Problem/seeds packings",
   // seed mean of the two packings the fit measured, so its E is the
   // check's (the same packings and test; the means to round-off), and it
   // lists both seeds.
-  const fs::path out = work_dir() / "final_seeds";
-  fs::remove_all(out);
-  const auto r = run_demfem(
-      "calibrate " +
-      write("final_seeds.prm",
-            prm(out, 40e9, 2,
-                "  set parameters = effective modulus 10e9 100e9\n"
-                "  set evaluations = 1\n  subsection Targets\n    set E = 1e9\n"
-                "  end\n"))
-          .string() +
-      " --set Fit/seeds=2 --set Problem/seeds=2 --fit");
+  const auto [out, r] =
+      calibrate_in("final_seeds",
+                   "  set parameters = effective modulus 10e9 100e9\n"
+                   "  set evaluations = 1\n  subsection Targets\n    set E = 1e9\n"
+                   "  end\n",
+                   " --set Fit/seeds=2 --set Problem/seeds=2 --fit");
   INFO(r.out);
   REQUIRE(r.exit_code == 3); // the dummy target was not reached
   std::istringstream csv(read(out / "fit.csv"));
