@@ -75,11 +75,18 @@ namespace demfem::apps
     int                       evaluations = 60; ///< budget per stage
     std::string               algorithm   = "bobyqa";
     double elastic_strain                 = 3e-4; ///< axial strain of the elastic stage
+    /// Fit/brazilian seeds: disks the BTS target is averaged over (seeds
+    /// seed, seed+1, ...; 0: Fit/seeds). Those beyond Fit/seeds run the
+    /// Brazilian test only: a coarse 3D disk's BTS scatters far more than
+    /// the UCS or the direct tension of its packing (docs/calibrate_ldb.md).
+    int brazilian_seeds = 0;
     /// Fit/resume from: an earlier fit.csv of the same parameters and
     /// targets, read when the settings are (before the output directory is
     /// claimed); its evaluations are replayed in order.
     std::string            resume_from;
     std::vector<FitLogRow> replay;
+
+    int brazilian_disks() const { return brazilian_seeds > 0 ? brazilian_seeds : seeds; }
   };
 
   struct CalibrateSettings

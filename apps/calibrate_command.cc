@@ -359,6 +359,11 @@ namespace demfem::apps
           "seeds", "3", Patterns::Anything(),
           "Packings (seeds seed, seed+1, ...) averaged per evaluation (>= 1), run "
           "side by side, one per OpenMP thread");
+      prm.declare_entry(
+          "brazilian seeds", "0", Patterns::Anything(),
+          "Brazilian disks (seeds seed, seed+1, ...) the bts target is averaged over "
+          "per evaluation, 0-100 (0: Fit/seeds); those beyond Fit/seeds run the "
+          "Brazilian test only");
       prm.declare_entry("evaluations", "60", Patterns::Anything(),
                         "Evaluation budget of each stage (>= 1)");
       prm.declare_entry("algorithm", "bobyqa",
@@ -681,8 +686,8 @@ namespace demfem::apps
                                       : dem::expected_grain_count<3>(m, v);
       // Packings side by side (apps/parallel_packings.h) are in memory
       // together: one specimen each, so the budget is for all of them.
-      const int side_by_side =
-          packings_at_a_time(fit ? std::max(s.fit.seeds, s.seeds) : s.seeds);
+      const int side_by_side = packings_at_a_time(
+          fit ? std::max({s.fit.seeds, s.fit.brazilian_disks(), s.seeds}) : s.seeds);
       const std::string fewer_grains =
           "Material/diameter multiplier (or lower Material/number of grains";
       dem::check_memory(n * side_by_side, s.dim, m.memory_limit,

@@ -73,22 +73,30 @@ namespace demfem::apps
       std::string                                note;
     };
 
-    // One evaluation: `seeds` packings of `mat`, each measured by the tests
-    // the targets need (elastic: a UCS test stopped at a small strain). The
-    // packings run side by side (apps/parallel_packings.h), each with its
-    // own scratch checkpoint `scratch_stem`_k.h5; their values are gathered in
-    // seed order, so the means are those of a sequential run bit for bit.
+    // One evaluation: Fit/seeds packings of `mat`, each measured by the
+    // tests the targets need (elastic: a UCS test stopped at a small
+    // strain), and the BTS over Fit/brazilian seeds disks, those beyond
+    // Fit/seeds tested in the Brazilian test only. The packings run side by
+    // side (apps/parallel_packings.h), each with its own scratch checkpoint
+    // `scratch_stem`_k.h5; their values are gathered in seed order, so the
+    // means are those of a sequential run bit for bit.
     template <int dim>
     FitMeasurement measure(const CalibrateSettings &s, const dem::MaterialParams &mat,
                            const std::vector<std::string> &targets, bool elastic,
                            const std::string &scratch_stem)
     {
-      std::vector<PackingValues> packings(s.fit.seeds);
+      const int n_full = s.fit.seeds;
+      const int n_disks =
+          !elastic && fit_needs(targets, "brazilian") ? s.fit.brazilian_disks() : 0;
+      const int                  n_packings = std::max(n_full, n_disks);
+      std::vector<PackingValues> packings(n_packings);
       std::string                error;
       const dem::LabTestParams   elastic_lab = elastic_test_settings(s);
       try
         {
-          for_each_packing(s.fit.seeds, [&](const int k) {
+          for_each_packing(n_packings, [&](const int k) {
+            const bool        full    = k < n_full;  // every test the targets need
+            const bool        disk    = k < n_disks; // the Brazilian test
             auto             &values  = packings[k].values;
             auto             &note    = packings[k].note;
             const std::string scratch = scratch_stem + "_" + std::to_string(k) + ".h5";
@@ -105,9 +113,15 @@ namespace demfem::apps
             } remove_scratch{scratch};
             dem::MaterialParams m = mat;
             m.seed                = mat.seed + std::uint64_t(k);
-            const auto first      = std::make_unique<dem::Specimen<dim>>(
-                dem::build_specimen<dim>(m, s.vessel, nullptr, s.where));
-            dem::write_checkpoint(first->model, scratch, {});
+            // The box specimen, unless this packing only tests a Brazilian
+            // disk packed on its own.
+            std::unique_ptr<dem::Specimen<dim>> first;
+            if (full || !dem::own_brazilian_specimen(s.lab))
+              {
+                first = std::make_unique<dem::Specimen<dim>>(
+                    dem::build_specimen<dim>(m, s.vessel, nullptr, s.where));
+                dem::write_checkpoint(first->model, scratch, {});
+              }
             auto finished = [](dem::LabTestResult r) {
               if (r.ended_by == "step limit")
                 throw std::runtime_error(std::string(dem::test_kind_name(r.kind)) +
@@ -122,7 +136,10 @@ namespace demfem::apps
                                      const dem::LabTestParams &lp) {
               std::ostringstream label;
               label << "fit, seed " << m.seed << ", " << dem::test_kind_name(lp.kind);
-              if (lp.Pc > 0)
+              // Tests/confining pressure applies to confined compression
+              // only; the Brazilian and direct tension tests ignore it.
+              if (lp.kind == dem::TestKind::compression &&
+                  lp.ctype != dem::CompressionType::unconfined && lp.Pc > 0)
                 label << " at " << lp.Pc / 1e6 << " MPa";
               return finished(run_lab_test_with_progress(sp, lp, label.str()));
             };
@@ -136,7 +153,7 @@ namespace demfem::apps
               return run_with(lp);
             };
             using dem::CompressionType, dem::TestKind;
-            if (elastic || fit_needs(targets, "ucs"))
+            if (full && (elastic || fit_needs(targets, "ucs")))
               {
                 const auto r =
                     elastic ? run_with(elastic_lab)
@@ -152,7 +169,7 @@ namespace demfem::apps
               }
             if (elastic)
               return;
-            if (fit_needs(targets, "brazilian"))
+            if (disk)
               {
                 // A disk that did not split along its loaded diameter has
                 // a peak that is no tensile strength (ISRM 1978;
@@ -184,10 +201,10 @@ namespace demfem::apps
                     note += o.str();
                   }
               }
-            if (fit_needs(targets, "direct tension"))
+            if (full && fit_needs(targets, "direct tension"))
               values["direct tension"].push_back(
                   run(TestKind::direct_tension, CompressionType::unconfined, 0).peak);
-            if (fit_needs(targets, "triaxial series"))
+            if (full && fit_needs(targets, "triaxial series"))
               {
                 std::vector<double> s1;
                 for (double Pc : s.confining_pressures)
@@ -334,6 +351,9 @@ namespace demfem::apps
     if (const int k = packings_at_a_time(s.fit.seeds); k > 1)
       std::cerr << "demfem calibrate --fit: " << s.fit.seeds
                 << " packings per evaluation, " << k << " at a time (one thread each)\n";
+    if (s.fit.brazilian_disks() != s.fit.seeds)
+      std::cerr << "demfem calibrate --fit: the bts over " << s.fit.brazilian_disks()
+                << " Brazilian disks per evaluation (Fit/brazilian seeds)\n";
     const FitSearchResult fit = run_fit_search(s.fit, problem, s.out);
 
     // material.json and the test outputs of the best material, on

@@ -26,6 +26,8 @@ namespace demfem::apps
   {
     const auto key = [&](const std::string &k) { return where + ": Fit/" + k; };
     f.seeds        = int(parse_integer(key("seeds"), prm.get("seeds"), 1, 100));
+    f.brazilian_seeds =
+        int(parse_integer(key("brazilian seeds"), prm.get("brazilian seeds"), 0, 100));
     f.evaluations =
         int(parse_integer(key("evaluations"), prm.get("evaluations"), 1, 100000));
     f.algorithm = prm.get("algorithm");

@@ -506,6 +506,7 @@ namespace demfem::apps
     j.str("status", result.all_within ? "ok" : "targets_not_reached")
         .str("algorithm", f.algorithm)
         .num("seeds", f.seeds)
+        .num("brazilian_seeds", f.brazilian_disks())
         .num("evaluations", double(fit.objectives().size()))
         .num("replayed_evaluations", fit.replayed())
         .str("resumed_from", f.resume_from)

@@ -259,7 +259,11 @@ TEST_CASE("calibrate --fit refuses bad targets and empty search spaces",
                          "end\n",
                 "Fit/Targets/direct tension"},
                {"trailing", "  subsection Targets\n    set E = 69e9x\n  end\n", "Fit/Targets/E"},
-               {"no_targets", "", "Fit/Targets"}};
+               {"no_targets", "", "Fit/Targets"},
+               {"brazilian_seeds",
+                "  set brazilian seeds = -1\n  subsection Targets\n    set "
+                         "E = 30e9\n  end\n",
+                "Fit/brazilian seeds"}};
   for (const auto &c : cases)
     {
       SECTION(c.name)
@@ -344,6 +348,44 @@ TEST_CASE("calibrate --fit does not take a disk that did not split as a BTS",
   CHECK(nlohmann::json::parse(read(out / "manifest.json"))["status"] ==
         "brazilian_not_split");
   CHECK(nlohmann::json::parse(read(out / "material.json"))["bts"].is_null());
+}
+
+TEST_CASE("calibrate --fit takes the bts over Fit/brazilian seeds disks",
+          "[calibrate][fit][brazilian]")
+{
+  // Fit/seeds = 1, Fit/brazilian seeds = 3, the disk packed on its own
+  // (Tests/brazilian diameter): every evaluation measures E on packing
+  // 10000 only and tests three Brazilian disks, 10000-10002; packings 10001
+  // and 10002 run no compression test (E has no seed scatter). The
+  // unbreakable disks never split, so the error names all three, which
+  // shows each was tested.
+  const auto [out, r] =
+      calibrate_in("bts_disks",
+                   "  set parameters = effective modulus 10e9 100e9\n"
+                   "  set evaluations = 1\n  set brazilian seeds = 3\n"
+                   "  subsection Targets\n    set E = 30e9\n    set bts = 8.8e6\n"
+                   "  end\n",
+                   " --set \"Tests/tests=ucs, brazilian\" --set \"Tests/brazilian "
+                   "diameter=0.014\" --fit");
+  INFO(r.out);
+  CHECK(r.out.find("the bts over 3 Brazilian disks per evaluation") != std::string::npos);
+  bool strength_row = false;
+  for (const auto &row : csv_rows(out / "fit.csv"))
+    if (row.size() > 2 && row[1] != "stage" && row[1] != "elastic")
+      {
+        strength_row = true;
+        // E from packing 10000 alone: three compression tests of three
+        // packings would give a seed scatter (columns: evaluation, stage,
+        // effective_modulus, E_mean, E_sd, ...).
+        CHECK(row[4] == "0");
+        const std::string error = row[row.size() - 2];
+        for (const char *seed : {"10000", "10001", "10002"})
+          CHECK(error.find(std::string("seed ") + seed + " Brazilian no_failure") !=
+                std::string::npos);
+        CHECK(error.find("seed 10003") == std::string::npos);
+      }
+  CHECK(strength_row);
+  CHECK(nlohmann::json::parse(read(out / "fit.json"))["brazilian_seeds"] == 3);
 }
 
 TEST_CASE("calibrate --fit measures its packings side by side as one at a time",
