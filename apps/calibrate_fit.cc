@@ -351,9 +351,10 @@ namespace demfem::apps
     if (const int k = packings_at_a_time(s.fit.seeds); k > 1)
       std::cerr << "demfem calibrate --fit: " << s.fit.seeds
                 << " packings per evaluation, " << k << " at a time (one thread each)\n";
-    if (s.fit.brazilian_disks() != s.fit.seeds)
-      std::cerr << "demfem calibrate --fit: the bts over " << s.fit.brazilian_disks()
-                << " Brazilian disks per evaluation (Fit/brazilian seeds)\n";
+    if (const int n = s.fit.brazilian_disks(); n != s.fit.seeds)
+      std::cerr << "demfem calibrate --fit: the bts over " << n
+                << " Brazilian disks per evaluation (Fit/brazilian seeds), "
+                << packings_at_a_time(std::max(n, s.fit.seeds)) << " at a time\n";
     const FitSearchResult fit = run_fit_search(s.fit, problem, s.out);
 
     // material.json and the test outputs of the best material, on
